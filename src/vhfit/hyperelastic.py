@@ -1,0 +1,429 @@
+"""Hyperelastic strain energies, their registry, and the uniaxial stress they give.
+
+A model is a plain function of the kinematics and its constants, written as the
+formula, and registered by name::
+
+    @register("gent")
+    def gent(I1, I2, mu, Jm):
+        "W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm)"
+        return -mu * Jm / 2 * np.log(1 - (I1 - 3) / Jm)
+
+Invariant models take ``(I1, I2, *constants)``; principal-stretch models take
+``(l1, l2, l3, *constants)``. The derivatives the stress needs are taken by the
+complex step (exact to rounding for any energy written with numpy's analytic
+functions) unless the model gives them. On the incompressible uniaxial path
+λ1 = λ, λ2 = λ3 = λ^(-1/2) (SPEC §1–2):
+
+* invariant models: σ_h = 2 (λ² − 1/λ) (∂W/∂I1 + ∂W/∂I2 / λ)
+* stretch models:   σ_h = λ1 ∂W/∂λ1 − λ2 ∂W/∂λ2
+
+Stresses are true (Cauchy), in MPa.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "Hyperelastic",
+    "register",
+    "get",
+    "available",
+    "unregister",
+    "invariants",
+]
+
+_H = 1e-30  # complex step: no subtractive cancellation, so any tiny step is exact
+
+_INVARIANT_ARGS = ("I1", "I2")
+_STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
+
+
+def invariants(stretch) -> tuple[np.ndarray, np.ndarray]:
+    """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path."""
+    lam = np.asarray(stretch, dtype=np.float64)
+    return lam**2 + 2.0 / lam, 2.0 * lam + 1.0 / lam**2
+
+
+@dataclass(frozen=True, eq=False)
+class Hyperelastic:
+    """A registered hyperelastic model (see :func:`register`).
+
+    Attributes
+    ----------
+    name : str
+    param_names : tuple of str
+    units : tuple of str
+    bounds : tuple of (float, float)
+        Physical bounds of each constant (used to reject bad input, not to fit).
+    kind : {"invariant", "stretch"}
+    energy : callable
+        W(I1, I2, *c) or W(l1, l2, l3, *c).
+    derivatives : callable or None
+        For invariant models, (I1, I2, *c) -> (∂W/∂I1, ∂W/∂I2) in closed form.
+    linear : bool
+        Whether σ_h is linear in the constants (enables separable calibration).
+    example : tuple of float
+        A typical set of constants (docs, tests, starting points).
+    """
+
+    name: str
+    param_names: tuple[str, ...]
+    units: tuple[str, ...]
+    bounds: tuple[tuple[float, float], ...]
+    kind: str
+    energy: Callable
+    derivatives: Callable | None = None
+    linear: bool = False
+    example: tuple[float, ...] = ()
+    mu0: Callable | None = None
+    doc: str = field(default="", repr=False)
+
+    @property
+    def n_params(self) -> int:
+        return len(self.param_names)
+
+    # ------------------------------------------------------------------ helpers
+    def _columns(self, params) -> tuple[list[np.ndarray], tuple[int, ...]]:
+        """Split (..., n_params) constants into columns shaped (..., 1)."""
+        p = np.asarray(params, dtype=np.float64)
+        if p.ndim == 0 or p.shape[-1] != self.n_params:
+            raise ValueError(
+                f"model {self.name!r} takes {self.n_params} constants "
+                f"{list(self.param_names)}, got shape {p.shape}"
+            )
+        return [p[..., k, None] for k in range(self.n_params)], p.shape[:-1]
+
+    def _dW_invariant(self, I1, I2, cols):
+        if self.derivatives is not None:
+            return self.derivatives(I1, I2, *cols)
+        try:
+            W1 = np.imag(self.energy(I1 + 1j * _H, I2, *cols)) / _H
+            W2 = np.imag(self.energy(I1, I2 + 1j * _H, *cols)) / _H
+        except TypeError:  # energy not written for complex input: 4th-order differences
+            W1 = _central(lambda d: self.energy(I1 + d, I2, *cols))
+            W2 = _central(lambda d: self.energy(I1, I2 + d, *cols))
+        return W1, W2
+
+    def _stress_raw(self, lam: np.ndarray, cols) -> np.ndarray:
+        if self.kind == "invariant":
+            I1, I2 = invariants(lam)
+            W1, W2 = self._dW_invariant(I1, I2, cols)
+            return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
+        l2 = lam**-0.5
+        try:
+            dW1 = np.imag(self.energy(lam + 1j * _H * lam, l2, l2, *cols)) / _H
+            dW2 = np.imag(self.energy(lam, l2 + 1j * _H * l2, l2, *cols)) / _H
+        except TypeError:
+            dW1 = _central(lambda d: self.energy(lam * (1 + d), l2, l2, *cols))
+            dW2 = _central(lambda d: self.energy(lam, l2 * (1 + d), l2, *cols))
+        # steps were relative, so dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2 already
+        return dW1 - dW2
+
+    # ------------------------------------------------------------------- public
+    def stress(self, stretch, params) -> np.ndarray:
+        """Uniaxial true stress σ_h(λ) in MPa.
+
+        Parameters
+        ----------
+        stretch : array_like, shape (m,)
+            Stretches λ > 0.
+        params : array_like, shape (n_params,) or (..., n_params)
+            Constants in ``param_names`` order; leading axes are parameter sets.
+
+        Returns
+        -------
+        ndarray, shape (m,) or (..., m)
+
+        Examples
+        --------
+        >>> mr = get("mooney_rivlin")
+        >>> float(mr.stress([2.0], [0.5, 0.25])[0])   # 2C10(λ²-1/λ) + 2C01(λ-1/λ²)
+        4.375
+        """
+        lam = np.asarray(stretch, dtype=np.float64)
+        cols, lead = self._columns(params)
+        out = self._stress_raw(lam.reshape(-1), cols)
+        out = np.broadcast_to(out, lead + (lam.size,))
+        return out.reshape(lead + lam.shape)
+
+    def initial_shear_modulus(self, params) -> np.ndarray:
+        """μ0 = 2(∂W/∂I1 + ∂W/∂I2) at I1 = I2 = 3 (for stretch models, E∞ / 3).
+
+        Examples
+        --------
+        >>> float(get("mooney_rivlin").initial_shear_modulus([1.0, 0.5]))
+        3.0
+        """
+        cols, lead = self._columns(params)
+        if self.mu0 is not None:
+            mu = np.asarray(self.mu0(*cols), dtype=np.float64)
+        elif self.kind == "invariant":
+            three = np.full((1,), 3.0)
+            W1, W2 = self._dW_invariant(three, three, cols)
+            mu = 2.0 * (np.asarray(W1) + np.asarray(W2))
+        else:
+            # E∞ = dσ_h/dλ at λ = 1, by 4th-order central differences (σ_h(1) = 0)
+            mu = _central(lambda d: self._stress_raw(np.array([1.0 + d]), cols)) / 3.0
+        return np.broadcast_to(mu, lead + (1,))[..., 0].copy()
+
+    def check(self, params) -> np.ndarray:
+        """Validate one set of constants against the physical bounds; return it as an array."""
+        p = np.asarray(params, dtype=np.float64)
+        if p.shape != (self.n_params,):
+            raise ValueError(
+                f"model {self.name!r} takes {self.n_params} constants "
+                f"{list(self.param_names)}, got {p.size}"
+            )
+        for name, v, (lo, hi) in zip(self.param_names, p, self.bounds):
+            if not np.isfinite(v):
+                raise ValueError(f"{name} = {v!r} is not finite")
+            if not lo <= v <= hi:
+                raise ValueError(
+                    f"{name} = {v:g} is outside its physical range [{lo:g}, {hi:g}] "
+                    f"for model {self.name!r}"
+                )
+        return p
+
+    def basis(self, stretch) -> np.ndarray:
+        """For a linear model, the stresses of unit constants: σ_h = params @ basis.
+
+        Returns
+        -------
+        ndarray, shape (n_params, m)
+        """
+        if not self.linear:
+            raise ValueError(f"model {self.name!r} is not linear in its constants")
+        return self.stress(stretch, np.eye(self.n_params))
+
+
+def _central(f: Callable[[float], np.ndarray], h: float = 1e-3) -> np.ndarray:
+    """Fourth-order central difference f'(0) for energies that reject complex input."""
+    return (8.0 * (f(h) - f(-h)) - (f(2 * h) - f(-2 * h))) / (12.0 * h)
+
+
+# ---------------------------------------------------------------------- registry
+_REGISTRY: dict[str, Hyperelastic] = {}
+
+
+def _infer_kind(fn: Callable) -> tuple[str, tuple[str, ...]]:
+    names = list(inspect.signature(fn).parameters)
+    if tuple(names[:2]) == _INVARIANT_ARGS:
+        return "invariant", tuple(names[2:])
+    for args in _STRETCH_ARGS:
+        if tuple(names[:3]) == args:
+            return "stretch", tuple(names[3:])
+    raise ValueError(
+        f"cannot tell the kinematics of {fn.__name__}{inspect.signature(fn)}: its first "
+        "arguments must be (I1, I2, ...) for an invariant model or (l1, l2, l3, ...) for a "
+        "principal-stretch model"
+    )
+
+
+def register(
+    name: str,
+    *,
+    units: Sequence[str] | None = None,
+    bounds: Sequence[tuple[float, float]] | None = None,
+    derivatives: Callable | None = None,
+    linear: bool = False,
+    example: Sequence[float] | None = None,
+    mu0: Callable | None = None,
+    overwrite: bool = False,
+) -> Callable[[Callable], Callable]:
+    """Register a strain energy W by name (decorator).
+
+    Parameters
+    ----------
+    name : str
+        Registry name, used as ``ViscoHyperelastic(name, ...)``.
+    units : sequence of str, optional
+        Units of the constants (default "MPa" for each).
+    bounds : sequence of (lo, hi), optional
+        Physical bounds of the constants (default (-inf, inf)).
+    derivatives : callable, optional
+        Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models; else the complex step.
+    linear : bool
+        Declare σ_h linear in the constants (checked numerically at registration).
+    example : sequence of float, optional
+        Typical constants; default 0.1 each.
+    mu0 : callable, optional
+        Closed-form initial shear modulus ``mu0(*constants)``; else from the derivatives.
+    overwrite : bool
+        Allow replacing an existing name.
+
+    Returns
+    -------
+    decorator
+        Returns the function unchanged, registered as a :class:`Hyperelastic`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> @register("my_neo_hooke", overwrite=True)
+    ... def my_neo_hooke(I1, I2, C10):
+    ...     return C10 * (I1 - 3)
+    >>> float(get("my_neo_hooke").stress([2.0], [0.5])[0])  # 2 C10 (λ² - 1/λ)
+    3.5
+    """
+
+    def decorator(fn: Callable) -> Callable:
+        if not isinstance(name, str) or not name:
+            raise ValueError("model name must be a non-empty string")
+        if name in _REGISTRY and not overwrite:
+            raise ValueError(
+                f"a hyperelastic model named {name!r} is already registered; "
+                "pass overwrite=True to replace it"
+            )
+        kind, params = _infer_kind(fn)
+        n = len(params)
+        if n == 0:
+            raise ValueError(f"{fn.__name__} has no material constants after its kinematics")
+        u = tuple(units) if units is not None else ("MPa",) * n
+        b = tuple(tuple(map(float, x)) for x in bounds) if bounds is not None else (
+            (-math.inf, math.inf),
+        ) * n
+        ex = tuple(float(x) for x in example) if example is not None else (0.1,) * n
+        if len(u) != n or len(b) != n or len(ex) != n:
+            raise ValueError(
+                f"{name!r}: units, bounds and example need one entry per constant {list(params)}"
+            )
+        model = Hyperelastic(
+            name=name, param_names=params, units=u, bounds=b, kind=kind, energy=fn,
+            derivatives=derivatives, linear=bool(linear), example=ex, mu0=mu0,
+            doc=inspect.getdoc(fn) or "",
+        )
+        _validate(model, strict=example is not None)
+        _REGISTRY[name] = model
+        return fn
+
+    return decorator
+
+
+def _validate(model: Hyperelastic, strict: bool) -> None:
+    lam = np.array([0.6, 0.9, 1.3, 2.0])
+    with np.errstate(all="ignore"):
+        s = model.stress(lam, np.array(model.example))
+    if not np.all(np.isfinite(s)):
+        if not strict:  # default example constants may lie outside a model's domain
+            return
+        raise ValueError(
+            f"model {model.name!r} gives a non-finite stress at its example constants "
+            f"{model.example}: check the energy (and pass example= with valid constants)"
+        )
+    if model.linear:
+        rng = np.random.default_rng(0)
+        a, b = rng.uniform(0.1, 1.0, (2, model.n_params))
+        lhs = model.stress(lam, a + 2.0 * b)
+        rhs = model.stress(lam, a) + 2.0 * model.stress(lam, b)
+        if not np.allclose(lhs, rhs, rtol=1e-10, atol=1e-12 * np.abs(rhs).max()):
+            raise ValueError(f"model {model.name!r} is declared linear but its stress is not")
+
+
+def get(model: str | Hyperelastic) -> Hyperelastic:
+    """Look up a registered model by name (a :class:`Hyperelastic` passes through)."""
+    if isinstance(model, Hyperelastic):
+        return model
+    try:
+        return _REGISTRY[model]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown hyperelastic model {model!r}; available: {', '.join(available())} "
+            "(register your own with @vhfit.hyperelastic.register)"
+        ) from None
+
+
+def available() -> list[str]:
+    """Names of the registered models."""
+    return sorted(_REGISTRY)
+
+
+def unregister(name: str) -> None:
+    """Remove a model from the registry."""
+    _REGISTRY.pop(name, None)
+
+
+# --------------------------------------------------------------- built-in models
+_POS = (0.0, math.inf)
+_FREE = (-math.inf, math.inf)
+
+
+def _mr_dW(I1, I2, C10, C01):
+    return C10, C01
+
+
+@register("mooney_rivlin", bounds=(_FREE, _FREE), derivatives=_mr_dW, linear=True,
+          example=(0.1, 0.05))
+def mooney_rivlin(I1, I2, C10, C01):
+    """Mooney–Rivlin (paper Eq. 5, m = l = 1): W = C10 (I1 − 3) + C01 (I2 − 3)."""
+    return C10 * (I1 - 3) + C01 * (I2 - 3)
+
+
+@register("neo_hooke", bounds=(_POS,), derivatives=lambda I1, I2, C10: (C10, 0.0 * C10),
+          linear=True, example=(0.1,))
+def neo_hooke(I1, I2, C10):
+    """neo-Hookean: W = C10 (I1 − 3)."""
+    return C10 * (I1 - 3)
+
+
+def _yeoh_dW(I1, I2, C10, C20, C30):
+    x = I1 - 3
+    return C10 + 2 * C20 * x + 3 * C30 * x**2, 0.0 * x
+
+
+@register("yeoh", bounds=(_POS, _FREE, _FREE), derivatives=_yeoh_dW, linear=True,
+          example=(0.1, -0.01, 0.001))
+def yeoh(I1, I2, C10, C20, C30):
+    """Yeoh: W = C10 (I1 − 3) + C20 (I1 − 3)² + C30 (I1 − 3)³."""
+    return C10 * (I1 - 3) + C20 * (I1 - 3) ** 2 + C30 * (I1 - 3) ** 3
+
+
+@register("polynomial2", linear=True, example=(0.1, 0.05, 0.01, 0.0, 0.0))
+def polynomial2(I1, I2, C10, C01, C20, C11, C02):
+    """Generalised polynomial of order 2: W = Σ_{i+j≤2} Cij (I1 − 3)^i (I2 − 3)^j."""
+    x, y = I1 - 3, I2 - 3
+    return C10 * x + C01 * y + C20 * x**2 + C11 * x * y + C02 * y**2
+
+
+@register("polynomial3", linear=True,
+          example=(0.1, 0.05, 0.01, 0.0, 0.0, 0.001, 0.0, 0.0, 0.0))
+def polynomial3(I1, I2, C10, C01, C20, C11, C02, C30, C21, C12, C03):
+    """Generalised polynomial of order 3: W = Σ_{i+j≤3} Cij (I1 − 3)^i (I2 − 3)^j."""
+    x, y = I1 - 3, I2 - 3
+    return (C10 * x + C01 * y + C20 * x**2 + C11 * x * y + C02 * y**2
+            + C30 * x**3 + C21 * x**2 * y + C12 * x * y**2 + C03 * y**3)
+
+
+def _ogden_term(l1, l2, l3, mu, alpha):
+    return 2 * mu / alpha**2 * (l1**alpha + l2**alpha + l3**alpha - 3)
+
+
+_OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
+
+
+@register("ogden", units=_OG["units"], bounds=_OG["bounds"], example=(0.1, 2.0),
+          mu0=lambda mu1, a1: mu1)
+def ogden(l1, l2, l3, mu1, alpha1):
+    """Ogden, one term (Abaqus form): W = 2μ1/α1² (λ1^α1 + λ2^α1 + λ3^α1 − 3); μ0 = μ1."""
+    return _ogden_term(l1, l2, l3, mu1, alpha1)
+
+
+@register("ogden2", units=_OG["units"] * 2, bounds=_OG["bounds"] * 2,
+          example=(0.1, 2.0, 0.01, -2.0), mu0=lambda m1, a1, m2, a2: m1 + m2)
+def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
+    """Ogden, two terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
+    return _ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
+
+
+@register("ogden3", units=_OG["units"] * 3, bounds=_OG["bounds"] * 3,
+          example=(0.1, 2.0, 0.01, -2.0, 0.001, 5.0),
+          mu0=lambda m1, a1, m2, a2, m3, a3: m1 + m2 + m3)
+def ogden3(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3):
+    """Ogden, three terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
+    return (_ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
+            + _ogden_term(l1, l2, l3, mu3, alpha3))

@@ -1,0 +1,366 @@
+"""The visco-hyperelastic model: one hyperelastic law plus N Prony terms (paper Eq. 19).
+
+Stress of the corrected, conditioned Eq. 19 (SPEC §3):
+
+    σ(t) = σ_h(λ(t)) + Σ_i G_i h_i(t),
+
+where h_i is the overstress of branch i per unit modulus, evaluated by the recursion
+of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy.
+Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from vhfit import _kernels
+from vhfit import hyperelastic as _hyper
+from vhfit.history import History
+from vhfit.viscoelastic import check_prony, prony_g
+
+__all__ = ["ViscoHyperelastic", "Batch"]
+
+_MEASURES = ("true", "engineering")
+
+
+def _dlog(rtol: float) -> float:
+    """Largest change of ln λ per step for a relative accuracy ``rtol``.
+
+    The cubic interpolation error of a(λ) ~ λ^k over a step of δ in ln λ is about
+    (kδ)⁴/2400; k ≈ 10 covers the strain energies in common use. Checked against an
+    independent quadrature in tests/test_model.py.
+    """
+    if not 0 < rtol < 1:
+        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1)")
+    return min(0.1, 0.6 * rtol**0.25)
+
+
+def _history_of(item) -> History:
+    if isinstance(item, History):
+        return item
+    h = getattr(item, "history", None)
+    if isinstance(h, History):
+        return h
+    raise TypeError(
+        f"expected a vhfit.History or a Curve (anything with a .history), got {type(item).__name__}"
+    )
+
+
+class ViscoHyperelastic:
+    """Hyperelastic law + N-term Prony series under homogeneous uniaxial loading.
+
+    Parameters
+    ----------
+    hyperelastic : str or Hyperelastic
+        A registered model name (see ``vhfit.hyperelastic.available()``).
+    n_prony : int
+        Number of Prony terms N ≥ 0.
+    rtol : float
+        Relative accuracy of the hereditary integral (default 1e-6 of the peak stress).
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=2)
+    >>> m.param_names
+    ['C10', 'C01', 'G1', 'tau1', 'G2', 'tau2']
+    >>> p = dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-4, G2=0.0, tau2=1.0)
+    >>> s = m.stress(p, strain=np.linspace(0, -0.55, 5), strain_rate=-5700.0)
+    >>> s.shape
+    (5,)
+    """
+
+    def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6):
+        self.hyperelastic = _hyper.get(hyperelastic)
+        if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
+            raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
+        self.n_prony = int(n_prony)
+        self.rtol = float(rtol)
+        self._dlog = _dlog(self.rtol)
+        names = list(self.hyperelastic.param_names)
+        units = list(self.hyperelastic.units)
+        for i in range(1, self.n_prony + 1):
+            names += [f"G{i}", f"tau{i}"]
+            units += ["MPa", "s"]
+        self.param_names: list[str] = names
+        self.units: list[str] = units
+
+    def __repr__(self) -> str:
+        return (
+            f"ViscoHyperelastic({self.hyperelastic.name!r}, n_prony={self.n_prony}, "
+            f"rtol={self.rtol:g})"
+        )
+
+    @property
+    def n_params(self) -> int:
+        return len(self.param_names)
+
+    # ------------------------------------------------------------- parameters
+    def as_array(self, params) -> np.ndarray:
+        """Parameters as an array in ``param_names`` order (from a dict or a sequence)."""
+        if isinstance(params, Mapping):
+            missing = [n for n in self.param_names if n not in params]
+            extra = [k for k in params if k not in self.param_names]
+            if missing or extra:
+                raise ValueError(
+                    f"params for {self!r}: missing {missing}, unexpected {extra}; "
+                    f"expected {self.param_names}"
+                )
+            return np.array([float(params[n]) for n in self.param_names])
+        x = np.asarray(params, dtype=np.float64)
+        if x.shape[-1:] != (self.n_params,):
+            raise ValueError(
+                f"params has shape {x.shape}; expected {self.n_params} values "
+                f"{self.param_names} (last axis)"
+            )
+        return x
+
+    def as_dict(self, x) -> dict[str, float]:
+        """Parameters as a dict name -> value."""
+        return dict(zip(self.param_names, map(float, self.as_array(x))))
+
+    def split(self, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(hyperelastic constants, G, tau) from parameter array(s) of shape (..., n_params)."""
+        x = np.asarray(x, dtype=np.float64)
+        nh = self.hyperelastic.n_params
+        return x[..., :nh], x[..., nh::2], x[..., nh + 1::2]
+
+    def check(self, params) -> np.ndarray:
+        """Validate one parameter set; raise ValueError naming the bad parameter."""
+        x = self.as_array(params)
+        if x.ndim != 1:
+            raise ValueError(f"expected one parameter set, got shape {x.shape}")
+        hyper, G, tau = self.split(x)
+        self.hyperelastic.check(hyper)
+        check_prony(G, tau)
+        E_inf = self.long_term_modulus(x)
+        if not E_inf > 0:
+            raise ValueError(
+                f"the long-term modulus E_inf = 3 mu0 = {E_inf:g} MPa must be > 0: "
+                f"the hyperelastic constants {dict(zip(self.hyperelastic.param_names, hyper))} "
+                "give no long-term stiffness (e.g. C10 and C01 both 0)"
+            )
+        return x
+
+    def long_term_modulus(self, x) -> np.ndarray | float:
+        """E∞ = 3 μ0 of the hyperelastic law, MPa."""
+        hyper = self.split(x)[0]
+        E = 3.0 * self.hyperelastic.initial_shear_modulus(hyper)
+        return float(E) if np.ndim(E) == 0 else E
+
+    def prony_g(self, params) -> tuple[np.ndarray, float]:
+        """Dimensionless (g_i, g∞) of one parameter set (SPEC §3)."""
+        x = self.check(params)
+        return prony_g(self.long_term_modulus(x), self.split(x)[1])
+
+    # ------------------------------------------------------------------ stress
+    def stress(
+        self,
+        params,
+        history=None,
+        *,
+        strain=None,
+        strain_rate: float | None = None,
+        time=None,
+        measure: str = "true",
+    ) -> np.ndarray:
+        """Uniaxial stress of the model along a stretch history (corrected Eq. 19).
+
+        Parameters
+        ----------
+        params : dict or array_like
+            One parameter set: dict name -> value, or values in ``param_names`` order.
+        history : History or Curve, optional
+            The history to follow; alternatively give ``strain`` with ``strain_rate``
+            (constant-rate ramp from ε = 0) or with ``time`` (piecewise-linear history
+            through ``(time, strain)``, ``time[0] = 0``).
+        strain, strain_rate, time : array_like, float, array_like
+            See above. Compression is negative.
+        measure : {"true", "engineering"}
+            True (Cauchy) or engineering (nominal, σ/λ) stress.
+
+        Returns
+        -------
+        ndarray
+            Stress in MPa at each strain (or at ``history.out_time``).
+
+        Examples
+        --------
+        >>> import vhfit
+        >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=0)
+        >>> float(m.stress([0.5], strain=[1.0], strain_rate=1.0)[0])   # 2 C10 (λ² − 1/λ)
+        3.5
+        """
+        x = self.check(params)
+        if history is None:
+            if strain is None:
+                raise ValueError("give a history, or strain with strain_rate or time")
+            if (strain_rate is None) == (time is None):
+                raise ValueError("give exactly one of strain_rate (constant-rate ramp) or time")
+            history = (
+                History.constant_rate(strain, strain_rate)
+                if time is None
+                else History.piecewise_linear(time, strain)
+            )
+        elif strain is not None or strain_rate is not None or time is not None:
+            raise ValueError("give either a history or strain/strain_rate/time, not both")
+        out = self.batch([history], measure=measure)(x[None, :])[0]
+        if not np.all(np.isfinite(out)):
+            raise ValueError(
+                f"the stress is not finite for params {self.as_dict(x)}: the hyperelastic "
+                "energy is undefined on this history (check its constants and the strain range)"
+            )
+        if strain is not None:
+            out = out.reshape(np.shape(strain))
+        return out
+
+    def batch(self, histories: Sequence, *, measure: str | Sequence[str] | None = None) -> Batch:
+        """A compiled evaluation plan for many parameter sets on fixed histories.
+
+        Parameters
+        ----------
+        histories : sequence of History or Curve
+        measure : str or sequence of str, optional
+            Stress measure per history; default each curve's own ``measure`` (Curves)
+            or "true".
+
+        Returns
+        -------
+        Batch
+            ``batch(X)`` with X of shape (P, n_params) gives (P, n_points) stresses.
+        """
+        return Batch(self, histories, measure)
+
+    def residual(self, params, curves: Sequence) -> np.ndarray:
+        """Model minus measured stress at every objective point of every curve, MPa.
+
+        The curves are Curve objects (``.history``, ``.target_stress``, ``.measure``).
+        """
+        x = self.check(params)
+        b = self.batch(curves)
+        target = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in curves])
+        return b(x[None, :])[0] - target
+
+
+class Batch:
+    """Evaluation plan of a model on fixed histories, for whole populations at once.
+
+    Built by :meth:`ViscoHyperelastic.batch`. The grids, sample stretches and
+    gather indices are computed once; each call evaluates the hyperelastic law at
+    every sample for every parameter set (numpy) and the Prony recursion (numba,
+    parallel over parameter sets and curves).
+    """
+
+    def __init__(self, model: ViscoHyperelastic, histories: Sequence, measure=None):
+        self.model = model
+        items = list(histories)
+        if not items:
+            raise ValueError("give at least one history or curve")
+        hs = [_history_of(it) for it in items]
+        if measure is None or isinstance(measure, str):
+            measures = [
+                measure if measure is not None else getattr(it, "measure", "true") for it in items
+            ]
+        else:
+            measures = list(measure)
+            if len(measures) != len(items):
+                raise ValueError("give one measure per history")
+        for m in measures:
+            if m not in _MEASURES:
+                raise ValueError(f"measure = {m!r}; choose 'true' or 'engineering'")
+        self.histories = hs
+        self.measures = measures
+        lam_s, hstep, gather_node, gather_sample, out_lam = [], [], [], [], []
+        s_off, k_off = [0], [0]
+        v = _kernels.LOBATTO
+        for c, hist in enumerate(hs):
+            t, lam, idx = hist.grid(model._dlog)
+            dt = np.diff(t)
+            inner = lam[:-1, None] + (lam[1:] - lam[:-1])[:, None] * v[None, 1:]
+            samples = np.concatenate([lam[:1], inner.reshape(-1)])
+            node0 = k_off[-1] + c
+            gather_node.append(node0 + idx)
+            gather_sample.append(s_off[-1] + 3 * idx)
+            out_lam.append(lam[idx])
+            lam_s.append(samples)
+            hstep.append(dt)
+            s_off.append(s_off[-1] + samples.size)
+            k_off.append(k_off[-1] + dt.size)
+        self.sample_stretch = np.concatenate(lam_s)
+        self.step = np.concatenate(hstep) if hstep else np.zeros(0)
+        self.sample_off = np.array(s_off, dtype=np.int64)
+        self.step_off = np.array(k_off, dtype=np.int64)
+        self._gather_node = np.concatenate(gather_node)
+        self._gather_sample = np.concatenate(gather_sample)
+        self.out_stretch = np.concatenate(out_lam)
+        sizes = [len(g) for g in gather_node]
+        bounds = np.cumsum([0] + sizes)
+        self.slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
+        self._eng = np.concatenate(
+            [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
+        )
+        self.n_points = int(bounds[-1])
+
+    def shape_columns(self, hyper, tau) -> tuple[np.ndarray, np.ndarray]:
+        """Stress per unit modulus: the long-term shape and each Prony branch.
+
+        For hyperelastic constants ``hyper`` (P, n_h) and relaxation times ``tau``
+        (P, N), returns (``s_hat``, ``h``) with shapes (P, n_points) and
+        (P, N, n_points) such that the stress is ``E∞ s_hat + Σ_i G_i h[:, i]``
+        (in each curve's measure). For fixed shape and τ the model is linear in
+        (E∞, G_i): the basis of the separable calibration (SPEC §4).
+        """
+        hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))
+        tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
+        P, N = tau.shape
+        s_hat, ok = self._s_hat(hyper)
+        eye = np.ones((P * N, 1))
+        ov = _kernels.overstress(
+            np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
+            self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV,
+        )
+        h = ov[:, self._gather_node].reshape(P, N, self.n_points)
+        base = s_hat[:, self._gather_sample]
+        base[~ok] = np.inf
+        h[~ok] = np.inf
+        return self._measure(base), self._measure(h)
+
+    def _s_hat(self, hyper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        hm = self.model.hyperelastic
+        with np.errstate(all="ignore"):
+            E_inf = 3.0 * hm.initial_shear_modulus(hyper)
+            sig_h = hm.stress(self.sample_stretch, hyper)
+            s_hat = sig_h / E_inf[:, None]
+        ok = (E_inf > 0) & np.all(np.isfinite(s_hat), axis=1)
+        s_hat[~ok] = 0.0
+        return s_hat, ok
+
+    def _measure(self, s: np.ndarray) -> np.ndarray:
+        if self._eng.any():
+            s = np.where(self._eng, s / self.out_stretch, s)
+        return s
+
+    def __call__(self, X) -> np.ndarray:
+        """Stresses (P, n_points) for parameter sets X (P, n_params); +inf where invalid."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        if X.shape[1] != self.model.n_params:
+            raise ValueError(
+                f"X has {X.shape[1]} columns; the model has {self.model.n_params} parameters "
+                f"{self.model.param_names}"
+            )
+        hyper, G, tau = self.model.split(X)
+        s_hat, ok = self._s_hat(hyper)
+        ok &= np.all((G >= 0) & (tau > 0), axis=1)
+        E_inf = 3.0 * self.model.hyperelastic.initial_shear_modulus(hyper)
+        sig = E_inf[:, None] * s_hat[:, self._gather_sample]
+        if self.model.n_prony:
+            ov = _kernels.overstress(
+                s_hat, self.sample_stretch, self.step, self.sample_off, self.step_off,
+                np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV,
+            )
+            sig += ov[:, self._gather_node]
+        sig[~ok] = np.inf
+        sig[~np.isfinite(sig)] = np.inf
+        return self._measure(sig)
