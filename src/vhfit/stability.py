@@ -1,0 +1,129 @@
+"""Drucker stability of a hyperelastic law in the three homogeneous test modes.
+
+For an incompressible material Drucker's condition dτ : dε > 0 (Kirchhoff stress,
+logarithmic strain) reduces, in each of the modes used to check hyperelastic fits
+(uniaxial, equibiaxial and planar tension/compression), to a positive tangent of the
+mode's loaded principal stress difference against ln λ:
+
+* uniaxial    λ1 = λ,  λ2 = λ3 = λ^(-1/2):  d(σ1 − σ3)/d ln λ > 0
+* equibiaxial λ1 = λ2 = λ, λ3 = λ^(-2):     d(σ1 − σ3)/d ln λ > 0
+* planar      λ1 = λ,  λ2 = 1, λ3 = 1/λ:   d(σ1 − σ3)/d ln λ > 0 (dε2 = 0)
+
+Scaling all moduli by a positive factor does not change stability, so the long-term
+and instantaneous (= long-term / g∞) laws of a Prony model are stable together.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vhfit.hyperelastic import _H, Hyperelastic, _central
+
+__all__ = ["drucker", "StabilityReport"]
+
+MODES = ("uniaxial", "equibiaxial", "planar")
+
+
+def _stretches(mode: str, lam: np.ndarray):
+    if mode == "uniaxial":
+        return lam, lam**-0.5, lam**-0.5
+    if mode == "equibiaxial":
+        return lam, lam, lam**-2.0
+    if mode == "planar":
+        return lam, np.ones_like(lam), 1.0 / lam
+    raise ValueError(f"unknown mode {mode!r}; choose from {MODES}")
+
+
+def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
+    """σ1 − σ3 (true stress, MPa) of an incompressible hyperelastic law."""
+    cols, _ = model._columns(np.asarray(params, dtype=np.float64))
+    if model.kind == "invariant":
+        I1 = l1**2 + l2**2 + l3**2
+        I2 = (l1 * l2) ** 2 + (l2 * l3) ** 2 + (l3 * l1) ** 2
+        W1, W2 = model._dW_invariant(I1, I2, cols)
+        a, c = l1**2, l3**2
+        return 2 * W1 * (a - c) + 2 * W2 * (I1 * (a - c) - (a**2 - c**2))
+    try:
+        d1 = np.imag(model.energy(l1 * (1 + 1j * _H), l2, l3, *cols)) / _H
+        d3 = np.imag(model.energy(l1, l2, l3 * (1 + 1j * _H), *cols)) / _H
+    except TypeError:
+        d1 = _central(lambda d: model.energy(l1 * (1 + d), l2, l3, *cols))
+        d3 = _central(lambda d: model.energy(l1, l2, l3 * (1 + d), *cols))
+    return d1 - d3
+
+
+@dataclass(frozen=True)
+class StabilityReport:
+    """Where a hyperelastic law violates Drucker's condition.
+
+    Attributes
+    ----------
+    stable : bool
+        True when every mode is stable over the whole checked range.
+    stretch_range : (float, float)
+        The checked range of λ.
+    unstable : dict
+        Mode -> list of (λ_lo, λ_hi) intervals where the tangent is not positive.
+    """
+
+    stable: bool
+    stretch_range: tuple[float, float]
+    unstable: dict
+
+    def describe(self) -> str:
+        lo, hi = self.stretch_range
+        if self.stable:
+            return f"Drucker-stable in uniaxial, equibiaxial and planar modes for {lo:g} <= λ <= {hi:g}"
+        parts = [
+            f"{mode}: " + ", ".join(f"{a:.3g} <= λ <= {b:.3g}" for a, b in iv)
+            for mode, iv in self.unstable.items()
+        ]
+        return "Drucker-UNSTABLE in " + "; ".join(parts)
+
+
+def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400) -> StabilityReport:
+    """Check Drucker stability of a hyperelastic law over a stretch range.
+
+    Parameters
+    ----------
+    model : Hyperelastic
+    params : array_like
+        The law's constants.
+    stretch_range : (float, float)
+        λ range checked in every mode (λ = 1 excluded from nothing: the tangent there
+        is the initial modulus).
+    n : int
+        Number of stretches, log-spaced.
+
+    Returns
+    -------
+    StabilityReport
+
+    Examples
+    --------
+    >>> from vhfit import hyperelastic
+    >>> drucker(hyperelastic.get("mooney_rivlin"), [0.1, 0.05]).stable
+    True
+    >>> drucker(hyperelastic.get("mooney_rivlin"), [0.1, -0.2]).stable
+    False
+    """
+    lo, hi = map(float, stretch_range)
+    if not 0 < lo < 1 < hi:
+        raise ValueError(f"stretch_range = {stretch_range!r} must satisfy 0 < lo < 1 < hi")
+    lam = np.exp(np.linspace(np.log(lo), np.log(hi), n))
+    d = 1e-4
+    unstable: dict[str, list[tuple[float, float]]] = {}
+    for mode in MODES:
+        with np.errstate(all="ignore"):
+            up = principal_difference(model, params, *_stretches(mode, lam * np.exp(d)))
+            dn = principal_difference(model, params, *_stretches(mode, lam * np.exp(-d)))
+        tangent = np.reshape((up - dn) / (2 * d), -1)
+        bad = ~(tangent > 0)
+        if bad.any():
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], bad.astype(int), [0]])))
+            unstable[mode] = [
+                (float(lam[a]), float(lam[b - 1])) for a, b in zip(edges[::2], edges[1::2])
+            ]
+    return StabilityReport(not unstable, (lo, hi), unstable)
