@@ -16,8 +16,11 @@ uncertainty report.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
+import os
+import tempfile
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -283,15 +286,75 @@ class Calibration:
         """Serialise :meth:`to_dict`; write it atomically to ``path`` if given."""
         text = json.dumps(self.to_dict(), indent=2, default=_json_default, **kw)
         if path is not None:
-            import os
-            import tempfile
-
-            d = os.path.dirname(os.path.abspath(path))
-            fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=".json")
-            with os.fdopen(fd, "w") as f:
-                f.write(text)
-            os.replace(tmp, path)
+            atomic_write(path, text)
         return text
+
+
+def atomic_write(path, text: str) -> None:
+    """Write ``text`` to ``path`` via a temporary file and a rename: never a torn file."""
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=".part")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+# ------------------------------------------------------------------ checkpoints
+def _fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
+    h = hashlib.sha256()
+    for a in (prob.y, prob.scale, prob.batch.sample_stretch, prob.batch.step, prob.tau_b):
+        h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    h.update(repr((prob.model.hyperelastic.name, prob.model.n_prony, method, seed, popsize,
+                   tol, target, sorted((de_options or {}).items()),
+                   sorted(prob.bounds.items()))).encode())
+    return h.hexdigest()
+
+
+def _save_checkpoint(path, key, solver, history, elapsed) -> None:
+    state = solver.random_number_generator.bit_generator.state
+    data = {
+        "format": "vhfit-checkpoint-1",
+        "key": key,
+        "population": solver.population.tolist(),
+        "energies": [float(e) if np.isfinite(e) else "inf" for e in solver.population_energies],
+        "rng": state,
+        # SciPy shuffles this array in place to pick donors: it is state too
+        "index": solver._random_population_index.tolist(),
+        "nfev": int(solver._nfev),
+        "history": history,
+        "elapsed": elapsed,
+    }
+    atomic_write(path, json.dumps(data, default=_json_default))
+
+
+def _load_checkpoint(path, key, solver, history) -> tuple[int, float]:
+    try:
+        with open(path) as f:
+            data = json.load(f)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"checkpoint {path} cannot be read ({exc}); delete it to start afresh")
+    if data.get("format") != "vhfit-checkpoint-1" or data.get("key") != key:
+        raise ValueError(
+            f"checkpoint {path} belongs to a different fit (data, model, seed or options "
+            "differ); delete it or drop --resume"
+        )
+    solver.population = np.array(data["population"], dtype=np.float64)
+    solver.population_energies = np.array(
+        [np.inf if e == "inf" else e for e in data["energies"]], dtype=np.float64
+    )
+    solver.random_number_generator.bit_generator.state = data["rng"]
+    solver._nfev = int(data["nfev"])
+    solver._random_population_index = np.array(data["index"], dtype=np.int64)
+    for k in history:
+        history[k][:] = data["history"][k]
+    return len(history["nit"]), float(data["elapsed"])
 
 
 def _json_default(o):
@@ -452,7 +515,6 @@ class _Problem:
 def _polish(prob: _Problem, x0: np.ndarray, max_nfev: int = 200):
     """Bounded least squares on all parameters (τ in log10); never raises the error."""
     model, nh = prob.model, prob.hm.n_params
-    N = model.n_prony
     lo = np.empty(model.n_params)
     hi = np.empty(model.n_params)
     for k, name in enumerate(prob.hm.param_names):
@@ -617,6 +679,9 @@ def calibrate(
     callback: Callable | None = None,
     rtol: float = 1e-6,
     de_options: dict | None = None,
+    checkpoint=None,
+    checkpoint_every: float = 5.0,
+    resume: bool = False,
 ) -> Calibration:
     """Calibrate a hyperelastic law + Prony series to curves at several strain rates.
 
@@ -669,6 +734,14 @@ def calibrate(
         Accuracy of the model evaluation.
     de_options : dict, optional
         Further keywords for the differential evolution.
+    checkpoint : path, optional
+        File where the search state is written atomically every ``checkpoint_every``
+        seconds (and at the end); with ``resume=True`` the search continues from it and
+        reaches the same result as an uninterrupted run with the same seed.
+    checkpoint_every : float
+        Seconds between checkpoints.
+    resume : bool
+        Continue from ``checkpoint`` if it exists (it must belong to the same fit).
 
     Returns
     -------
@@ -702,6 +775,7 @@ def calibrate(
         g_inf_min=g_inf_min, decades_below=decades_below, decades_above=decades_above,
         stability_range=stability_range, uncertainty=uncertainty, callback=callback,
         rtol=rtol, de_options=de_options, prune_tol=prune_tol,
+        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
     )
     if isinstance(n_prony, str):
         if n_prony != "auto":
@@ -716,8 +790,11 @@ def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common
         left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
         if left is not None and left <= 0:
             break
+        opts = dict(common)
+        if opts.get("checkpoint") is not None:  # one checkpoint per N of the scan
+            opts["checkpoint"] = f"{opts['checkpoint']}.N{n}"
         results.append(_calibrate_n(curves, hyperelastic, n, max_time=left, t0=time.perf_counter(),
-                                    **common))
+                                    **opts))
     best = min(r.rmsape for r in results)
     chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
     chosen.order_scan = [
@@ -736,7 +813,7 @@ def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common
 def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method, seed, workers,
                  popsize, maxiter, tol, target, polish, g_inf_min, decades_below, decades_above,
                  stability_range, uncertainty, callback, rtol, de_options, prune_tol,
-                 max_time, t0) -> Calibration:
+                 checkpoint, checkpoint_every, resume, max_time, t0) -> Calibration:
     model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol)
     if n_prony > 0:
         tau_b = _tau_bounds(_rates(curves), n_prony, tau_strategy, decades_below, decades_above)
@@ -764,7 +841,9 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
     prob = _Problem(model, curves, np.asarray(tau_b, dtype=np.float64), auto, g_inf_min)
 
     history = {"nit": [], "best": [], "mean": [], "time": []}
-    state = {"best_x": None, "best_f": np.inf, "stop": None}
+    state = {"best_x": None, "best_f": np.inf, "stop": None, "saved": time.perf_counter()}
+    key = _fit_key(prob, method, seed, popsize, tol, target, de_options)
+    ckpt = None if checkpoint is None else str(checkpoint)
     if method == "separable":
         func, dbounds = prob.sep_objective, prob.sep_bounds()
         npop = popsize or 20
@@ -785,6 +864,9 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
         history["time"].append(el)
         if best < state["best_f"]:
             state["best_f"], state["best_x"] = best, np.array(intermediate_result.x)
+        if ckpt is not None and time.perf_counter() - state["saved"] >= checkpoint_every:
+            _save_checkpoint(ckpt, key, solver_ref["s"], history, time.perf_counter() - t0)
+            state["saved"] = time.perf_counter()
         if callback is not None and callback({"generation": len(history["nit"]), "best": best,
                                              "mean": mean, "elapsed": el,
                                              "x": np.array(intermediate_result.x)}):
@@ -817,19 +899,26 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
         mult = max(1, int(math.ceil(npop / dim)))
         vec = workers == 1
         with DifferentialEvolutionSolver(
-            func, dbounds, maxiter=cap, popsize=mult, tol=0.0, atol=0.0, rng=seed,
+            func, dbounds, maxiter=cap, popsize=mult, tol=0.0, atol=0.0, rng=np.random.default_rng(seed),
             polish=False, callback=cb, vectorized=vec, updating="deferred" if vec else "immediate",
             workers=1 if vec else workers, **opts,
         ) as solver:
             solver_ref["s"] = solver
+            if resume and ckpt is not None and os.path.exists(ckpt):
+                done, elapsed = _load_checkpoint(ckpt, key, solver, history)
+                solver.maxiter = max(cap - done, 0)
+                t0 -= elapsed - (time.perf_counter() - t0)
             try:
                 res = solver.solve()
                 z, nit = res.x, res.nit
-                stop = state["stop"] or ("maxiter" if res.nit >= cap else res.message)
+                nit = len(history["nit"])
+                stop = state["stop"] or ("maxiter" if nit >= cap else res.message)
             except KeyboardInterrupt:
                 stop = "interrupted"
                 z = state["best_x"] if state["best_x"] is not None else solver.x
                 nit = len(history["nit"])
+            if ckpt is not None:
+                _save_checkpoint(ckpt, key, solver, history, time.perf_counter() - t0)
         nfev = max(prob.nfev, int(getattr(solver, "_nfev", 0)))
     x = prob.sep_to_params(np.asarray(z)) if method == "separable" else \
         prob.full_to_params(np.asarray(z), prob.hm.n_params)
