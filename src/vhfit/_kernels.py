@@ -50,7 +50,77 @@ def _psi(x):
     return e, psi0, psi1, psi2
 
 
+@njit(cache=True, error_model="numpy")
+def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
+    """One parameter set on one curve: the recursion over the curve's steps."""
+    N = G.shape[1]
+    s0 = sample_off[c]
+    k0 = step_off[c]
+    nsteps = step_off[c + 1] - k0
+    node0 = k0 + c
+    Ps = np.empty(N)
+    Qs = np.empty(N)
+    l0 = lam[s0]
+    a0 = s_hat[p, s0] / (l0 * l0)
+    b0 = s_hat[p, s0] * l0
+    acc = 0.0
+    for i in range(N):
+        Ps[i] = a0
+        Qs[i] = b0
+        acc += G[p, i]
+    out[p, node0] = acc * s_hat[p, s0]
+    for k in range(nsteps):
+        base = s0 + 3 * k
+        da0 = 0.0
+        da1 = 0.0
+        da2 = 0.0
+        db0 = 0.0
+        db1 = 0.0
+        db2 = 0.0
+        for m in range(4):
+            lm = lam[base + m]
+            fa = s_hat[p, base + m] / (lm * lm)
+            fb = s_hat[p, base + m] * lm
+            da0 += D[0, m] * fa
+            da1 += D[1, m] * fa
+            da2 += D[2, m] * fa
+            db0 += D[0, m] * fb
+            db1 += D[1, m] * fb
+            db2 += D[2, m] * fb
+        hk = h[k0 + k]
+        le = lam[base + 3]
+        w2 = (2.0 / 3.0) * le * le
+        w1 = (1.0 / 3.0) / le
+        acc = 0.0
+        for i in range(N):
+            e, q0, q1, q2 = _psi(hk / tau[p, i])
+            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2
+            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2
+            acc += G[p, i] * (w2 * Ps[i] + w1 * Qs[i])
+        out[p, node0 + k + 1] = acc
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
+def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((s_hat.shape[0], h.shape[0] + C))
+    for job in prange(s_hat.shape[0] * C):
+        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, out)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((s_hat.shape[0], h.shape[0] + C))
+    for job in range(s_hat.shape[0] * C):
+        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, out)
+    return out
+
+
+PARALLEL_MIN_JOBS = 16  # threads pay off for populations, not for one parameter set
+
+
 def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
     """Σ_i G_i h_i at every node of every curve, for every parameter set.
 
@@ -68,55 +138,6 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
     -------
     (P, K + C) overstress at the nodes; curve c owns nodes from ``step_off[c] + c``.
     """
-    P = s_hat.shape[0]
-    C = sample_off.shape[0] - 1
-    N = G.shape[1]
-    out = np.empty((P, h.shape[0] + C))
-    for job in prange(P * C):
-        p = job // C
-        c = job % C
-        s0 = sample_off[c]
-        k0 = step_off[c]
-        nsteps = step_off[c + 1] - k0
-        node0 = k0 + c
-        Ps = np.empty(N)
-        Qs = np.empty(N)
-        l0 = lam[s0]
-        a0 = s_hat[p, s0] / (l0 * l0)
-        b0 = s_hat[p, s0] * l0
-        acc = 0.0
-        for i in range(N):
-            Ps[i] = a0
-            Qs[i] = b0
-            acc += G[p, i]
-        out[p, node0] = acc * s_hat[p, s0]
-        for k in range(nsteps):
-            base = s0 + 3 * k
-            da0 = 0.0
-            da1 = 0.0
-            da2 = 0.0
-            db0 = 0.0
-            db1 = 0.0
-            db2 = 0.0
-            for m in range(4):
-                lm = lam[base + m]
-                fa = s_hat[p, base + m] / (lm * lm)
-                fb = s_hat[p, base + m] * lm
-                da0 += D[0, m] * fa
-                da1 += D[1, m] * fa
-                da2 += D[2, m] * fa
-                db0 += D[0, m] * fb
-                db1 += D[1, m] * fb
-                db2 += D[2, m] * fb
-            hk = h[k0 + k]
-            le = lam[base + 3]
-            w2 = (2.0 / 3.0) * le * le
-            w1 = (1.0 / 3.0) / le
-            acc = 0.0
-            for i in range(N):
-                e, q0, q1, q2 = _psi(hk / tau[p, i])
-                Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2
-                Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2
-                acc += G[p, i] * (w2 * Ps[i] + w1 * Qs[i])
-            out[p, node0 + k + 1] = acc
-    return out
+    jobs = s_hat.shape[0] * (sample_off.shape[0] - 1)
+    f = _overstress_par if jobs >= PARALLEL_MIN_JOBS else _overstress_seq
+    return f(s_hat, lam, h, sample_off, step_off, G, tau, D)

@@ -28,7 +28,9 @@ def _as_1d(name: str, values, *, allow_empty: bool = False) -> np.ndarray:
     bad = ~np.isfinite(arr)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(f"{name}[{i}] = {arr[i]!r} is not finite: remove or repair that point")
+        raise ValueError(
+            f"{name}[{i}] = {float(arr[i])!r} is not finite: remove or repair that point"
+        )
     return arr
 
 

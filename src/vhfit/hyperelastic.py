@@ -108,7 +108,8 @@ class Hyperelastic:
         except TypeError:  # energy not written for complex input: 4th-order differences
             W1 = _central(lambda d: self.energy(I1 + d, I2, *cols))
             W2 = _central(lambda d: self.energy(I1, I2 + d, *cols))
-        return W1, W2
+        bad = _outside_domain(self.energy, I1, I2, *cols)
+        return np.where(bad, np.nan, W1), np.where(bad, np.nan, W2)
 
     def _stress_raw(self, lam: np.ndarray, cols) -> np.ndarray:
         if self.kind == "invariant":
@@ -123,7 +124,7 @@ class Hyperelastic:
             dW1 = _central(lambda d: self.energy(lam * (1 + d), l2, l2, *cols))
             dW2 = _central(lambda d: self.energy(lam, l2 * (1 + d), l2, *cols))
         # steps were relative, so dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2 already
-        return dW1 - dW2
+        return np.where(_outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
 
     # ------------------------------------------------------------------- public
     def stress(self, stretch, params) -> np.ndarray:
@@ -182,7 +183,7 @@ class Hyperelastic:
             )
         for name, v, (lo, hi) in zip(self.param_names, p, self.bounds):
             if not np.isfinite(v):
-                raise ValueError(f"{name} = {v!r} is not finite")
+                raise ValueError(f"{name} = {float(v)!r} is not finite")
             if not lo <= v <= hi:
                 raise ValueError(
                     f"{name} = {v:g} is outside its physical range [{lo:g}, {hi:g}] "
@@ -200,6 +201,17 @@ class Hyperelastic:
         if not self.linear:
             raise ValueError(f"model {self.name!r} is not linear in its constants")
         return self.stress(stretch, np.eye(self.n_params))
+
+
+def _outside_domain(energy: Callable, *args) -> np.ndarray:
+    """Where the real energy is not finite (e.g. Gent past its locking stretch).
+
+    The complex step continues W analytically past the edge of its real domain (the
+    complex log of a negative number is finite), so its derivatives there would be
+    finite garbage; they are NaN instead.
+    """
+    with np.errstate(all="ignore"):
+        return ~np.isfinite(energy(*args))
 
 
 def _central(f: Callable[[float], np.ndarray], h: float = 1e-3) -> np.ndarray:

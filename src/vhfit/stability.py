@@ -75,7 +75,10 @@ class StabilityReport:
     def describe(self) -> str:
         lo, hi = self.stretch_range
         if self.stable:
-            return f"Drucker-stable in uniaxial, equibiaxial and planar modes for {lo:g} <= λ <= {hi:g}"
+            return (
+                "Drucker-stable in uniaxial, equibiaxial and planar modes for "
+                f"{lo:g} <= λ <= {hi:g}"
+            )
         parts = [
             f"{mode}: " + ", ".join(f"{a:.3g} <= λ <= {b:.3g}" for a, b in iv)
             for mode, iv in self.unstable.items()

@@ -33,9 +33,9 @@ def check_prony(G, tau) -> tuple[np.ndarray, np.ndarray]:
         )
     for i, (g, t) in enumerate(zip(G, tau), start=1):
         if not (np.isfinite(g) and g >= 0):
-            raise ValueError(f"G{i} = {g!r}: Prony moduli must be finite and >= 0 MPa")
+            raise ValueError(f"G{i} = {float(g)!r}: Prony moduli must be finite and >= 0 MPa")
         if not (t > 0) or np.isnan(t):
-            raise ValueError(f"tau{i} = {t!r}: relaxation times must be > 0 s")
+            raise ValueError(f"tau{i} = {float(t)!r}: relaxation times must be > 0 s")
     return G, tau
 
 

@@ -1,0 +1,203 @@
+"""FE-solver export of calibrated visco-hyperelastic models (and the way back).
+
+::
+
+    from vhfit.export import export, to_abaqus, from_abaqus
+    text = export(model, params, to="abaqus")        # or "lsdyna", "ansys", "json"
+    model2, params2 = from_abaqus(text)               # parse the card back
+
+Each writer takes ``(model, params)`` — or one results-like object with ``.model``
+and ``.params`` (or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``)
+— and returns the card as text, comment lines first (generator, model, units,
+conventions, long-term or instantaneous moduli). Each parser reads only the card's
+fields and converts them back with the documented conventions; the round trip
+reproduces the calibrated stresses (tests/test_export.py). Conventions and sources:
+docs/export.md.
+
+Units: the model's own consistent set — N, mm, s, MPa; density in tonne/mm³.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+
+from vhfit.export._common import Material, generator, resolve
+from vhfit.export.abaqus import from_abaqus, to_abaqus
+from vhfit.export.ansys import from_ansys, to_ansys
+from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
+from vhfit.model import ViscoHyperelastic
+
+__all__ = [
+    "export",
+    "parse",
+    "to_abaqus",
+    "from_abaqus",
+    "to_lsdyna",
+    "from_lsdyna",
+    "to_ansys",
+    "from_ansys",
+    "to_json",
+    "from_json",
+    "FORMATS",
+]
+
+#: Export target -> usual file suffix.
+FORMATS: dict[str, str] = {
+    "abaqus": ".inp",
+    "lsdyna": ".k",
+    "ansys": ".mac",
+    "json": ".json",
+}
+
+JSON_FORMAT = "vhfit-material"
+
+
+def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
+    """The calibrated material as JSON: vhfit parameters plus the derived solver values.
+
+    ``hyperelastic``, ``n_prony`` and ``params`` define the model (this is what
+    :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
+    constants for reference.
+
+    Examples
+    --------
+    >>> import json, vhfit
+    >>> from vhfit.export import to_json
+    >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=1)
+    >>> d = json.loads(to_json(m, dict(C10=0.5, G1=3.0, tau1=0.1)))
+    >>> d["derived"]["g"], d["derived"]["g_inf"]
+    ([0.5], 0.5)
+    """
+    model, params = resolve(model, params)
+    mat = Material.from_model(model, params)
+    E_inf = 3.0 * mat.mu0
+    doc = {
+        "format": JSON_FORMAT,
+        "generator": generator(),
+        "name": name,
+        "hyperelastic": mat.hyperelastic,
+        "n_prony": mat.n_prony,
+        "params": params,
+        "units": {
+            "system": "N, mm, s, MPa",
+            **dict(zip(model.param_names, model.units)),
+        },
+        "conventions": (
+            "hyperelastic constants long-term (Abaqus Cij / Ogden 2mu/alpha^2 forms); "
+            "G_i uniaxial Prony moduli: E(t) = E_inf + sum G_i exp(-t/tau_i); "
+            "g_i = G_i/G0, G0 = E_inf + sum G_i (SPEC section 3)"
+        ),
+        "derived": {
+            "E_inf": E_inf,
+            "G0": E_inf / mat.g_inf,
+            "g": list(mat.g),
+            "g_inf": mat.g_inf,
+            "tau": list(mat.tau),
+            "instantaneous_constants": mat.scaled(1.0 / mat.g_inf),
+        },
+    }
+    return json.dumps(doc, indent=indent, allow_nan=False) + "\n"
+
+
+def from_json(text: str) -> tuple[ViscoHyperelastic, dict]:
+    """Model and parameters from :func:`to_json` output or a results-like JSON document.
+
+    The document needs ``"params"`` and ``"hyperelastic"`` (or ``"model"``) — a
+    calibration results file with those keys reads as well.
+
+    Examples
+    --------
+    >>> from vhfit.export import from_json
+    >>> m, p = from_json('{"hyperelastic": "neo_hooke", "params": {"C10": 0.5}}')
+    >>> m.param_names, p
+    (['C10'], {'C10': 0.5})
+    """
+    doc = json.loads(text)
+    if not isinstance(doc, dict):
+        raise ValueError("the JSON document must be an object with 'params' and 'hyperelastic'")
+    return resolve(doc)
+
+
+_WRITERS: dict[str, Callable[..., str]] = {
+    "abaqus": to_abaqus,
+    "lsdyna": to_lsdyna,
+    "ansys": to_ansys,
+    "json": to_json,
+}
+_READERS: dict[str, Callable[[str], tuple[ViscoHyperelastic, dict]]] = {
+    "abaqus": from_abaqus,
+    "lsdyna": from_lsdyna,
+    "ansys": from_ansys,
+    "json": from_json,
+}
+_ALIASES = {"ls-dyna": "lsdyna", "dyna": "lsdyna", "apdl": "ansys", "mapdl": "ansys"}
+
+
+def _target(to: str) -> str:
+    key = str(to).strip().lower()
+    key = _ALIASES.get(key, key)
+    if key not in _WRITERS:
+        raise ValueError(f"unknown export target {to!r}; choose one of {', '.join(_WRITERS)}")
+    return key
+
+
+def export(model, params=None, *, to: str = "abaqus", **options) -> str:
+    """Write a calibrated model for an FE solver (dispatch to ``to_<solver>``).
+
+    Parameters
+    ----------
+    model : ViscoHyperelastic or results-like
+        The model with ``params``; or a calibration result (``.model``, ``.params``)
+        or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``.
+    params : dict or array_like, optional
+        The calibrated parameters (omit when ``model`` is results-like).
+    to : {"abaqus", "lsdyna", "ansys", "json"}
+        Target format.
+    **options
+        Passed to the writer (``name``, ``density``, ``moduli`` for Abaqus,
+        ``poisson``, ``long_format`` for LS-DYNA, ...).
+
+    Returns
+    -------
+    str
+        The card text; :data:`FORMATS` gives a file suffix for each target.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> from vhfit.export import export
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> p = dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-4)
+    >>> "*HYPERELASTIC, MOONEY-RIVLIN, MODULI=LONG TERM" in export(m, p, to="abaqus")
+    True
+    >>> "TB,PRONY,1,,1,SHEAR" in export({"model": m, "params": p}, to="ansys")
+    True
+    """
+    return _WRITERS[_target(to)](model, params, **options)
+
+
+def parse(text: str, fmt: str | None = None) -> tuple[ViscoHyperelastic, dict]:
+    """Read a card of any supported format back (``fmt`` guessed when None).
+
+    Examples
+    --------
+    >>> from vhfit.export import parse
+    >>> parse("*HYPERELASTIC, NEO HOOKE\\n0.5, 0.0\\n")[1]
+    {'C10': 0.5}
+    """
+    if fmt is not None:
+        return _READERS[_target(fmt)](text)
+    body = "\n".join(
+        ln for ln in text.splitlines()
+        if ln.strip() and not ln.lstrip().startswith(("**", "$", "!"))
+    ).upper()
+    if body.lstrip().startswith("{"):
+        return from_json(text)
+    if "*MAT_" in body:
+        return from_lsdyna(text)
+    if "*HYPERELASTIC" in body:
+        return from_abaqus(text)
+    if "TB," in body.replace(" ", ""):
+        return from_ansys(text)
+    raise ValueError("cannot tell the card format: give fmt='abaqus'|'lsdyna'|'ansys'|'json'")

@@ -1,0 +1,376 @@
+"""Shared pieces of the FE exporters: the material in solver-neutral form, numbers, headers.
+
+Every exporter goes through :class:`Material`: the calibrated model reduced to what a
+solver card holds — the long-term hyperelastic constants, the dimensionless Prony
+weights g_i = G_i / G0 and the relaxation times τ_i (SPEC §3) — and every parser
+builds a :class:`Material` back from the card's fields and turns it into vhfit
+parameters with :meth:`Material.to_params`. The two directions share no state: a
+parser sees only the text.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import textwrap
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from vhfit import hyperelastic as _hyper
+from vhfit.model import ViscoHyperelastic
+
+__all__ = [
+    "Material",
+    "resolve",
+    "free_number",
+    "fixed_number",
+    "parse_number",
+    "generator",
+    "header",
+    "unsupported",
+    "UNITS",
+]
+
+#: The consistent unit system every card is written in (the model's own: MPa and s).
+UNITS = "N, mm, s, MPa (stress and moduli), tonne/mm^3 (density)"
+
+#: Models that every exporter knows, in the order used in error messages.
+BUILTIN = (
+    "mooney_rivlin",
+    "neo_hooke",
+    "yeoh",
+    "polynomial2",
+    "polynomial3",
+    "ogden",
+    "ogden2",
+    "ogden3",
+)
+
+
+def generator() -> str:
+    """``"vhfit <version>"`` for the header lines (no date: cards are reproducible)."""
+    try:
+        from importlib.metadata import version
+
+        return f"vhfit {version('vhfit')}"
+    except Exception:  # pragma: no cover - not installed (running from a source tree)
+        return "vhfit"
+
+
+# ----------------------------------------------------------------------------- input
+def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
+    """The (model, params) pair behind the exporters' flexible first arguments.
+
+    Accepts ``(ViscoHyperelastic, dict | array)``; a results-like object with
+    ``.model`` and ``.params`` attributes (``params`` omitted); or a mapping with
+    ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
+    name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
+    from the ``G1, tau1, ...`` keys).
+    """
+    if params is None:
+        if isinstance(model, ViscoHyperelastic):
+            raise TypeError("give the parameters: to_X(model, params)")
+        if isinstance(model, Mapping):
+            if "params" not in model:
+                raise TypeError(
+                    "a mapping passed as the model needs 'params' and 'model' or 'hyperelastic' "
+                    f"keys; got {sorted(model)}"
+                )
+            params = model["params"]
+            spec = model.get("model", model.get("hyperelastic"))
+            n_prony = model.get("n_prony")
+        elif hasattr(model, "params") and hasattr(model, "model"):
+            params, spec, n_prony = model.params, model.model, None
+        else:
+            raise TypeError(
+                f"cannot export {type(model).__name__}: give (model, params), an object with "
+                ".model and .params, or a mapping with 'params' and 'model'/'hyperelastic'"
+            )
+        if isinstance(spec, Mapping):  # e.g. {"hyperelastic": "yeoh", "n_prony": 2}
+            n_prony = spec.get("n_prony", n_prony)
+            spec = spec.get("hyperelastic", spec.get("name"))
+        if isinstance(spec, ViscoHyperelastic):
+            model = spec
+        else:
+            if spec is None:
+                raise TypeError("the mapping names no model: add 'model' or 'hyperelastic'")
+            if n_prony is None:
+                if not isinstance(params, Mapping):
+                    raise TypeError("give 'n_prony' when the parameters are an array")
+                n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
+            model = ViscoHyperelastic(spec, n_prony=int(n_prony))
+    if not isinstance(model, ViscoHyperelastic):
+        raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
+    x = model.check(params)
+    return model, model.as_dict(x)
+
+
+# --------------------------------------------------------------------------- material
+@dataclass(frozen=True)
+class Material:
+    """A visco-hyperelastic material in the form FE cards hold it.
+
+    Attributes
+    ----------
+    hyperelastic : str
+        Registered vhfit model name.
+    constants : dict of str to float
+        Hyperelastic constants, vhfit (Abaqus) convention, LONG-TERM values.
+    g : tuple of float
+        Dimensionless Prony weights g_i = G_i / G0 (SPEC §3).
+    tau : tuple of float
+        Relaxation times τ_i, s.
+    """
+
+    hyperelastic: str
+    constants: dict
+    g: tuple = ()
+    tau: tuple = ()
+
+    # ---------------------------------------------------------------- from vhfit
+    @classmethod
+    def from_model(cls, model: ViscoHyperelastic, params) -> Material:
+        """The card form of one vhfit parameter set (validated)."""
+        x = model.check(params)
+        hyper, _, tau = model.split(x)
+        g, _ = model.prony_g(x)
+        names = model.hyperelastic.param_names
+        return cls(
+            hyperelastic=model.hyperelastic.name,
+            constants={n: float(v) for n, v in zip(names, hyper)},
+            g=tuple(float(v) for v in g),
+            tau=tuple(float(v) for v in tau),
+        )
+
+    @property
+    def n_prony(self) -> int:
+        return len(self.g)
+
+    @property
+    def g_inf(self) -> float:
+        """g∞ = 1 − Σ g_i."""
+        return 1.0 - math.fsum(self.g)
+
+    @property
+    def mu0(self) -> float:
+        """Long-term initial shear modulus μ0 = E∞ / 3 of the constants, MPa."""
+        h = _hyper.get(self.hyperelastic)
+        c = np.array([self.constants[n] for n in h.param_names])
+        return float(h.initial_shear_modulus(c))
+
+    def d1(self, poisson: float | None) -> float:
+        """Compressibility D1 = 2 / K0 from a Poisson's ratio (None -> 0, incompressible).
+
+        K0 = 2 μ_inst (1 + ν) / (3 (1 − 2ν)) with the INSTANTANEOUS shear modulus
+        μ_inst = μ0 / g∞: the bulk response does not relax (k_i = 0), so ν describes
+        the material at the rates where the Prony terms are active. Abaqus's D1 and
+        Ansys's d1 share this definition (initial bulk modulus K0 = 2 / D1).
+        """
+        if poisson is None:
+            return 0.0
+        if not 0.0 <= poisson < 0.5:
+            raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
+        mu_inst = self.mu0 / self.g_inf
+        K = 2.0 * mu_inst * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
+        return 2.0 / K
+
+    def scaled(self, factor: float) -> dict[str, float]:
+        """The constants with every stress-like (MPa) constant multiplied by ``factor``.
+
+        σ_h is linear in the MPa constants of every built-in model, so ``factor = 1/g∞``
+        gives the instantaneous constants (SPEC §3: σ0 = σ_h / g∞).
+        """
+        h = _hyper.get(self.hyperelastic)
+        units = dict(zip(h.param_names, h.units))
+        return {
+            k: (v * factor if units.get(k, "MPa") == "MPa" else v)
+            for k, v in self.constants.items()
+        }
+
+    # ------------------------------------------------------------------ to vhfit
+    @classmethod
+    def from_card(
+        cls, hyperelastic: str, constants: Mapping[str, float], g: Sequence[float],
+        tau: Sequence[float], *, instantaneous: bool, solver: str,
+    ) -> Material:
+        """Build from values read off a card; ``instantaneous`` constants are converted."""
+        g = tuple(float(v) for v in g)
+        tau = tuple(float(v) for v in tau)
+        for i, (gi, ti) in enumerate(zip(g, tau), start=1):
+            if not (math.isfinite(gi) and gi >= 0):
+                raise ValueError(f"{solver} card: Prony weight {i} = {gi!r} must be >= 0")
+            if not (math.isfinite(ti) and ti > 0):
+                raise ValueError(f"{solver} card: relaxation time {i} = {ti!r} must be > 0")
+        mat = cls(hyperelastic, {k: float(v) for k, v in constants.items()}, g, tau)
+        if not mat.g_inf > 0:
+            raise ValueError(
+                f"{solver} card: the Prony weights sum to {math.fsum(g)!r} >= 1, so the "
+                "long-term modulus g_inf = 1 - sum(g_i) is not positive"
+            )
+        if instantaneous:
+            mat = cls(hyperelastic, mat.scaled(mat.g_inf), g, tau)
+        return mat
+
+    def to_params(self) -> tuple[ViscoHyperelastic, dict[str, float]]:
+        """The vhfit model and parameters: G_i = g_i G0 with G0 = E∞ / g∞."""
+        model = ViscoHyperelastic(self.hyperelastic, n_prony=self.n_prony)
+        hyper = [self.constants[n] for n in model.hyperelastic.param_names]
+        E_inf = float(3.0 * model.hyperelastic.initial_shear_modulus(np.array(hyper)))
+        if not E_inf > 0:
+            raise ValueError(
+                f"the card's hyperelastic constants {self.constants} give no long-term "
+                f"stiffness (E_inf = {E_inf:g} MPa)"
+            )
+        G0 = E_inf / self.g_inf
+        params = dict(zip(model.hyperelastic.param_names, hyper))
+        for i, (gi, ti) in enumerate(zip(self.g, self.tau), start=1):
+            params[f"G{i}"] = gi * G0
+            params[f"tau{i}"] = ti
+        return model, model.as_dict(model.check(params))
+
+    @staticmethod
+    def params_from_moduli(
+        hyperelastic: str, constants: Mapping[str, float], G: Sequence[float],
+        tau: Sequence[float], *, solver: str,
+    ) -> tuple[ViscoHyperelastic, dict[str, float]]:
+        """vhfit (model, params) from long-term constants and uniaxial Prony moduli G_i."""
+        if len(G) != len(tau):
+            raise ValueError(f"{solver} card: {len(G)} Prony moduli but {len(tau)} times")
+        model = ViscoHyperelastic(hyperelastic, n_prony=len(G))
+        params = {n: float(constants.get(n, 0.0)) for n in model.hyperelastic.param_names}
+        for i, (Gi, ti) in enumerate(zip(G, tau), start=1):
+            params[f"G{i}"] = float(Gi)
+            params[f"tau{i}"] = float(ti)
+        try:
+            x = model.check(params)
+        except ValueError as err:
+            raise ValueError(f"{solver} card: {err}") from None
+        return model, model.as_dict(x)
+
+    def summary(self) -> str:
+        """One line of the vhfit parameters, for the card header."""
+        _, p = self.to_params()
+        return ", ".join(f"{k}={v:.6g}" for k, v in p.items())
+
+
+def unsupported(solver: str, model: str, supported: Sequence[str], why: str = "") -> ValueError:
+    """The error every exporter raises for a model its card cannot hold."""
+    extra = f" ({why})" if why else ""
+    return ValueError(
+        f"{solver} export does not support the hyperelastic model {model!r}{extra}; "
+        f"supported: {', '.join(supported)}"
+    )
+
+
+# ---------------------------------------------------------------------------- numbers
+def free_number(x: float) -> str:
+    """Shortest text that reads back as exactly ``x`` (free-format cards).
+
+    Examples
+    --------
+    >>> free_number(0.1), free_number(2.0), free_number(-0.0), free_number(1e-5)
+    ('0.1', '2.0', '0.0', '1e-05')
+    """
+    x = float(x)
+    if not math.isfinite(x):
+        raise ValueError(f"cannot write the non-finite value {x!r} into a card")
+    if x == 0.0:
+        return "0.0"
+    return repr(x)
+
+
+def _short_exp(s: str) -> str:
+    """'1.5e-05' -> '1.5e-5' (Fortran reads any exponent width)."""
+    mant, _, exp = s.partition("e")
+    if not exp:
+        return s
+    sign = "-" if exp.startswith("-") else ""
+    return f"{mant}e{sign}{exp.lstrip('+-').lstrip('0') or '0'}"
+
+
+def fixed_number(x: float, width: int) -> str:
+    """``x`` right-aligned in a ``width``-character field, as precisely as fits.
+
+    At most ``width - 1`` characters are used, so a field never touches its left
+    neighbour. Among fixed-point and scientific forms the one closest to ``x`` wins.
+
+    Examples
+    --------
+    >>> fixed_number(0.4995, 10)
+    '    0.4995'
+    >>> fixed_number(-1.23456789e-5, 10)
+    ' -1.235e-5'
+    >>> fixed_number(1e4, 10), fixed_number(5.0, 10)
+    ('     1.0e4', '       5.0')
+    >>> fixed_number(1 / 3, 10), float(fixed_number(1 / 3, 20)) == 1 / 3
+    (' 0.3333333', True)
+    """
+    x = float(x)
+    if not math.isfinite(x):
+        raise ValueError(f"cannot write the non-finite value {x!r} into a card")
+    room = width - 1
+    if x == 0.0:
+        return "0.0".rjust(width)
+    best, err = None, None
+    for p in range(16, -1, -1):
+        # '#' keeps the decimal point ('5.', '1.e4'): with a point, a Fortran E/F edit
+        # descriptor cannot shift the value by an implied decimal
+        for s in (_short_exp(f"{x:#.{p}e}"), f"{x:#.{p}f}"):
+            if len(s) > room:
+                continue
+            v = float(s)
+            if v == 0.0 and x != 0.0:
+                continue
+            key = (abs(v - x), ".e" in s or s.endswith("."), len(s))
+            if best is None or key < err:
+                best, err = s, key
+    if best is None:
+        raise ValueError(f"{x!r} does not fit a {width}-character field")
+    return best.rjust(width)
+
+
+def parse_number(token: str, default: float = 0.0) -> float:
+    """A card field as a float (blank -> ``default``; Fortran 'D' exponents accepted)."""
+    t = token.strip()
+    if not t:
+        return default
+    t = t.replace("d", "e").replace("D", "E")
+    # Fortran also writes '1.5-5' for 1.5e-5
+    m = re.fullmatch(r"([+-]?\d*\.?\d*)([+-]\d+)", t)
+    if m and m.group(1) not in ("", "+", "-"):
+        t = f"{m.group(1)}e{m.group(2)}"
+    return float(t)
+
+
+# ---------------------------------------------------------------------------- headers
+def header(
+    prefix: str,
+    *,
+    solver: str,
+    mat: Material,
+    moduli: str,
+    conventions: Sequence[str],
+    width: int = 100,
+) -> list[str]:
+    """The comment block every card starts with (ASCII, wrapped to ``width``).
+
+    Generator, model, units, the solver conventions used and whether the hyperelastic
+    moduli are long-term or instantaneous, then the calibrated vhfit parameters.
+    """
+    lines = [
+        f"Generated by {generator()}: visco-hyperelastic material for {solver}",
+        f"vhfit model: {mat.hyperelastic} + {mat.n_prony} Prony term(s)",
+        f"Units: {UNITS}",
+        *conventions,
+        f"Hyperelastic moduli are {moduli}",
+        f"g_inf = 1 - sum(g_i) = {mat.g_inf:.9g}",
+        f"Calibrated vhfit parameters (paper convention, G_i uniaxial): {mat.summary()}",
+    ]
+    out = []
+    for line in lines:
+        for piece in textwrap.wrap(line, width - len(prefix) - 1,
+                                   subsequent_indent="  ", break_on_hyphens=False):
+            out.append(f"{prefix} {piece}")
+    return out

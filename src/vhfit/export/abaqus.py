@@ -1,0 +1,290 @@
+"""Abaqus cards: ``*HYPERELASTIC`` + ``*VISCOELASTIC, TIME=PRONY``.
+
+Conventions (see docs/export.md for the sources):
+
+* ``*HYPERELASTIC, <model>, MODULI=LONG TERM`` takes the long-term constants, which
+  is what vhfit calibrates; ``MODULI=INSTANTANEOUS`` takes long-term / g∞. The Cij are
+  the Abaqus polynomial constants, W = Σ Cij (Ī1 − 3)^i (Ī2 − 3)^j; Ogden μ_p, α_p
+  are Abaqus's, W = Σ 2μ_p/α_p² (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3). Both are vhfit's own
+  conventions, so the constants go over unchanged.
+* Data lines: the constants, then D1..DN (0 = incompressible, Abaqus/Standard with
+  hybrid elements), at most 8 values a line.
+* ``*VISCOELASTIC, TIME=PRONY`` data lines ``g_i, k_i, tau_i`` with g_i = G_i / G0 the
+  dimensionless shear relaxation modulus (SPEC §3) and k_i = 0 (no bulk relaxation).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+
+from vhfit.export._common import (
+    Material,
+    free_number,
+    header,
+    parse_number,
+    resolve,
+    unsupported,
+)
+from vhfit.model import ViscoHyperelastic
+
+__all__ = ["to_abaqus", "from_abaqus"]
+
+SOLVER = "Abaqus"
+
+#: vhfit model -> (*HYPERELASTIC parameters, constant order on the data line, number of D)
+_CARDS = {
+    "mooney_rivlin": ("MOONEY-RIVLIN", ("C10", "C01"), 1),
+    "neo_hooke": ("NEO HOOKE", ("C10",), 1),
+    "yeoh": ("YEOH", ("C10", "C20", "C30"), 3),
+    "polynomial2": ("POLYNOMIAL, N=2", ("C10", "C01", "C20", "C11", "C02"), 2),
+    "polynomial3": (
+        "POLYNOMIAL, N=3",
+        ("C10", "C01", "C20", "C11", "C02", "C30", "C21", "C12", "C03"),
+        3,
+    ),
+    "ogden": ("OGDEN, N=1", ("mu1", "alpha1"), 1),
+    "ogden2": ("OGDEN, N=2", ("mu1", "alpha1", "mu2", "alpha2"), 2),
+    "ogden3": ("OGDEN, N=3", ("mu1", "alpha1", "mu2", "alpha2", "mu3", "alpha3"), 3),
+}
+
+_MODULI = {"long_term": "LONG TERM", "instantaneous": "INSTANTANEOUS"}
+
+
+def _lines_of(values: list[str], per_line: int = 8) -> list[str]:
+    """Data lines of at most ``per_line`` values; a continued line ends with a comma."""
+    chunks = [values[i:i + per_line] for i in range(0, len(values), per_line)]
+    return [", ".join(c) + ("," if k < len(chunks) - 1 else "") for k, c in enumerate(chunks)]
+
+
+def to_abaqus(
+    model,
+    params=None,
+    *,
+    name: str = "VHFIT_MATERIAL",
+    moduli: str = "long_term",
+    density: float | None = None,
+    poisson: float | None = None,
+) -> str:
+    """Abaqus ``*MATERIAL`` block of a calibrated visco-hyperelastic model.
+
+    Parameters
+    ----------
+    model : ViscoHyperelastic or results-like
+        The model; or an object with ``.model`` and ``.params``, or a mapping with
+        ``"params"`` and ``"model"``/``"hyperelastic"`` (then omit ``params``).
+    params : dict or array_like, optional
+        The calibrated parameters (vhfit convention: long-term hyperelastic constants,
+        uniaxial Prony moduli G_i in MPa, τ_i in s).
+    name : str
+        Material name (``*MATERIAL, NAME=``).
+    moduli : {"long_term", "instantaneous"}
+        Which hyperelastic constants the card carries (``MODULI=LONG TERM`` is exact
+        and preferred; ``INSTANTANEOUS`` writes long-term / g∞).
+    density : float, optional
+        Mass density in tonne/mm³ (``*DENSITY``; Abaqus/Explicit needs one).
+    poisson : float, optional
+        Poisson's ratio for a compressible D1 (see :meth:`Material.d1`); default None
+        writes D = 0 (incompressible: Abaqus/Standard with hybrid elements only).
+
+    Returns
+    -------
+    str
+        The card, comment lines first.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> from vhfit.export import to_abaqus
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> card = to_abaqus(m, dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-4))
+    >>> print("\\n".join(line for line in card.splitlines() if not line.startswith("**")))
+    *MATERIAL, NAME=VHFIT_MATERIAL
+    *HYPERELASTIC, MOONEY-RIVLIN, MODULI=LONG TERM
+    0.0, 5.0, 0.0
+    *VISCOELASTIC, TIME=PRONY
+    0.5, 0.0, 0.0001
+    """
+    model, params = resolve(model, params)
+    mat = Material.from_model(model, params)
+    if mat.hyperelastic not in _CARDS:
+        raise unsupported(SOLVER, mat.hyperelastic, list(_CARDS))
+    if moduli not in _MODULI:
+        raise ValueError(f"moduli = {moduli!r}; choose 'long_term' or 'instantaneous'")
+    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
+        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+    kind, order, n_d = _CARDS[mat.hyperelastic]
+    visco = mat.n_prony > 0
+    inst = visco and moduli == "instantaneous"
+    constants = mat.scaled(1.0 / mat.g_inf) if inst else mat.constants
+    d1 = mat.d1(poisson)
+    values = [free_number(constants[k]) for k in order]
+    values += [free_number(d1)] + [free_number(0.0)] * (n_d - 1)
+
+    if not visco:
+        which = "long-term = instantaneous (no Prony terms; MODULI not written)"
+    elif inst:
+        which = "INSTANTANEOUS (MODULI=INSTANTANEOUS): vhfit long-term constants / g_inf"
+    else:
+        which = "LONG-TERM (MODULI=LONG TERM), exactly vhfit's calibrated constants"
+    conventions = [
+        "Conventions: W = sum Cij (I1b-3)^i (I2b-3)^j; Ogden W = sum 2 mu_p/alpha_p^2 "
+        "(l1b^a_p + l2b^a_p + l3b^a_p - 3) (Abaqus forms = vhfit forms, copied unchanged)",
+        "*VISCOELASTIC, TIME=PRONY lines: g_i, k_i, tau_i with g_i = G_i/G0, "
+        "G0 = E_inf + sum G_i, k_i = 0 (no bulk relaxation), tau_i in s",
+        "D1 = 0: incompressible (Abaqus/Standard hybrid elements)" if poisson is None
+        else f"D1 = 2/K0 from Poisson's ratio {poisson:g} with the instantaneous shear modulus",
+    ]
+    lines = header("**", solver=SOLVER, mat=mat, moduli=which, conventions=conventions)
+    lines.append(f"*MATERIAL, NAME={name}")
+    if density is not None:
+        if not (math.isfinite(density) and density > 0):
+            raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
+        lines += ["*DENSITY", f"{free_number(density)},"]
+    kw = f"*HYPERELASTIC, {kind}"
+    if visco:
+        kw += f", MODULI={_MODULI[moduli]}"
+    lines.append(kw)
+    lines += _lines_of(values)
+    if visco:
+        lines.append("*VISCOELASTIC, TIME=PRONY")
+        lines += [f"{free_number(g)}, 0.0, {free_number(t)}" for g, t in zip(mat.g, mat.tau)]
+    return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------------- parsing
+def _blocks(text: str) -> list[tuple[str, dict[str, str], list[list[str]]]]:
+    """(keyword, parameters, data lines as token lists) for every keyword in ``text``."""
+    out: list[tuple[str, dict[str, str], list[list[str]]]] = []
+    for raw in text.splitlines():
+        line = raw.strip()
+        if not line or line.startswith("**"):
+            continue
+        if line.startswith("*"):
+            parts = [p.strip() for p in line[1:].split(",")]
+            params: dict[str, str] = {}
+            for p in parts[1:]:
+                if not p:
+                    continue
+                k, _, v = p.partition("=")
+                params[re.sub(r"\s+", " ", k.strip().upper())] = v.strip()
+            out.append((re.sub(r"\s+", " ", parts[0].upper()), params, []))
+        elif out:
+            out[-1][2].append([t.strip() for t in line.rstrip(",").split(",")])
+    return out
+
+
+def _hyper_kind(params: dict[str, str]) -> tuple[str, int]:
+    """The vhfit model named by *HYPERELASTIC parameters, and the number of D values."""
+    n = int(params.get("N", "1"))
+    if "MOONEY-RIVLIN" in params:
+        return "mooney_rivlin", 1
+    if "NEO HOOKE" in params:
+        return "neo_hooke", 1
+    if "YEOH" in params:
+        return "yeoh", 3
+    if "OGDEN" in params:
+        if 1 <= n <= 3:
+            return ("ogden", "ogden2", "ogden3")[n - 1], n
+        raise unsupported(SOLVER, f"OGDEN, N={n}", list(_CARDS), "vhfit has Ogden N = 1..3")
+    if "REDUCED POLYNOMIAL" in params:
+        if n == 1:
+            return "neo_hooke", 1
+        if n in (2, 3):
+            return "yeoh", n  # C30 = 0 for N = 2
+        raise unsupported(SOLVER, f"REDUCED POLYNOMIAL, N={n}", list(_CARDS))
+    named = [k for k in params if k not in ("N", "MODULI", "POISSON")]
+    if named and named != ["POLYNOMIAL"]:
+        raise unsupported(SOLVER, ", ".join(named), list(_CARDS))
+    if n in (1, 2, 3):  # POLYNOMIAL (the default)
+        return ("mooney_rivlin", "polynomial2", "polynomial3")[n - 1], n
+    raise unsupported(SOLVER, f"POLYNOMIAL, N={n}", list(_CARDS))
+
+
+def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelastic, dict]:
+    """Read a card written by :func:`to_abaqus` (or by hand) back into vhfit.
+
+    Parameters
+    ----------
+    text : str
+        Abaqus input text holding ``*MATERIAL``, ``*HYPERELASTIC`` (constants given
+        directly, no temperature dependence) and optionally ``*VISCOELASTIC,
+        TIME=PRONY``.
+    name : str, optional
+        Which ``*MATERIAL`` to read (default: the first one).
+
+    Returns
+    -------
+    model : ViscoHyperelastic
+    params : dict
+        vhfit parameters (long-term constants, uniaxial G_i, τ_i).
+
+    Examples
+    --------
+    >>> from vhfit.export import from_abaqus
+    >>> card = '''*MATERIAL, NAME=GEL
+    ... *HYPERELASTIC, MOONEY-RIVLIN, MODULI=LONG TERM
+    ... 0.0, 5.0, 0.0
+    ... *VISCOELASTIC, TIME=PRONY
+    ... 0.5, 0.0, 1e-4
+    ... '''
+    >>> m, p = from_abaqus(card)
+    >>> m.param_names, p["G1"]
+    (['C10', 'C01', 'G1', 'tau1'], 30.0)
+    """
+    blocks = _blocks(text)
+    starts = [i for i, b in enumerate(blocks) if b[0] == "MATERIAL"]
+    if starts:
+        chosen = None
+        for k, i in enumerate(starts):
+            if name is None or blocks[i][1].get("NAME", "").upper() == name.upper():
+                end = starts[k + 1] if k + 1 < len(starts) else len(blocks)
+                chosen = blocks[i + 1:end]
+                break
+        if chosen is None:
+            raise ValueError(f"no *MATERIAL, NAME={name} in the Abaqus text")
+        blocks = chosen
+    hyper = [b for b in blocks if b[0] == "HYPERELASTIC"]
+    if not hyper:
+        raise ValueError("no *HYPERELASTIC keyword in the Abaqus text")
+    _, hp, hdata = hyper[0]
+    if "TEST DATA INPUT" in hp or "MARLOW" in hp or "USER" in hp:
+        raise ValueError("*HYPERELASTIC with test data, MARLOW or USER cannot be read: "
+                         "give the constants on the data lines")
+    kind, n_d = _hyper_kind(hp)
+    order = list(_CARDS[kind][1])
+    if kind == "yeoh" and n_d == 2:  # REDUCED POLYNOMIAL, N=2: C10, C20
+        order = ["C10", "C20"]
+    need = len(order) + n_d + 1  # constants, D's, temperature
+    per_record = -(-need // 8)
+    if len(hdata) > per_record:
+        raise ValueError("temperature-dependent *HYPERELASTIC data is not supported "
+                         f"(found {len(hdata)} data lines, one record is {per_record})")
+    tokens = [t for line in hdata for t in line]
+    if len(tokens) < len(order):
+        raise ValueError(f"*HYPERELASTIC {kind}: expected {len(order)} constants "
+                         f"{order}, found {len(tokens)} values")
+    constants = {k: parse_number(tok) for k, tok in zip(order, tokens)}
+    for k in _CARDS[kind][1]:
+        constants.setdefault(k, 0.0)
+
+    g, tau = [], []
+    visco = [b for b in blocks if b[0] == "VISCOELASTIC"]
+    if visco:
+        _, vp, vdata = visco[0]
+        if vp.get("TIME", "").upper() != "PRONY":
+            raise ValueError(f"*VISCOELASTIC {vp}: only TIME=PRONY can be read")
+        for row in vdata:
+            gi, ki, ti = (parse_number(row[j]) if j < len(row) else 0.0 for j in range(3))
+            if ki != 0.0:
+                warnings.warn(f"*VISCOELASTIC k_i = {ki:g} ignored: vhfit's model is "
+                              "incompressible (no bulk relaxation)", stacklevel=2)
+            g.append(gi)
+            tau.append(ti)
+    moduli = hp.get("MODULI", "LONG TERM").upper()
+    if moduli not in ("LONG TERM", "INSTANTANEOUS"):
+        raise ValueError(f"*HYPERELASTIC MODULI={moduli}: expected LONG TERM or INSTANTANEOUS")
+    mat = Material.from_card(kind, constants, g, tau, solver=SOLVER,
+                             instantaneous=moduli == "INSTANTANEOUS" and bool(g))
+    return mat.to_params()

@@ -1,0 +1,347 @@
+"""LS-DYNA cards: ``*MAT_HYPERELASTIC_RUBBER`` (MAT_077_H) and ``*MAT_OGDEN_RUBBER`` (MAT_077_O).
+
+Conventions (see docs/export.md for the sources and what is verified):
+
+* The polynomial constants C10, C01, C11, C20, C02, C30 of MAT_077_H are the Abaqus /
+  vhfit Cij. Only these six exist, so polynomial3 is exported only when its C21, C12
+  and C03 are zero.
+* MAT_077_O's Ogden energy is W = Σ μ_p/α_p (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3), not
+  Abaqus's 2μ_p/α_p²: MU_p = 2 μ_p / α_p (vhfit μ_p).
+* The hyperelastic constants are the LONG-TERM ones: the Prony stress is added on top
+  of the stress from the strain energy. Each optional card carries GI, a SHEAR
+  relaxation modulus in stress units, and BETAI, a decay constant in 1/time:
+  GI = G_i / 3 (vhfit's G_i is uniaxial; uniaxial = 3 × shear for an incompressible
+  solid at small strain) and BETAI = 1 / τ_i.
+* PR is the Poisson's ratio LS-DYNA builds the bulk modulus from (default 0.4995).
+* Fields are fixed width, 8 to a card. Default is the long format (20-character
+  fields, keyword suffix ``+``), which keeps 13 significant digits; the standard
+  10-character format keeps only 4-6 and is offered for old readers.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from vhfit.export._common import (
+    Material,
+    fixed_number,
+    header,
+    parse_number,
+    resolve,
+    unsupported,
+)
+from vhfit.model import ViscoHyperelastic
+
+__all__ = ["to_lsdyna", "from_lsdyna"]
+
+SOLVER = "LS-DYNA"
+
+_POLY = ("C10", "C01", "C11", "C20", "C02", "C30")  # MAT_077_H card order
+_POLY_MODELS = ("neo_hooke", "mooney_rivlin", "yeoh", "polynomial2", "polynomial3")
+_OGDEN_MODELS = ("ogden", "ogden2", "ogden3")
+SUPPORTED = (*_POLY_MODELS, *_OGDEN_MODELS)
+#: Optional viscoelastic cards read by each keyword (LS-DYNA manual, via PyDyna's docs).
+MAX_PRONY = {"HYPERELASTIC_RUBBER": 6, "OGDEN_RUBBER": 12}
+
+
+def _card(fields: list, width: int) -> str:
+    """One fixed-width card; ``None`` leaves a field blank (LS-DYNA default)."""
+    out = []
+    for f in fields:
+        if f is None:
+            out.append(" " * width)
+        elif isinstance(f, int):
+            out.append(str(f).rjust(width))
+        else:
+            out.append(fixed_number(f, width))
+    return "".join(out).rstrip()
+
+
+def _names(width: int, names: list[str]) -> str:
+    """The '$#' column-title comment above a card."""
+    cells = [n.rjust(width) for n in names]
+    return "$#" + "".join(cells)[2:]
+
+
+def to_lsdyna(
+    model,
+    params=None,
+    *,
+    name: str = "VHFIT_MATERIAL",
+    mid: int = 1,
+    density: float | None = None,
+    poisson: float = 0.4995,
+    long_format: bool = True,
+) -> str:
+    """LS-DYNA keyword deck (``*KEYWORD`` ... ``*END``) of a calibrated model.
+
+    Mooney-Rivlin, neo-Hooke, Yeoh and polynomial models go to
+    ``*MAT_HYPERELASTIC_RUBBER`` (MAT_077_H), Ogden models to ``*MAT_OGDEN_RUBBER``
+    (MAT_077_O); the Prony terms go on their optional GI, BETAI cards.
+
+    Parameters
+    ----------
+    model : ViscoHyperelastic or results-like
+        See :func:`vhfit.export.to_abaqus`.
+    params : dict or array_like, optional
+        The calibrated vhfit parameters.
+    name : str
+        Material title (``_TITLE`` option, at most 80 characters).
+    mid : int
+        Material id.
+    density : float, optional
+        RO in tonne/mm³; left blank (and flagged in a comment) when not given.
+    poisson : float
+        PR, from which LS-DYNA derives the bulk modulus; 0.4995 (K ≈ 1000 μ0) by default.
+    long_format : bool
+        20-character fields (keyword suffix ``+``, 13 significant digits) when True;
+        the classic 10-character fields (4-6 significant digits) when False.
+
+    Returns
+    -------
+    str
+        The deck.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> from vhfit.export import to_lsdyna
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> deck = to_lsdyna(m, dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-4), density=1e-9,
+    ...                  long_format=False)
+    >>> print("\\n".join(l for l in deck.splitlines() if not l.startswith("$")))
+    *KEYWORD
+    *MAT_HYPERELASTIC_RUBBER_TITLE
+    VHFIT_MATERIAL
+             1    1.0e-9    0.4995         0
+           0.0       5.0       0.0       0.0       0.0       0.0
+          10.0     1.0e4
+    *END
+    """
+    model, params = resolve(model, params)
+    mat = Material.from_model(model, params)
+    kind = mat.hyperelastic
+    if kind not in SUPPORTED:
+        raise unsupported(SOLVER, kind, SUPPORTED)
+    if kind == "polynomial3":
+        extra = {k: mat.constants[k] for k in ("C21", "C12", "C03") if mat.constants[k] != 0.0}
+        if extra:
+            raise unsupported(
+                SOLVER, kind, SUPPORTED,
+                f"MAT_077_H holds only {', '.join(_POLY)}; this parameter set has {extra}",
+            )
+    if not (isinstance(mid, int) and 0 < mid < 10**8):
+        raise ValueError(f"mid = {mid!r} must be a positive integer")
+    if not 0.0 <= poisson < 0.5:
+        raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
+    if not name or len(name) > 80 or "\n" in name:
+        raise ValueError(f"material title {name!r}: 1-80 characters on one line")
+    if density is not None and not (math.isfinite(density) and density > 0):
+        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
+    ogden = kind in _OGDEN_MODELS
+    keyword = "OGDEN_RUBBER" if ogden else "HYPERELASTIC_RUBBER"
+    if mat.n_prony > MAX_PRONY[keyword]:
+        raise ValueError(
+            f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} Prony terms; "
+            f"this model has {mat.n_prony}: prune or refit with fewer terms"
+        )
+    w = 20 if long_format else 10
+
+    mu_inst = mat.mu0 / mat.g_inf
+    K = 2.0 * mat.mu0 * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
+    conventions = [
+        ("Ogden MAT_077_O: W = sum MU_p/ALPHA_p (l1b^a + l2b^a + l3b^a - 3); "
+         "MU_p = 2 mu_p/alpha_p from vhfit's (Abaqus) mu_p")
+        if ogden else
+        "MAT_077_H: W = sum Cpq (I1b-3)^p (I2b-3)^q, C10 C01 C11 C20 C02 C30 = vhfit Cij",
+        "Prony cards: GI = shear relaxation modulus = G_i/3 (vhfit G_i is uniaxial), "
+        "BETAI = 1/tau_i (1/s); added to the long-term hyperelastic stress",
+        f"PR = {poisson:g}: K = 2 G (1+PR)/(3 (1-2 PR)) = {K:.6g} MPa with G = long-term "
+        f"mu0 = {mat.mu0:.6g} MPa; instantaneous shear modulus {mu_inst:.6g} MPa "
+        f"(K/mu_inst = {K / mu_inst:.4g})",
+        ("Long format: 20-character fields (keyword suffix +)" if long_format else
+         "Standard 10-character fields: values rounded to 4-6 significant digits"),
+    ]
+    if density is None:
+        conventions.append("RO (density, tonne/mm^3) is left blank: set it before running")
+    lines = ["*KEYWORD"]
+    lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80,
+                    moduli="LONG-TERM (LS-DYNA adds the Prony stress to them)")
+    lines.append(f"*MAT_{keyword}_TITLE" + ("+" if long_format else ""))
+    lines.append(name)
+    lines.append(_names(w, ["mid", "ro", "pr", "n", "nv", "g", "sigf", "ref"]))
+    lines.append(_card([mid, density, float(poisson), 0], w))
+    c = mat.constants
+    if ogden:
+        n = int(kind[-1]) if kind[-1].isdigit() else 1
+        mus, alphas = [], []
+        for p in range(1, n + 1):
+            mu, alpha = c[f"mu{p}"], c[f"alpha{p}"]
+            if alpha == 0.0:
+                raise ValueError(f"alpha{p} = 0: an Ogden exponent must be nonzero")
+            mus.append(2.0 * mu / alpha)
+            alphas.append(alpha)
+        lines.append(_names(w, [f"mu{p}" for p in range(1, 9)]))
+        lines.append(_card(mus, w))
+        lines.append(_names(w, [f"alpha{p}" for p in range(1, 9)]))
+        lines.append(_card(alphas, w))
+    else:
+        lines.append(_names(w, [k.lower() for k in _POLY] + ["therml"]))
+        lines.append(_card([c.get(k, 0.0) for k in _POLY], w))
+    if mat.n_prony:
+        lines.append(_names(w, ["gi", "betai"]))
+        for i in range(1, mat.n_prony + 1):
+            lines.append(_card([params[f"G{i}"] / 3.0, 1.0 / params[f"tau{i}"]], w))
+    lines.append("*END")
+    return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------------- parsing
+_KEY = re.compile(
+    r"^\*MAT_(HYPERELASTIC_RUBBER|077_H|OGDEN_RUBBER|077_O)(_TITLE)?\s*([+\-%]?)\s*$",
+    re.IGNORECASE,
+)
+
+
+def _fields(line: str, width: int) -> list[str]:
+    if "," in line:  # LS-DYNA also reads comma-separated (free) format
+        return [t.strip() for t in line.split(",")]
+    return [line[i:i + width] for i in range(0, max(len(line), 8 * width), width)][:8]
+
+
+def _infer_poly(constants: dict[str, float], hint: str | None) -> str:
+    """The smallest built-in model holding the nonzero MAT_077_H constants."""
+    from vhfit import hyperelastic as _hyper
+
+    nonzero = {k for k, v in constants.items() if v != 0.0}
+    order = list(_POLY_MODELS)
+    if hint in order:
+        order.remove(hint)
+        order.insert(0, hint)
+    for kind in order:
+        h = _hyper.get(kind)
+        if not nonzero <= set(h.param_names):
+            continue
+        try:
+            h.check([constants.get(n, 0.0) for n in h.param_names])
+        except ValueError:
+            continue
+        return kind
+    raise unsupported(SOLVER, f"MAT_077_H with {sorted(nonzero)}", SUPPORTED)
+
+
+def from_lsdyna(text: str, *, mid: int | None = None) -> tuple[ViscoHyperelastic, dict]:
+    """Read a MAT_077_H / MAT_077_O card back into vhfit.
+
+    The card must give the constants directly (N = 0). For MAT_077_H the model name
+    is taken from a ``$ vhfit model: <name>`` comment when it fits the constants,
+    else the simplest built-in model holding the nonzero constants is used (the
+    stress is the same either way).
+
+    Parameters
+    ----------
+    text : str
+        Keyword text, standard (10), long (20, ``LONG=Y`` or ``+`` suffix) or
+        comma-separated fields.
+    mid : int, optional
+        Which material to read (default: the first MAT_077_H/O).
+
+    Returns
+    -------
+    model : ViscoHyperelastic
+    params : dict
+
+    Examples
+    --------
+    >>> from vhfit.export import from_lsdyna
+    >>> deck = '''*MAT_HYPERELASTIC_RUBBER
+    ... 1,1e-9,0.4995,0
+    ... 0.0,5.0
+    ... 10.0,1e4
+    ... '''
+    >>> m, p = from_lsdyna(deck)
+    >>> m.hyperelastic.name, p["G1"], p["tau1"]
+    ('mooney_rivlin', 30.0, 0.0001)
+    """
+    lines = text.splitlines()
+    long_global = any(
+        re.match(r"^\*KEYWORD\b.*\bLONG\s*=\s*Y", ln.strip(), re.IGNORECASE) for ln in lines
+    )
+    m_hint = re.search(r"vhfit model:\s*([A-Za-z0-9_]+)", text)
+    hint = m_hint.group(1) if m_hint else None
+    k = 0
+    while k < len(lines):
+        m = _KEY.match(lines[k].strip())
+        k += 1
+        if not m:
+            continue
+        width = {"+": 20, "-": 10, "%": 10}.get(m.group(3), 20 if long_global else 10)
+        ogden = m.group(1).upper() in ("OGDEN_RUBBER", "077_O")
+        data = []
+        while k < len(lines) and not lines[k].lstrip().startswith("*"):
+            if not lines[k].lstrip().startswith("$"):
+                data.append(lines[k].rstrip("\n"))
+            k += 1
+        if m.group(2):
+            data = data[1:]  # title
+        cards = [_fields(d, width) for d in data if d.strip()]
+        if not cards:
+            raise ValueError(f"{SOLVER} *MAT_{m.group(1)} has no data cards")
+        head = [parse_number(f) for f in cards[0][:8]] + [0.0] * 8
+        if mid is not None and int(head[0]) != mid:
+            continue
+        return _read(cards, head, ogden, hint)
+    raise ValueError(
+        "no *MAT_HYPERELASTIC_RUBBER / *MAT_OGDEN_RUBBER (MAT_077_H/O) "
+        + (f"with MID {mid} " if mid is not None else "") + "in the LS-DYNA text"
+    )
+
+
+def _read(cards, head, ogden: bool, hint: str | None):
+    pr, n = head[2], int(head[3])
+    if n != 0:
+        raise ValueError(f"{SOLVER} card has N = {n}: LS-DYNA fits the constants from test "
+                         "curves; only N = 0 (constants given) can be read")
+    rest = cards[1:]
+    if pr < 0:
+        rest = rest[1:]  # the extra (hysteresis / Mullins) card
+    if ogden:
+        if len(rest) < 2:
+            raise ValueError(f"{SOLVER} MAT_077_O: missing the MU and ALPHA cards")
+        mus = [parse_number(f) for f in rest[0][:8]]
+        alphas = [parse_number(f) for f in rest[1][:8]]
+        pairs = [(mu, a) for mu, a in zip(mus, alphas) if mu != 0.0 or a != 0.0]
+        if not 1 <= len(pairs) <= 3:
+            raise unsupported(SOLVER, f"Ogden with {len(pairs)} terms", SUPPORTED,
+                              "vhfit has Ogden with 1 to 3 terms")
+        kind = _OGDEN_MODELS[len(pairs) - 1]
+        constants = {}
+        for p, (mu_d, alpha) in enumerate(pairs, start=1):
+            if alpha == 0.0:
+                raise ValueError(f"{SOLVER} MAT_077_O: ALPHA{p} = 0 with MU{p} = {mu_d:g}")
+            constants[f"mu{p}"] = mu_d * alpha / 2.0
+            constants[f"alpha{p}"] = alpha
+        visco = rest[2:]
+    else:
+        if not rest:
+            raise ValueError(f"{SOLVER} MAT_077_H: missing the C10 ... C30 card")
+        row = rest[0] + [""] * 8
+        if parse_number(row[6]) > 0:
+            raise ValueError(f"{SOLVER} MAT_077_H: THERML > 0 (temperature curves) "
+                             "cannot be read")
+        constants = {name: parse_number(f) for name, f in zip(_POLY, row[:6])}
+        kind = _infer_poly(constants, hint)
+        visco = rest[1:]
+    G, tau = [], []
+    for row in visco:
+        row = row + [""] * 2
+        gi, beta = parse_number(row[0]), parse_number(row[1])
+        if gi == 0.0 and beta == 0.0:
+            continue
+        if not beta > 0:
+            raise ValueError(f"{SOLVER} Prony card GI = {gi:g}, BETAI = {beta:g}: "
+                             "the decay constant must be > 0")
+        G.append(3.0 * gi)
+        tau.append(1.0 / beta)
+    return Material.params_from_moduli(kind, constants, G, tau, solver=SOLVER)

@@ -1,0 +1,68 @@
+"""Optimisation for vhfit: SciPy-compatible differential evolution and τ search bounds.
+
+``from vhfit.optimize import differential_evolution`` is a drop-in replacement for
+SciPy's, with keyword-only extras (absolute population size, composable stopping
+criteria, per-generation history, the paper's preset, self-adaptive strategies).
+``de`` plugs the same solver into :func:`scipy.optimize.minimize`; ``tau_bounds``
+gives the paper's search bounds for the Prony relaxation times (Eq. 22).
+"""
+
+from vhfit.optimize._de import DifferentialEvolutionSolver, differential_evolution
+from vhfit.optimize._history import DEHistory
+from vhfit.optimize._minimize import de
+from vhfit.optimize._presets import preset_settings, presets
+from vhfit.optimize._stopping import (
+    AllOf,
+    AnyOf,
+    BestMeanGap,
+    EnergySpread,
+    FunctionCriterion,
+    MaxEvaluations,
+    MaxGenerations,
+    MaxTime,
+    MeanImprovement,
+    StopCriterion,
+    StopState,
+    TargetValue,
+    paper_criteria,
+)
+from vhfit.optimize._strategies import JDE, LSHADE, SHADE, AdaptiveStrategy, adaptive_strategies
+from vhfit.optimize._tau import (
+    TauBounds,
+    register_tau_strategy,
+    tau_bounds,
+    tau_range,
+    tau_strategies,
+)
+
+__all__ = [
+    "differential_evolution",
+    "DifferentialEvolutionSolver",
+    "de",
+    "tau_bounds",
+    "tau_range",
+    "TauBounds",
+    "register_tau_strategy",
+    "tau_strategies",
+    "DEHistory",
+    "StopCriterion",
+    "StopState",
+    "AnyOf",
+    "AllOf",
+    "FunctionCriterion",
+    "MeanImprovement",
+    "BestMeanGap",
+    "MaxGenerations",
+    "TargetValue",
+    "MaxEvaluations",
+    "MaxTime",
+    "EnergySpread",
+    "paper_criteria",
+    "AdaptiveStrategy",
+    "JDE",
+    "SHADE",
+    "LSHADE",
+    "adaptive_strategies",
+    "presets",
+    "preset_settings",
+]

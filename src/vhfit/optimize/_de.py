@@ -1,0 +1,778 @@
+"""SciPy-compatible differential evolution with vhfit's extras.
+
+:class:`DifferentialEvolutionSolver` subclasses SciPy's solver: with none of the
+extras given, every code path is SciPy's own and results are bit-identical to
+:func:`scipy.optimize.differential_evolution`. The extras (keyword-only, off by
+default) hook into the generation loop: an absolute population size, composable
+stopping criteria, a per-generation history, presets, bound-repair modes and
+self-adaptive strategies (jDE, SHADE, L-SHADE).
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import math
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import numpy as np
+from scipy.optimize import Bounds, OptimizeResult
+
+# vhfit.optimize builds on SciPy's DifferentialEvolutionSolver, which lives in a private
+# module. The SciPy version is pinned by the environment this package is developed and
+# tested in (SciPy 1.17); the import is guarded so that a SciPy that moved or renamed it
+# fails here with a clear message instead of somewhere obscure.
+try:
+    from scipy.optimize._differentialevolution import (
+        DifferentialEvolutionSolver as _SciPySolver,
+    )
+except ImportError as exc:  # pragma: no cover - depends on the installed SciPy
+    raise ImportError(
+        "vhfit.optimize subclasses scipy.optimize._differentialevolution."
+        "DifferentialEvolutionSolver, which this SciPy does not provide; install the "
+        "SciPy version vhfit is pinned to (1.17)."
+    ) from exc
+try:  # SciPy's termination messages (private, same pin as above)
+    from scipy.optimize._optimize import _status_message
+except ImportError:  # pragma: no cover
+    _status_message = {
+        "success": "Optimization terminated successfully.",
+        "maxfev": "Maximum number of function evaluations has been exceeded.",
+        "maxiter": "Maximum number of iterations has been exceeded.",
+    }
+
+from vhfit.optimize._history import _Recorder
+from vhfit.optimize._presets import EXTRA_KEYS, SCIPY_DEFAULTS, preset_settings
+from vhfit.optimize._stopping import StopCriterion, as_criterion
+from vhfit.optimize._strategies import AdaptiveStrategy, _resolve, adaptive_strategies
+
+__all__ = ["differential_evolution", "DifferentialEvolutionSolver"]
+
+_SCIPY_STRATEGIES = tuple(_SciPySolver._binomial) + tuple(_SciPySolver._exponential)
+_INITS = ("latinhypercube", "sobol", "halton", "random")
+_REPAIRS = ("random", "clip", "midpoint")
+_CALLBACK_STOP = "callback function requested stop early"
+
+
+def _is_default(value: Any, default: Any) -> bool:
+    """True when `value` is (equal to) SciPy's default, i.e. the user did not set it."""
+    if value is default:
+        return True
+    if type(value) is not type(default):
+        return False
+    try:
+        return bool(value == default)
+    except (TypeError, ValueError):
+        return False
+
+
+class _NanToInf:
+    """Objective wrapper: a NaN value becomes +inf (scalars and vectorized arrays).
+
+    Module level and holding no solver reference, so it pickles for ``workers`` and
+    creates no reference cycle.
+    """
+
+    def __init__(self, f: Callable) -> None:
+        self.f = f
+
+    def __call__(self, x):
+        v = self.f(x)
+        if isinstance(v, float):  # Python float and np.float64
+            return math.inf if v != v else v
+        try:
+            a = np.asarray(v)
+            if a.dtype.kind in "fc" and np.isnan(a).any():
+                return np.where(np.isnan(a), np.inf, a.real if a.dtype.kind == "c" else a)
+        except (TypeError, ValueError):
+            pass
+        return v
+
+
+def _parse_bounds(bounds: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    """(lb, ub) as float arrays if `bounds` is well formed, else None (SciPy will complain)."""
+    try:
+        if isinstance(bounds, Bounds):
+            lb = np.atleast_1d(np.asarray(bounds.lb, dtype=float))
+            ub = np.atleast_1d(np.asarray(bounds.ub, dtype=float))
+            lb, ub = np.broadcast_arrays(lb, ub)
+        else:
+            arr = np.array(bounds, dtype=float)
+            if arr.ndim != 2 or arr.shape[1] != 2:
+                return None
+            lb, ub = arr[:, 0], arr[:, 1]
+    except (TypeError, ValueError):
+        return None
+    return lb, ub
+
+
+class DifferentialEvolutionSolver(_SciPySolver):
+    """SciPy's differential evolution solver, with vhfit's extras.
+
+    Takes exactly the arguments of
+    :class:`scipy.optimize._differentialevolution.DifferentialEvolutionSolver` (see
+    :func:`differential_evolution` for their meaning; the solver also accepts
+    ``maxfun``), followed by vhfit's keyword-only extras. Without extras it *is*
+    SciPy's solver: same code paths, same random stream, same results.
+
+    Parameters
+    ----------
+    func, bounds, args, strategy, maxiter, popsize, tol, mutation, recombination, rng, \
+maxfun, callback, disp, polish, init, atol, updating, workers, constraints, x0, \
+integrality, vectorized
+        As SciPy's solver; `strategy` also accepts ``"jde"``, ``"shade"``,
+        ``"lshade"`` or an :class:`~vhfit.optimize.AdaptiveStrategy` instance.
+    population_size, stop, history, snapshots, preset, repair
+        vhfit's extras, see :func:`differential_evolution`.
+
+    Notes
+    -----
+    Use as an iterator (``next(solver)`` evolves one generation) or call
+    :meth:`solve`. Use it in a ``with`` block when ``workers`` creates a pool.
+    """
+
+    def __init__(self, func, bounds, args=(), strategy="best1bin", maxiter=1000, popsize=15,
+                 tol=0.01, mutation=(0.5, 1), recombination=0.7, rng=None, maxfun=np.inf,
+                 callback=None, disp=False, polish=True, init="latinhypercube", atol=0,
+                 updating="immediate", workers=1, constraints=(), x0=None, *,
+                 integrality=None, vectorized=False, population_size=None, stop=None,
+                 history=False, snapshots=0, preset=None, repair=None):
+        # ---------------------------------------------------------------- preset
+        if preset is not None:
+            settings = preset_settings(preset)
+            given = {"strategy": strategy, "maxiter": maxiter, "popsize": popsize, "tol": tol,
+                     "mutation": mutation, "recombination": recombination, "polish": polish,
+                     "init": init, "atol": atol, "updating": updating}
+            extras = {"population_size": population_size, "stop": stop, "repair": repair}
+            for key, value in settings.items():
+                if key in EXTRA_KEYS:
+                    if extras[key] is None:
+                        extras[key] = value
+                elif _is_default(given[key], SCIPY_DEFAULTS[key]):
+                    given[key] = value
+            strategy, maxiter, popsize, tol = (given["strategy"], given["maxiter"],
+                                               given["popsize"], given["tol"])
+            mutation, recombination, polish = (given["mutation"], given["recombination"],
+                                               given["polish"])
+            init, atol, updating = given["init"], given["atol"], given["updating"]
+            population_size, stop, repair = (extras["population_size"], extras["stop"],
+                                             extras["repair"])
+
+        # ---------------------------------------------------------------- extras
+        if population_size is not None:
+            if (isinstance(population_size, bool) or not np.isscalar(population_size)
+                    or int(population_size) != population_size or population_size < 5):
+                raise ValueError(
+                    f"population_size must be an integer >= 5, got {population_size!r}")
+            population_size = int(population_size)
+        stop_c: StopCriterion | None = None if stop is None else as_criterion(stop)
+        if history not in (True, False):
+            raise ValueError(f"history must be True or False, got {history!r}")
+        if (isinstance(snapshots, bool) or not np.isscalar(snapshots)
+                or int(snapshots) != snapshots or snapshots < 0):
+            raise ValueError(f"snapshots must be an integer >= 0, got {snapshots!r}")
+        snapshots = int(snapshots)
+        if repair is not None and repair not in _REPAIRS:
+            raise ValueError(f"repair: unknown mode {repair!r}; available: {list(_REPAIRS)}")
+
+        adaptive = _resolve(strategy)
+        if adaptive is None and isinstance(strategy, str) and strategy not in _SCIPY_STRATEGIES:
+            raise ValueError(
+                f"strategy: unknown strategy {strategy!r}; available: "
+                f"{list(_SCIPY_STRATEGIES) + list(adaptive_strategies())}, or a callable "
+                "strategy(candidate, population, rng=None)")
+
+        # ---------------------------------------------------------------- bad input
+        parsed = _parse_bounds(bounds)
+        if parsed is not None:
+            lb, ub = parsed
+            reversed_ = np.flatnonzero(lb > ub)
+            if reversed_.size:
+                i = int(reversed_[0])
+                raise ValueError(
+                    f"bounds: lower bound above upper bound for parameter {i} "
+                    f"({lb[i]!r} > {ub[i]!r}); give (min, max) pairs")
+            if x0 is not None:
+                try:
+                    x0_arr = np.asarray(x0, dtype=float)
+                except (TypeError, ValueError):
+                    raise ValueError(f"x0 must be an array of {lb.size} numbers") from None
+                if x0_arr.size != lb.size:
+                    raise ValueError(
+                        f"x0 has {x0_arr.size} entries but bounds define {lb.size} parameters")
+                if not np.all(np.isfinite(x0_arr)):
+                    raise ValueError("x0 must be finite")
+                x0 = x0_arr.reshape(lb.size)
+
+        real_init = None
+        if population_size is not None:
+            if isinstance(init, str):
+                if init not in _INITS:
+                    raise ValueError(
+                        f"init: unknown initialisation {init!r}; available: {list(_INITS)} "
+                        "or an array of shape (S, N)")
+                if parsed is not None:
+                    # SciPy sizes its population as popsize * N; build it with a tiny
+                    # placeholder (no random draws) and initialise NP members below.
+                    real_init = init
+                    init = np.tile(0.5 * (parsed[0] + parsed[1]), (5, 1))
+            elif np.shape(init)[0] != population_size:
+                raise ValueError(
+                    f"population_size={population_size} conflicts with the init array of "
+                    f"{np.shape(init)[0]} members")
+
+        super().__init__(
+            func, bounds, args=args,
+            strategy="rand1bin" if adaptive is not None else strategy,
+            maxiter=maxiter, popsize=popsize, tol=tol, mutation=mutation,
+            recombination=recombination, rng=rng, maxfun=maxfun, callback=callback,
+            disp=disp, polish=polish, init=init, atol=atol, updating=updating,
+            workers=workers, constraints=constraints, x0=x0, integrality=integrality,
+            vectorized=vectorized)
+
+        if real_init is not None:
+            NP = population_size
+            self.num_population_members = NP
+            self.population_shape = (NP, self.parameter_count)
+            if real_init == "latinhypercube":
+                self.init_population_lhs()
+            elif real_init == "random":
+                self.init_population_random()
+            else:
+                self.init_population_qmc(qmc_engine=real_init)
+            if x0 is not None:
+                self.population[0] = self._unscale_parameters(x0)
+            self.constraint_violation = np.zeros((NP, 1))
+            self.feasible = np.ones(NP, bool)
+            self._random_population_index = np.arange(NP)
+
+        self._vh_adaptive: AdaptiveStrategy | None = adaptive
+        self._vh_astate = None
+        if adaptive is not None:
+            self.strategy = adaptive
+            if self.num_population_members < adaptive.min_population:
+                raise ValueError(
+                    f"population_size: strategy {adaptive.name!r} needs at least "
+                    f"{adaptive.min_population} members, got {self.num_population_members}")
+        self._vh_extras = bool(
+            population_size is not None or stop_c is not None or history or snapshots
+            or preset is not None or repair is not None or adaptive is not None)
+        self._vh_stop = stop_c
+        self._vh_history = bool(history or snapshots)
+        self._vh_repair = repair
+        self._vh_parents = None
+        self._vh_gen = 0
+        self._vh_nevals = 0
+        self._vh_fired = None
+        self._vh_last_message = None
+        self._vh_rec = _Recorder(snapshots) if self._vh_extras else None
+        if self._vh_extras:
+            self.func = _NanToInf(self.func)
+
+    # ------------------------------------------------------------------ loop hooks
+    def __next__(self):
+        if not self._vh_extras:
+            return super().__next__()
+        rec = self._vh_rec
+        if not rec.recorded:
+            self._vh_initial()
+        if self._vh_adaptive is not None:
+            self._vh_adaptive_generation()
+        else:
+            super().__next__()
+        self._vh_gen += 1
+        rec.record(self._vh_gen, self._nfev, self.population_energies,
+                   self._vh_scaled_population)
+        return self.x, self.population_energies[0]
+
+    def converged(self):
+        """Whether the run should stop: SciPy's tol/atol test, or the ``stop`` criteria."""
+        if self._vh_stop is None:
+            return super().converged()
+        rec = self._vh_rec
+        if not rec.recorded:
+            return False
+        fired = self._vh_stop._fire(rec.state)
+        if fired is None:
+            return False
+        self._vh_fired = fired
+        return True
+
+    def solve(self):
+        """Run the solver; see :func:`differential_evolution` for the result's fields."""
+        if not self._vh_extras:
+            return super().solve()
+        self._vh_fired = None
+        self._vh_last_message = None
+        self._vh_rec.start()
+        if not self._vh_rec.recorded:
+            self._vh_initial()
+        res = super().solve()
+        self._vh_finish(res)
+        return res
+
+    def _result(self, **kwds):
+        if self._vh_extras and kwds.get("message") != "in progress":
+            self._vh_last_message = kwds.get("message")
+        return super()._result(**kwds)
+
+    # ------------------------------------------------------------------ repair modes
+    def _mutate(self, candidate):
+        if self._vh_repair == "midpoint":
+            self._vh_parents = candidate
+        return super()._mutate(candidate)
+
+    def _mutate_many(self, candidates):
+        if self._vh_repair == "midpoint":
+            self._vh_parents = candidates
+        return super()._mutate_many(candidates)
+
+    def _ensure_constraint(self, trial):
+        mode = self._vh_repair
+        if mode is None or mode == "random":
+            return super()._ensure_constraint(trial)
+        if mode == "clip":
+            np.clip(trial, 0.0, 1.0, out=trial)
+            return None
+        # midpoint between the parent and the violated bound
+        parents = self.population[self._vh_parents]
+        low = trial < 0.0
+        if low.any():
+            trial[low] = 0.5 * np.broadcast_to(parents, trial.shape)[low]
+        high = trial > 1.0
+        if high.any():
+            trial[high] = 0.5 * (1.0 + np.broadcast_to(parents, trial.shape)[high])
+        return None
+
+    # ------------------------------------------------------------------ internals
+    def _vh_scaled_population(self):
+        return self._scale_parameters(self.population)
+
+    def _vh_initial(self):
+        """Evaluate the initial population (as SciPy does) and record generation 0."""
+        if np.all(np.isinf(self.population_energies)):
+            self.feasible, self.constraint_violation = (
+                self._calculate_population_feasibilities(self.population))
+            before = self._nfev
+            self.population_energies[self.feasible] = self._calculate_population_energies(
+                self.population[self.feasible])
+            self._vh_nevals += (int(np.count_nonzero(self.feasible)) if self.vectorized
+                                else self._nfev - before)
+            self._promote_lowest_energy()
+        self._vh_rec.record(0, self._nfev, self.population_energies,
+                            self._vh_scaled_population)
+
+    def _vh_promote(self):
+        """SciPy's promotion of the best member to slot 0, telling the strategy."""
+        feasible = np.flatnonzero(self.feasible)
+        if feasible.size:
+            best = int(feasible[np.argmin(self.population_energies[feasible])])
+        else:
+            best = int(np.argmin(np.sum(self.constraint_violation, axis=1)))
+        if best != 0:
+            sw = [0, best]
+            rev = [best, 0]
+            self.population_energies[sw] = self.population_energies[rev]
+            self.population[sw, :] = self.population[rev, :]
+            self.feasible[sw] = self.feasible[rev]
+            self.constraint_violation[sw, :] = self.constraint_violation[rev, :]
+            if self._vh_adaptive is not None and self._vh_astate is not None:
+                self._vh_adaptive.swap(self._vh_astate, 0, best)
+
+    def _vh_shrink(self, size: int):
+        """Keep the `size` best members (population-size reduction), best stays first."""
+        order = np.argsort(self.population_energies, kind="stable")
+        keep = np.sort(order[:size])
+        self.population = self.population[keep]
+        self.population_energies = self.population_energies[keep]
+        self.feasible = self.feasible[keep]
+        self.constraint_violation = self.constraint_violation[keep]
+        self.num_population_members = size
+        self.population_shape = (size, self.parameter_count)
+        self._random_population_index = np.arange(size)
+        if self._vh_adaptive is not None and self._vh_astate is not None:
+            self._vh_adaptive.resize(self._vh_astate, keep)
+        self._vh_promote()
+
+    def _vh_adaptive_generation(self):
+        """One generation of a self-adaptive strategy (immediate or deferred updating)."""
+        strat = self._vh_adaptive
+        if self._vh_astate is None:
+            self._vh_astate = strat.init_state(self)
+        st = self._vh_astate
+        constrained = bool(self._wrapped_constraints)
+        if self._updating == "immediate":
+            for c in range(self.num_population_members):
+                if self._nfev > self.maxfun:
+                    raise StopIteration
+                cand = np.array([c])
+                parent = self.population[cand].copy()
+                trial = strat.trials(self, st, cand)
+                params = self._scale_parameters(trial[0])
+                feasible, cv, energy = True, np.atleast_2d([0.0]), np.inf
+                if constrained:
+                    cv = self._constraint_violation_fn(params)
+                    feasible = not np.sum(cv) > 0
+                if feasible:
+                    energy = self.func(params)
+                    self._nfev += 1
+                    self._vh_nevals += 1
+                    if np.size(energy) != 1:
+                        raise RuntimeError("func(x, *args) must return a scalar value")
+                    energy = float(np.squeeze(energy))
+                pe = float(self.population_energies[c])
+                ok = self._accept_trial(energy, feasible, cv, pe, self.feasible[c],
+                                        self.constraint_violation[c])
+                delta = 0.0
+                if (ok and feasible and self.feasible[c] and math.isfinite(pe)
+                        and math.isfinite(energy)):
+                    delta = pe - energy
+                strat.report(self, st, cand, np.array([bool(ok)]), np.array([delta]), parent)
+                if ok:
+                    self.population[c] = trial[0]
+                    self.population_energies[c] = energy
+                    self.feasible[c] = feasible
+                    self.constraint_violation[c] = cv
+                    if self._accept_trial(energy, feasible, cv, self.population_energies[0],
+                                          self.feasible[0], self.constraint_violation[0]):
+                        self._vh_promote()
+        else:
+            if self._nfev >= self.maxfun:
+                raise StopIteration
+            NP = self.num_population_members
+            cand = np.arange(NP)
+            trial_pop = strat.trials(self, st, cand)
+            feasible, cv = self._calculate_population_feasibilities(trial_pop)
+            trial_e = np.full(NP, np.inf)
+            before = self._nfev
+            trial_e[feasible] = self._calculate_population_energies(trial_pop[feasible])
+            self._vh_nevals += (int(np.count_nonzero(feasible)) if self.vectorized
+                                else self._nfev - before)
+            pop_e = self.population_energies
+            if constrained:
+                loc = np.array([self._accept_trial(*v) for v in zip(
+                    trial_e, feasible, cv, pop_e, self.feasible, self.constraint_violation)],
+                    dtype=bool)
+            else:
+                loc = trial_e <= pop_e
+            both = loc & feasible & self.feasible & np.isfinite(trial_e) & np.isfinite(pop_e)
+            delta = np.zeros(NP)
+            delta[both] = pop_e[both] - trial_e[both]
+            parents = self.population
+            strat.report(self, st, cand, loc, delta, parents)
+            self.population = np.where(loc[:, None], trial_pop, parents)
+            self.population_energies = np.where(loc, trial_e, pop_e)
+            self.feasible = np.where(loc, feasible, self.feasible)
+            self.constraint_violation = np.where(loc[:, None], cv, self.constraint_violation)
+        strat.end_generation(self, st)
+        self._vh_promote()
+
+    def _vh_finish(self, res: OptimizeResult) -> None:
+        """Add ``stop_reason`` (and ``history``) to the final result."""
+        msg = self._vh_last_message
+        if self._vh_fired is not None:
+            crit, reason = self._vh_fired
+            res.stop_reason = crit.name
+            if res.message == _status_message["success"]:
+                res.message = f"Stopped by {crit.name}: {reason}."
+                res.success = bool(crit.success)
+        elif msg == _status_message["maxiter"]:
+            res.stop_reason = "maxiter"
+        elif isinstance(msg, str) and msg.startswith("Maximum number of function evaluations"):
+            res.stop_reason = "maxfun"
+        elif msg == _CALLBACK_STOP:
+            res.stop_reason = "callback"
+        elif msg == _status_message["success"]:
+            res.stop_reason = "tol"
+        else:  # pragma: no cover - defensive
+            res.stop_reason = "unknown"
+        if self._vh_history:
+            res.history = self._vh_rec.result()
+
+
+def _rng_transition(fun: Callable) -> Callable:
+    """Accept the legacy ``seed`` keyword exactly as SciPy's ``differential_evolution``.
+
+    SciPy's semantics: ``rng=`` by keyword is normalised with
+    :func:`numpy.random.default_rng`; the 10th positional argument or ``seed=`` is
+    passed on as is (an int then seeds a legacy ``RandomState``). Giving two of these
+    raises TypeError. ``seed`` is listed in the signature right after ``vectorized``,
+    where SciPy's signature has it.
+    """
+    position = 9
+
+    @functools.wraps(fun)
+    def wrapper(*args, **kwargs):
+        as_old = "seed" in kwargs
+        as_new = "rng" in kwargs
+        as_pos = len(args) >= position + 1
+        if int(as_old) + int(as_new) + int(as_pos) > 1:
+            raise TypeError(
+                f"{fun.__name__}() got multiple values for argument now known as `rng`. "
+                "Specify one of `rng` or `seed`.")
+        if as_old:
+            kwargs["rng"] = kwargs.pop("seed")
+        elif as_new:
+            kwargs["rng"] = np.random.default_rng(kwargs["rng"])
+        return fun(*args, **kwargs)
+
+    sig = inspect.signature(fun)
+    params = list(sig.parameters.values())
+    at = [p.name for p in params].index("vectorized") + 1
+    params.insert(at, inspect.Parameter("seed", inspect.Parameter.KEYWORD_ONLY, default=None))
+    wrapper.__signature__ = sig.replace(parameters=params)
+    return wrapper
+
+
+@_rng_transition
+def differential_evolution(
+    func: Callable[..., Any],
+    bounds: Any,
+    args: tuple = (),
+    strategy: str | Callable | AdaptiveStrategy = "best1bin",
+    maxiter: int = 1000,
+    popsize: int = 15,
+    tol: float = 0.01,
+    mutation: float | tuple[float, float] = (0.5, 1),
+    recombination: float = 0.7,
+    rng: Any = None,
+    callback: Callable | None = None,
+    disp: bool = False,
+    polish: bool | Callable = True,
+    init: str | Any = "latinhypercube",
+    atol: float = 0,
+    updating: str = "immediate",
+    workers: int | Callable = 1,
+    constraints: Any = (),
+    x0: Any = None,
+    *,
+    integrality: Any = None,
+    vectorized: bool = False,
+    population_size: int | None = None,
+    stop: StopCriterion | Callable | str | Iterable | None = None,
+    history: bool = False,
+    snapshots: int = 0,
+    preset: str | None = None,
+    repair: str | None = None,
+) -> OptimizeResult:
+    r"""Find the global minimum of a function with differential evolution.
+
+    A drop-in replacement for :func:`scipy.optimize.differential_evolution`: same
+    signature, defaults, semantics and :class:`~scipy.optimize.OptimizeResult`
+    fields, built on SciPy's own solver (with no extra given, results are
+    bit-identical to SciPy's). Keyword-only extras add what the paper's calibration
+    needs: an absolute population size, composable stopping criteria, a
+    per-generation history, the paper's preset, bound-repair modes and self-adaptive
+    strategies.
+
+    Parameters
+    ----------
+    func : callable
+        Objective ``func(x, *args) -> float``, ``x`` a 1-D array of N parameters
+        (with ``vectorized=True``: ``x`` of shape (N, S), returning shape (S,)).
+    bounds : sequence or `~scipy.optimize.Bounds`
+        ``(min, max)`` pairs, one per parameter, or a `Bounds` instance. Finite, and
+        ``min <= max`` (equal bounds fix a parameter).
+    args : tuple, optional
+        Extra arguments passed to `func`.
+    strategy : str or callable or AdaptiveStrategy, optional
+        SciPy's strategies ``'best1bin'`` (default), ``'best1exp'``, ``'rand1bin'``,
+        ``'rand1exp'``, ``'rand2bin'``, ``'rand2exp'``, ``'randtobest1bin'``,
+        ``'randtobest1exp'``, ``'currenttobest1bin'``, ``'currenttobest1exp'``,
+        ``'best2exp'``, ``'best2bin'``; a callable
+        ``strategy(candidate, population, rng=None)`` returning a trial of shape (N,);
+        or one of vhfit's self-adaptive variants ``'jde'``, ``'shade'``, ``'lshade'``
+        (or an instance of :class:`~vhfit.optimize.JDE`, :class:`~vhfit.optimize.SHADE`,
+        :class:`~vhfit.optimize.LSHADE` to change their settings). The adaptive
+        variants choose F and CR themselves, so `mutation` and `recombination` are
+        ignored for them.
+    maxiter : int, optional
+        Maximum number of generations. Default 1000. Also caps runs with `stop`.
+    popsize : int, optional
+        Population size multiplier: ``popsize * (N - N_equal)`` members (at least 5),
+        unless `population_size` or an `init` array sets the size.
+    tol, atol : float, optional
+        SciPy's convergence test: stop when ``std(population_energies) <= atol +
+        tol * |mean(population_energies)|``. Not used when `stop` is given.
+    mutation : float or tuple(float, float), optional
+        Differential weight F in [0, 2), or ``(min, max)`` for dithering (a new F
+        from U[min, max) each generation). Default (0.5, 1).
+    recombination : float, optional
+        Crossover probability CR in [0, 1]. Default 0.7.
+    rng : {None, int, `numpy.random.Generator`}, optional
+        Random generator or seed: by keyword it goes through
+        :func:`numpy.random.default_rng`. The legacy spelling ``seed=`` (or this
+        argument by position) keeps SciPy's legacy meaning (an int seeds a
+        `~numpy.random.RandomState`). The same seed gives bit-identical results,
+        for any `workers`.
+    callback : callable, optional
+        ``callback(intermediate_result)`` with an `OptimizeResult` (fields ``x``,
+        ``fun``, ``nit``, ``population``, ...), or the legacy
+        ``callback(x, convergence)``. Returning True or raising `StopIteration`
+        stops the run (polishing still happens).
+    disp : bool, optional
+        Print the best energy at every generation.
+    polish : bool or callable, optional
+        Polish the best member with `~scipy.optimize.minimize` (L-BFGS-B, or
+        trust-constr with constraints) at the end, or with a callable
+        ``polish(func, x0, **kwds)`` returning an `OptimizeResult`. Default True.
+    init : str or array_like, optional
+        ``'latinhypercube'`` (default), ``'sobol'``, ``'halton'``, ``'random'``, or
+        an initial population of shape (S, N), clipped to the bounds.
+    updating : {'immediate', 'deferred'}, optional
+        Update the best member after every trial, or once per generation.
+        ``workers != 1`` and ``vectorized=True`` switch to ``'deferred'`` (with a
+        warning, as SciPy).
+    workers : int or map-like callable, optional
+        Evaluate the population in parallel: an int (a `multiprocessing.Pool` of that
+        many processes; -1 for all cores) or a map-like callable
+        ``workers(func, iterable)``. `func` must then pickle.
+    constraints : {NonlinearConstraint, LinearConstraint, Bounds} or sequence, optional
+        Constraints beyond `bounds` (Lampinen's approach).
+    x0 : array_like, optional
+        Initial guess of shape (N,), placed in the initial population.
+    integrality : array_like of bool, optional
+        Which parameters are integers.
+    vectorized : bool, optional
+        `func` evaluates a whole population at once: ``x.shape == (N, S)``.
+    seed : optional
+        Legacy name of `rng` (SciPy's ``seed`` keyword).
+    population_size : int, optional
+        *vhfit extra.* Absolute number of population members (NP, as in the paper),
+        instead of SciPy's per-parameter multiplier `popsize`. At least 5.
+    stop : StopCriterion or callable or str or sequence, optional
+        *vhfit extra.* Stopping criteria checked after every generation, replacing
+        SciPy's `tol`/`atol` test (`maxiter` still caps the run). Criteria combine
+        with ``|`` (any) and ``&`` (all); a plain callable ``f(state) -> bool | str``
+        is accepted; ``"paper"`` is the paper's four criteria
+        (:func:`~vhfit.optimize.paper_criteria`). Built in:
+        :class:`~vhfit.optimize.MeanImprovement`, :class:`~vhfit.optimize.BestMeanGap`,
+        :class:`~vhfit.optimize.MaxGenerations`, :class:`~vhfit.optimize.TargetValue`,
+        :class:`~vhfit.optimize.MaxEvaluations`, :class:`~vhfit.optimize.MaxTime`,
+        :class:`~vhfit.optimize.EnergySpread`. Targets are in the objective's units.
+    history : bool, optional
+        *vhfit extra.* Record, per generation, the best and mean energy, generation
+        number, objective calls, wall time and population size, returned as
+        ``result.history`` (a :class:`~vhfit.optimize.DEHistory`). Cheap enough to
+        leave on.
+    snapshots : int, optional
+        *vhfit extra.* Also store the whole population (and its energies) every
+        `snapshots`-th generation in ``result.history`` (implies `history`).
+        Default 0 (none).
+    preset : str, optional
+        *vhfit extra.* A named bundle of settings: ``"paper"`` reproduces the paper's
+        DE (rand/1/bin, F = 0.8, CR = 0.7, NP = 60, immediate updating, random
+        initial population, mutants clipped to the bounds, no polish, the paper's
+        four stopping criteria, ``maxiter=100_000``); ``"recommended"`` is what vhfit
+        recommends for calibration (see ``docs/optimizer.md``). A preset only fills in
+        arguments left at SciPy's default (and extras left at None): anything you
+        set explicitly wins.
+    repair : {'random', 'clip', 'midpoint'}, optional
+        *vhfit extra.* What happens to a trial component that leaves its bounds with
+        SciPy's strategies (including callable ones): ``'random'`` (SciPy's
+        behaviour: a uniform random value over the whole range), ``'clip'`` (onto
+        the bound) or ``'midpoint'`` (halfway between the parent and the bound).
+        The adaptive strategies always use ``'midpoint'``.
+
+    Returns
+    -------
+    res : OptimizeResult
+        SciPy's fields: ``x``, ``fun``, ``nfev``, ``nit``, ``success``, ``message``,
+        ``population``, ``population_energies``, and ``jac`` (after a successful
+        polish) and ``constr``, ``constr_violation``, ``maxcv`` (with constraints).
+        When any extra is given, also ``stop_reason`` (the name of the stopping
+        criterion that ended the run, or ``'maxiter'``, ``'maxfun'``,
+        ``'callback'``, ``'tol'``; ``message`` then names it too), and
+        ``history`` when requested. Without extras the result is SciPy's, field for
+        field.
+
+    Raises
+    ------
+    ValueError
+        For bounds that are not finite or have a lower bound above the upper one, an
+        `x0` whose size does not match the bounds, an unknown strategy, stopping
+        criterion, preset or repair mode, or an invalid extra (the message names the
+        argument). SciPy's own checks raise what SciPy raises.
+
+    See Also
+    --------
+    scipy.optimize.differential_evolution : The SciPy function this one extends.
+    vhfit.optimize.de : The same solver as a `scipy.optimize.minimize` method.
+
+    Notes
+    -----
+    *Compatibility.* Every SciPy call works unchanged and SciPy's own test suite for
+    differential evolution passes against this function and
+    :class:`DifferentialEvolutionSolver`. One deliberate difference: bounds with a
+    lower bound above the upper bound are rejected up front (SciPy runs and fails
+    only in the final polish, or not at all with ``polish=False``), and so is an
+    `x0` of the wrong size (SciPy may broadcast it silently).
+
+    *NaN.* When any extra is used, an objective value of NaN counts as ``+inf``
+    (the trial loses every comparison and never becomes the best); plain SciPy
+    semantics otherwise.
+
+    *Stopping.* With `stop`, the criteria are checked after each generation, in
+    the order given; the first met ends the run, and its name is in
+    ``result.stop_reason``. Budget criteria (:class:`~vhfit.optimize.MaxGenerations`,
+    :class:`~vhfit.optimize.MaxEvaluations`, :class:`~vhfit.optimize.MaxTime`) give
+    ``success=False``, convergence criteria ``success=True``.
+
+    *Bounds and τ.* SciPy's strategies replace an out-of-bounds trial component by
+    a uniform random value over the whole range; search relaxation times in
+    ``log10 τ`` (see :func:`~vhfit.optimize.tau_bounds`) so that such a draw is
+    uniform in decades, or choose ``repair='clip'`` / ``'midpoint'``.
+
+    References
+    ----------
+    .. [1] R. Storn, K. Price, "Differential evolution - a simple and efficient
+       heuristic for global optimization over continuous spaces", J. Glob. Optim.
+       11, 341-359 (1997).
+    .. [2] SciPy's :func:`scipy.optimize.differential_evolution` and its references.
+    .. [3] R. Tanabe, A. Fukunaga, "Improving the search performance of SHADE using
+       linear population size reduction", IEEE CEC 2014, 1658-1665.
+
+    Examples
+    --------
+    Exactly as with SciPy:
+
+    >>> from scipy.optimize import rosen
+    >>> from vhfit.optimize import differential_evolution
+    >>> res = differential_evolution(rosen, [(0, 2)] * 3, rng=1)
+    >>> bool(res.success), bool(abs(res.x - 1).max() < 1e-4)
+    (True, True)
+
+    With the extras: the paper's DE, with its stopping criteria and a history.
+
+    >>> import numpy as np
+    >>> def sphere(x):
+    ...     return np.sum(x**2)
+    >>> res = differential_evolution(sphere, [(-5, 5)] * 4, preset="paper",
+    ...                              history=True, rng=0)
+    >>> res.stop_reason
+    'TargetValue'
+    >>> int(res.history.nit[-1]) == res.nit
+    True
+
+    A self-adaptive strategy with an absolute population size and custom criteria:
+
+    >>> from vhfit.optimize import TargetValue, MaxGenerations
+    >>> res = differential_evolution(rosen, [(-2, 2)] * 4, strategy="lshade",
+    ...                              population_size=40, polish=False, rng=3,
+    ...                              stop=TargetValue(1e-10) | MaxGenerations(3000),
+    ...                              maxiter=3000)
+    >>> res.stop_reason
+    'TargetValue'
+    """
+    with DifferentialEvolutionSolver(
+        func, bounds, args=args, strategy=strategy, maxiter=maxiter, popsize=popsize,
+        tol=tol, mutation=mutation, recombination=recombination, rng=rng, polish=polish,
+        callback=callback, disp=disp, init=init, atol=atol, updating=updating,
+        workers=workers, constraints=constraints, x0=x0, integrality=integrality,
+        vectorized=vectorized, population_size=population_size, stop=stop,
+        history=history, snapshots=snapshots, preset=preset, repair=repair,
+    ) as solver:
+        ret = solver.solve()
+    return ret
+

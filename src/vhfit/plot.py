@@ -1,0 +1,301 @@
+"""Plots of a calibration: data against fit, error against generation and against N.
+
+matplotlib is an optional dependency (``pip install 'vhfit[plot]'``); it is imported
+only when a plot is drawn, so everything else in vhfit works without it. With a
+``path`` the figure is drawn on a bare :class:`matplotlib.figure.Figure` (Agg
+canvas, no display needed) and saved; without one it is made with pyplot so that it
+shows in a notebook or an interactive session.
+
+The data-against-fit plot puts curves whose stress magnitudes differ by more than a
+factor ``ratio`` (default 10) on separate panels, as the paper did for SEBS and
+gelatin (its Figs. 10 and 11): a slow curve at 0.1 MPa is invisible next to a fast
+one at 2 MPa on a common axis.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "PlotUnavailable",
+    "have_matplotlib",
+    "group_by_magnitude",
+    "fitted_curves",
+    "plot_fit",
+    "plot_history",
+    "plot_order_scan",
+]
+
+INSTALL_HINT = "plots need matplotlib: pip install 'vhfit[plot]' (or pip install matplotlib)"
+
+
+class PlotUnavailable(ImportError):
+    """matplotlib is not installed; the message says how to get it."""
+
+
+def have_matplotlib() -> bool:
+    """Whether matplotlib can be imported."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _figure(path, nrows: int = 1, ncols: int = 1, **kw) -> tuple[Any, Any]:
+    """A figure and its axes: bare Agg figure when saving, pyplot figure otherwise."""
+    try:
+        if path is not None:
+            from matplotlib.figure import Figure
+
+            fig = Figure(**kw)
+            axes = fig.subplots(nrows, ncols, squeeze=False)
+        else:
+            import matplotlib.pyplot as plt
+
+            fig, axes = plt.subplots(nrows, ncols, squeeze=False, **kw)
+    except ImportError:
+        raise PlotUnavailable(INSTALL_HINT) from None
+    return fig, axes
+
+
+def _finish(fig, path):
+    if path is not None:
+        fig.savefig(os.fspath(path), dpi=120, bbox_inches="tight")
+    return fig
+
+
+# ------------------------------------------------------------------- grouping
+def group_by_magnitude(peaks: Sequence[float], ratio: float = 10.0) -> list[list[int]]:
+    """Indices of curves grouped into panels of comparable stress magnitude.
+
+    Curves are sorted by their peak |stress|; a new group starts whenever a curve's
+    peak exceeds ``ratio`` times the smallest peak of the current group. Within each
+    group the original order is kept.
+
+    Parameters
+    ----------
+    peaks : sequence of float
+        Peak |stress| of each curve.
+    ratio : float
+        Largest spread of peaks within one panel.
+
+    Returns
+    -------
+    list of list of int
+
+    Examples
+    --------
+    >>> group_by_magnitude([0.08, 0.11, 0.96, 1.7])
+    [[0, 1], [2, 3]]
+    >>> group_by_magnitude([1.0, 2.0, 3.0])
+    [[0, 1, 2]]
+    """
+    if not ratio > 1:
+        raise ValueError(f"ratio = {ratio!r} must be > 1")
+    p = np.abs(np.asarray(peaks, dtype=np.float64))
+    order = np.argsort(p, kind="stable")
+    groups: list[list[int]] = []
+    low = None
+    for i in order:
+        if low is None or p[i] > ratio * max(low, 1e-300):
+            groups.append([])
+            low = p[i]
+        groups[-1].append(int(i))
+    return [sorted(g) for g in groups]
+
+
+# --------------------------------------------------------------------- curves
+def _label(curve, i: int) -> str:
+    name = getattr(curve, "name", None)
+    rate = getattr(curve, "strain_rate", None)
+    text = str(name) if name else f"curve {i + 1}"
+    if rate is not None and np.isfinite(rate) and f"{rate:g}" not in text:
+        text += f" ({rate:g} 1/s)"
+    return text
+
+
+def _data_points(curve) -> tuple[np.ndarray, np.ndarray]:
+    """Strain and stress of a curve's data as given (or its objective points)."""
+    eps = getattr(curve, "strain", None)
+    sig = getattr(curve, "stress", None)
+    if eps is None or sig is None or np.shape(eps) != np.shape(sig):
+        eps, sig = curve.history.out_strain, curve.target_stress
+    return np.asarray(eps, dtype=np.float64), np.asarray(sig, dtype=np.float64)
+
+
+def fitted_curves(cal, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:
+    """Model stresses of a calibration along each curve, at its points and on a fine grid.
+
+    Parameters
+    ----------
+    cal : Calibration
+        A result of :func:`vhfit.calibrate` (anything with ``.model`` and ``.params``).
+    curves : sequence of Curve
+        The curves it was fitted to (each with ``.history`` and ``.measure``).
+    points : int
+        Size of the fine, uniform-in-time grid along each history.
+
+    Returns
+    -------
+    list of dict
+        Per curve: ``time``, ``strain``, ``stress`` (objective points: data and
+        ``model``), and ``fine_time``, ``fine_strain``, ``fine_model``. Stresses are
+        in the curve's own measure, MPa.
+    """
+    out = []
+    for c in curves:
+        h = c.history
+        measure = getattr(c, "measure", "true")
+        model = cal.model.stress(cal.params, h, measure=measure)
+        t_fine = np.linspace(0.0, h.duration, int(points))
+        fine = cal.model.stress(cal.params, h.with_outputs(t_fine), measure=measure)
+        out.append({
+            "time": np.asarray(h.out_time, dtype=np.float64),
+            "strain": np.asarray(h.out_strain, dtype=np.float64),
+            "stress": np.asarray(c.target_stress, dtype=np.float64),
+            "model": np.asarray(model, dtype=np.float64),
+            "fine_time": t_fine,
+            "fine_strain": h.stretch_at(t_fine) - 1.0,
+            "fine_model": np.asarray(fine, dtype=np.float64),
+        })
+    return out
+
+
+def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: str | None = None):
+    """Data against the calibrated model, one colour per curve, panels by magnitude.
+
+    Parameters
+    ----------
+    cal : Calibration
+        The calibration (``.model``, ``.params``, optional ``.per_curve_rmsape``).
+    curves : sequence of Curve
+        The data it was fitted to.
+    path : path-like, optional
+        Save the figure there (PNG, PDF, SVG... by extension) without needing a display.
+    ratio : float
+        Curves whose peak stresses differ by more than this factor go on separate
+        panels (see :func:`group_by_magnitude`).
+    title : str, optional
+        Figure title; default names the model and the overall RMSAPE.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    curves = list(curves)
+    fits = fitted_curves(cal, curves)
+    peaks = [
+        max(np.max(np.abs(_data_points(c)[1])), np.max(np.abs(f["fine_model"])))
+        for c, f in zip(curves, fits)
+    ]
+    groups = group_by_magnitude(peaks, ratio)
+    fig, axes = _figure(path, 1, len(groups), figsize=(5.2 * len(groups), 4.2),
+                        layout="constrained")
+    errs = list(getattr(cal, "per_curve_rmsape", []) or [])
+    measures = {getattr(c, "measure", "true") for c in curves}
+    ylabel = (
+        f"{measures.pop()} stress (MPa)" if len(measures) == 1 else "stress (MPa, each curve's measure)"
+    )
+    from matplotlib import colormaps
+
+    cmap = colormaps["viridis"]
+    colours = [cmap(0.9 * i / max(len(curves) - 1, 1)) for i in range(len(curves))]
+    for ax, group in zip(axes[0], groups):
+        for i in group:
+            eps, sig = _data_points(curves[i])
+            f = fits[i]
+            lab = _label(curves[i], i)
+            if i < len(errs):
+                lab += f", RMSAPE {errs[i]:.3g} %"
+            ax.plot(eps, sig, "o", ms=4, mfc="none", color=colours[i], label=lab)
+            ax.plot(f["fine_strain"], f["fine_model"], "-", lw=1.5, color=colours[i])
+        ax.plot([], [], "o", ms=4, mfc="none", color="0.4", label="markers: data")
+        ax.plot([], [], "-", color="0.4", label="lines: model")
+        ax.set_xlabel("engineering strain (compression < 0)")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        ax.axhline(0, color="0.6", lw=0.6)
+        ax.legend(fontsize=7, loc="best")
+    if title is None:
+        hm = getattr(getattr(cal.model, "hyperelastic", None), "name", "model")
+        title = f"{hm} + {cal.model.n_prony} Prony term(s)"
+        if getattr(cal, "rmsape", None) is not None:
+            title += f": RMSAPE {cal.rmsape:.3g} %"
+    fig.suptitle(title, fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_history(cal, path=None):
+    """Best and mean error of each generation of the global search (log scale).
+
+    Parameters
+    ----------
+    cal : Calibration
+        With ``.history`` (lists ``nit``, ``best``, ``mean``).
+    path : path-like, optional
+        Save the figure there.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    h = getattr(cal, "history", None) or {}
+    fig, axes = _figure(path, 1, 1, figsize=(5.5, 3.8), layout="constrained")
+    ax = axes[0, 0]
+    nit = np.asarray(h.get("nit", []), dtype=np.float64)
+    if nit.size:
+        best = np.asarray(h["best"], dtype=np.float64)
+        mean = np.asarray(h["mean"], dtype=np.float64)
+        pos = best > 0
+        ax.semilogy(nit[pos], best[pos], label="best")
+        okm = np.isfinite(mean) & (mean > 0)
+        ax.semilogy(nit[okm], mean[okm], label="population mean", alpha=0.8)
+        ax.legend(fontsize=8)
+    else:
+        ax.text(0.5, 0.5, "no generations recorded", ha="center", va="center",
+                transform=ax.transAxes)
+    ax.set_xlabel("generation")
+    ax.set_ylabel("RMSAPE (%)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title("error against generation", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_order_scan(cal, path=None):
+    """Error against the number of Prony terms (from ``n_prony="auto"``).
+
+    Parameters
+    ----------
+    cal : Calibration
+        With ``.order_scan``: a list of dicts with ``n_prony`` and ``rmsape``.
+    path : path-like, optional
+        Save the figure there.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    scan = list(getattr(cal, "order_scan", None) or [])
+    if not scan:
+        raise ValueError("this calibration has no order scan: calibrate with n_prony='auto'")
+    fig, axes = _figure(path, 1, 1, figsize=(5.0, 3.6), layout="constrained")
+    ax = axes[0, 0]
+    n = [int(r["n_prony"]) for r in scan]
+    e = [float(r["rmsape"]) for r in scan]
+    ax.semilogy(n, e, "o-")
+    chosen = (getattr(cal, "options", None) or {}).get("n_prony_chosen")
+    if chosen in n:
+        k = n.index(chosen)
+        ax.semilogy([n[k]], [e[k]], "s", ms=11, mfc="none", color="C3", label=f"chosen N = {chosen}")
+        ax.legend(fontsize=8)
+    ax.set_xticks(n)
+    ax.set_xlabel("number of Prony terms N")
+    ax.set_ylabel("RMSAPE (%)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title("error against number of Prony terms", fontsize=10)
+    return _finish(fig, path)

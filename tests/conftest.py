@@ -1,0 +1,42 @@
+"""Shared pytest configuration: Hypothesis profiles.
+
+Two profiles are registered:
+
+``ci`` (the default)
+    Derandomised (the same examples on every run and every machine, no example
+    database written to disk), no per-example deadline (the first call of a numba
+    kernel compiles or loads its cache), and a small example budget so that the
+    whole suite stays fast. Property tests whose examples are expensive scale their
+    own budget down from ``settings.default.max_examples``.
+``long``
+    Random, many examples, for a thorough search run by hand::
+
+        pytest --hypothesis-profile=long
+
+The profile can also be chosen with the ``HYPOTHESIS_PROFILE`` environment variable;
+``--hypothesis-profile`` on the command line takes precedence.
+"""
+
+from __future__ import annotations
+
+import os
+
+from hypothesis import HealthCheck, settings
+
+settings.register_profile(
+    "ci",
+    max_examples=20,
+    derandomize=True,
+    database=None,
+    deadline=None,
+    print_blob=True,
+)
+settings.register_profile(
+    "long",
+    max_examples=1000,
+    derandomize=False,
+    deadline=None,
+    print_blob=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))

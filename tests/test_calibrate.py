@@ -1,0 +1,278 @@
+"""Calibration: recovery of known materials, noise, options, checkpoints and reports.
+
+Synthetic curves come from the model with known parameters (the truth); every check
+compares the calibration with that truth or with a reference computed independently
+here (the RMSAPE of the true parameters, Eq. 20 written out).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit.calibrate import CalibrationWarning, auto_bounds, calibrate
+
+SEBS = dict(C10=0.00491, C01=0.00441, G1=3.49, tau1=10**-4.91, G2=0.0634, tau2=10**-1.99,
+            G3=0.0603, tau3=10**0.581, G4=0.103, tau4=10**2.68)
+SEBS_RATES = (-0.0018, -0.18, -59.5, -820.0)
+GELATIN = dict(C10=0.0, C01=3.56e-4, G1=21.4, tau1=10**-5.76, G2=0.0211, tau2=10**0.871)
+GELATIN_RATES = (-0.0107, -2500.0, -3600.0, -5700.0)
+RANDOM_RATES = (-1.0, -10.0, -100.0, -1000.0)
+
+
+def synthetic(params, rates, *, hyper="mooney_rivlin", n=10, strain=-0.5, noise=0.0, seed=0,
+              measure="engineering"):
+    n_prony = sum(1 for k in params if k.startswith("tau"))
+    m = vhfit.ViscoHyperelastic(hyper, n_prony)
+    rng = np.random.default_rng(seed)
+    curves = []
+    for r in rates:
+        eps = np.linspace(strain / n, strain, n)
+        s = m.stress(params, strain=eps, strain_rate=r, measure=measure)
+        if noise:
+            s = s * (1 + rng.uniform(-noise, noise, s.size))
+        curves.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, measure=measure))
+    return curves
+
+
+def rmsape_reference(curves, stresses) -> float:
+    """Eq. 20 written out with loops: sqrt(sum(((obj - model) / mean(obj) * 100)^2) / (n m))."""
+    total, count = 0.0, 0
+    for c, s in zip(curves, stresses):
+        obj = np.asarray(c.target_stress)
+        mean = abs(sum(obj) / len(obj))
+        for o, v in zip(obj, s):
+            total += ((o - v) / mean * 100) ** 2
+            count += 1
+    return math.sqrt(total / count)
+
+
+def rel_err(cal, truth):
+    return {k: abs(cal.params[k] - v) / abs(v) for k, v in truth.items() if v != 0}
+
+
+@pytest.fixture(autouse=True)
+def _quiet():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CalibrationWarning)
+        yield
+
+
+# ------------------------------------------------------------------- recovery
+@pytest.mark.parametrize("seed", [0, 1])
+def test_sebs_table5_is_recovered_to_the_papers_stopping_target(seed):
+    curves = synthetic(SEBS, SEBS_RATES)
+    cal = calibrate(curves, n_prony=4, seed=seed)
+    assert cal.rmsape <= 1e-3
+    assert max(rel_err(cal, SEBS).values()) < 1e-4
+
+
+def test_gelatin_table6_with_tau1_below_eq22_is_recovered():
+    curves = synthetic(GELATIN, GELATIN_RATES)
+    # log10 τ1 = -5.76 lies just below Eq. 22's lower limit log10(1/5700) - 2 = -5.756
+    cal = calibrate(curves, n_prony=2, seed=0)
+    assert cal.rmsape <= 1e-3
+    assert abs(math.log10(cal.params["tau1"]) + 5.76) < 1e-3
+    assert abs(cal.params["G1"] - 21.4) / 21.4 < 1e-3
+
+
+def test_reported_rmsape_matches_eq20_written_out():
+    curves = synthetic(SEBS, SEBS_RATES, noise=0.03, seed=4)
+    cal = calibrate(curves, n_prony=2, seed=0, uncertainty=False)
+    model_stress = [cal.predict(c) for c in curves]
+    assert cal.rmsape == pytest.approx(rmsape_reference(curves, model_stress), rel=1e-9)
+    for c, s, e in zip(curves, model_stress, cal.per_curve_rmsape):
+        assert e == pytest.approx(rmsape_reference([c], [s]), rel=1e-9)
+
+
+def test_noisy_fit_is_no_worse_than_the_true_parameters():
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2, G3=0.5, tau3=0.3)
+    curves = synthetic(truth, RANDOM_RATES, noise=0.05, seed=1)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    floor = rmsape_reference(curves, [m.stress(truth, c.history, measure=c.measure)
+                                      for c in curves])
+    cal = calibrate(curves, n_prony=3, seed=0)
+    assert cal.rmsape <= floor * 1.02
+    assert cal.rmsape <= 3.12
+
+
+def test_full_paper_method_lowers_the_error_but_separable_is_far_better():
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+    full = calibrate(curves, n_prony=1, method="full", seed=0, maxiter=60, polish=False)
+    sep = calibrate(curves, n_prony=1, seed=0, polish=False)
+    assert full.nit == 60
+    assert full.history["best"][-1] <= full.history["best"][0]
+    assert sep.rmsape < full.rmsape
+
+
+def test_polish_never_raises_the_error():
+    curves = synthetic(SEBS, SEBS_RATES, noise=0.05, seed=2)
+    raw = calibrate(curves, n_prony=2, seed=1, polish=False, uncertainty=False)
+    pol = calibrate(curves, n_prony=2, seed=1, polish=True, uncertainty=False)
+    assert pol.rmsape <= raw.rmsape
+
+
+# --------------------------------------------------------------- determinism
+def test_same_seed_gives_identical_constants():
+    curves = synthetic(SEBS, SEBS_RATES, noise=0.02, seed=3)
+    a = calibrate(curves, n_prony=2, seed=7, uncertainty=False)
+    b = calibrate(curves, n_prony=2, seed=7, uncertainty=False)
+    assert a.params == b.params
+    assert a.history["best"] == b.history["best"]
+
+
+def test_resume_from_checkpoint_reaches_the_uninterrupted_result(tmp_path):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
+                       RANDOM_RATES, noise=0.05, seed=5)
+    ref = calibrate(curves, n_prony=2, seed=3, uncertainty=False)
+    ck = tmp_path / "ck.json"
+
+    def interrupt(state):
+        if state["generation"] == 5:
+            raise KeyboardInterrupt
+
+    cut = calibrate(curves, n_prony=2, seed=3, uncertainty=False, checkpoint=ck,
+                    checkpoint_every=0.0, callback=interrupt)
+    assert cut.stop_reason == "interrupted"
+    assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
+    res = calibrate(curves, n_prony=2, seed=3, uncertainty=False, checkpoint=ck, resume=True)
+    assert res.params == ref.params
+    assert res.nit == ref.nit
+
+
+def test_resume_refuses_a_checkpoint_of_another_fit(tmp_path):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3), RANDOM_RATES, noise=0.05)
+    ck = tmp_path / "ck.json"
+    calibrate(curves, n_prony=1, seed=0, checkpoint=ck, uncertainty=False)
+    with pytest.raises(ValueError, match="different fit"):
+        calibrate(curves, n_prony=1, seed=1, checkpoint=ck, resume=True)
+
+
+# ------------------------------------------------------------------- options
+def test_negligible_prony_terms_are_pruned():
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), RANDOM_RATES)
+    cal = calibrate(curves, n_prony=3, seed=0)
+    assert cal.model.n_prony < 3
+    assert any("effective N" in w for w in cal.warnings)
+    assert cal.rmsape < 1e-3
+
+
+def test_auto_order_picks_the_generating_number_of_terms():
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+    curves = synthetic(truth, RANDOM_RATES)
+    cal = calibrate(curves, n_prony="auto", max_prony=3, seed=0, order_tol=0.05)
+    errors = [row["rmsape"] for row in cal.order_scan]
+    assert len(errors) == 3
+    assert errors[0] > 1.0 > 1e-3 > errors[1]
+    assert cal.model.n_prony == 2
+
+
+def test_g_inf_floor_is_respected_and_reported():
+    # all stiffness in a very slow branch: the unconstrained best has g_inf -> 0
+    truth = dict(C10=1e-7, C01=0.0, G1=1.0, tau1=1e3)
+    curves = synthetic(truth, (-1.0, -10.0))
+    cal = calibrate(curves, n_prony=1, seed=0, g_inf_min=0.01)
+    assert cal.g_inf >= 0.01 * (1 - 1e-9)
+    assert any("floor" in w for w in cal.warnings)
+
+
+def test_user_bounds_override_automatic_ones():
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+    cal = calibrate(curves, n_prony=1, seed=0, bounds={"tau1": (0.001, 0.005)})
+    assert 0.001 <= cal.params["tau1"] <= 0.005 * (1 + 1e-12)
+    assert cal.bounds["tau1"] == pytest.approx((0.001, 0.005))
+
+
+def test_auto_bounds_put_each_term_alone_over_the_targets():
+    curves = synthetic(SEBS, SEBS_RATES)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 4)
+    b = auto_bounds(m, curves)
+    lam = curves[-1].history.out_stretch
+    # C10 alone at its upper bound reaches every target (true stress, magnitudes)
+    s = np.abs(2 * b["C10"][1] * (lam**2 - 1 / lam))
+    target = np.abs(np.asarray(curves[-1].target_stress) * lam)
+    assert np.all(s >= target * (1 - 1e-12))
+    assert b["G1"][0] == 0.0 and b["G1"][1] > SEBS["G1"]
+
+
+def test_max_time_stops_the_search():
+    curves = synthetic(SEBS, SEBS_RATES, noise=0.05)
+    cal = calibrate(curves, n_prony=4, seed=0, method="full", max_time=0.5, polish=False,
+                    uncertainty=False)
+    assert cal.stop_reason == "max_time"
+    assert np.isfinite(cal.rmsape)
+
+
+def test_ogden_calibration_searches_its_exponents():
+    truth = dict(mu1=0.2, alpha1=4.0, G1=0.5, tau1=0.05)
+    curves = synthetic(truth, (-1.0, -10.0, -100.0), hyper="ogden", strain=-0.4)
+    cal = calibrate(curves, "ogden", n_prony=1, seed=0)
+    assert cal.rmsape < 1e-3
+    assert cal.params["alpha1"] == pytest.approx(4.0, rel=1e-4)
+
+
+# -------------------------------------------------------------------- reports
+def test_summary_and_json_report_everything():
+    curves = synthetic(SEBS, SEBS_RATES, noise=0.02, seed=1)
+    cal = calibrate(curves, n_prony=2, seed=0)
+    text = cal.summary()
+    for name in cal.params:
+        assert name in text
+    assert "stability" in text and "RMSAPE" in text
+    d = json.loads(cal.to_json())
+    assert d["params"] == pytest.approx(cal.params)
+    assert d["hyperelastic"] == "mooney_rivlin" and d["n_prony"] == cal.model.n_prony
+    assert set(d["confidence"]) == set(cal.params)
+
+
+def test_confidence_intervals_cover_the_truth_under_noise():
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    curves = synthetic(truth, RANDOM_RATES, noise=0.01, seed=6, n=30)
+    cal = calibrate(curves, n_prony=1, seed=0)
+    lo, hi = cal.confidence["G1"]
+    assert lo < cal.params["G1"] < hi
+    assert hi - lo < 0.5 * truth["G1"]
+
+
+def test_unidentifiable_slow_tau_is_named():
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    curves = synthetic(truth, (-1000.0, -100.0))  # ramps last milliseconds
+    cal = calibrate(curves, n_prony=1, seed=0, bounds={"tau1": (1e2, 1e4)})
+    assert any("tau1" in w for w in cal.warnings)
+
+
+def test_unstable_hyperelastic_law_is_reported():
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+    cal = calibrate(curves, n_prony=1, seed=0, bounds={"C01": (-0.5, 0.5)},
+                    stability_range=(0.05, 20.0))
+    assert cal.stability is not None
+    assert cal.stability.describe().startswith("Drucker")
+
+
+# ------------------------------------------------------------------ bad input
+def test_no_curves_is_a_clear_error():
+    with pytest.raises(ValueError, match="at least one curve"):
+        calibrate([])
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(n_prony="many"), "n_prony"),
+        (dict(method="simplex"), "method"),
+        (dict(g_inf_min=1.5), "g_inf_min"),
+        (dict(bounds={"nope": (0, 1)}), "unknown parameter 'nope'"),
+        (dict(bounds={"tau1": (1.0, 0.1)}), "tau1"),
+        (dict(bounds="wide"), "bounds"),
+        (dict(hyperelastic="no_such_model"), "available"),
+    ],
+)
+def test_bad_options_name_the_argument(kwargs, match):
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+    with pytest.raises(ValueError, match=match):
+        calibrate(curves, **{"n_prony": 1, **kwargs})
