@@ -5,19 +5,33 @@ The public API (SPEC §7)::
     import vhfit
     m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=2)
     m.stress(params, strain=eps, strain_rate=-100.0)
+    curves = vhfit.read_csv("tests.csv")
+    cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
 from vhfit import hyperelastic, viscoelastic
+from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
+from vhfit.data import Curve, DataError, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
+from vhfit.objective import Objective, per_curve_rmsape, rmsape
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Batch",
+    "Calibration",
+    "CalibrationWarning",
+    "Curve",
+    "DataError",
     "History",
+    "Objective",
     "ViscoHyperelastic",
+    "calibrate",
     "hyperelastic",
+    "per_curve_rmsape",
+    "read_csv",
+    "rmsape",
     "viscoelastic",
     "__version__",
 ]

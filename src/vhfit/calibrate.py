@@ -31,6 +31,7 @@ from scipy import optimize as _sopt
 from scipy import stats as _stats
 
 from vhfit.model import ViscoHyperelastic
+from vhfit.objective import Objective
 from vhfit.stability import StabilityReport, drucker
 from vhfit.viscoelastic import prony_g
 
@@ -47,35 +48,6 @@ class CalibrationWarning(UserWarning):
 
 
 # ----------------------------------------------------------------------- helpers
-def _targets(curves) -> tuple[np.ndarray, list[slice], np.ndarray]:
-    """Concatenated targets, curve slices and the Eq. 20 weight of every point."""
-    ys, slices, scales, start = [], [], [], 0
-    for i, c in enumerate(curves):
-        y = np.asarray(c.target_stress, dtype=np.float64).reshape(-1)
-        if y.size == 0:
-            raise ValueError(f"curve {i} ({getattr(c, 'name', '?')}) has no objective points")
-        m = np.mean(np.abs(y))
-        if not m > 0:
-            raise ValueError(
-                f"curve {i} ({getattr(c, 'name', '?')}) has zero mean stress: Eq. 20 "
-                "divides by it; trim the curve or drop it"
-            )
-        w = float(getattr(c, "weight", 1.0) or 1.0)
-        ys.append(y)
-        slices.append(slice(start, start + y.size))
-        scales.append(np.full(y.size, math.sqrt(w) / m))
-        start += y.size
-    s = np.concatenate(scales)
-    # normalise so that equal weights reproduce Eq. 20: sqrt(sum(r^2) / (n m))
-    npts = sum(sl.stop - sl.start for sl in slices)
-    wsum = sum(
-        float(getattr(c, "weight", 1.0) or 1.0) * (sl.stop - sl.start)
-        for c, sl in zip(curves, slices)
-    )
-    s = s * 100.0 / math.sqrt(wsum if wsum > 0 else npts)
-    return np.concatenate(ys), slices, s
-
-
 def _rates(curves) -> np.ndarray:
     r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in curves])
     if not np.all(np.isfinite(r) & (r > 0)):
@@ -107,13 +79,14 @@ def _tau_bounds(rates, n, strategy, below, above) -> np.ndarray:
     raise ValueError(f"unknown tau_strategy {strategy!r}")
 
 
-def auto_bounds(model: ViscoHyperelastic, curves) -> dict[str, tuple[float, float]]:
+def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
     """Upper limits of SPEC §5: one term alone puts every model stress over the targets.
 
     For each hyperelastic modulus and each G_i, the smallest value that makes that
-    term alone (all others zero; a Prony term at its instantaneous response) reach
-    |σ| ≥ |σ_target| at every objective point. Lower limits are 0. Dimensionless
-    constants (e.g. Ogden α) get their physical bounds, or [-10, 10] if unbounded.
+    term alone (all others zero; a Prony term at the shortest τ of its bounds
+    ``tau_b``, log10 s, where its response is weakest) reach |σ| ≥ |σ_target| at every
+    objective point. Lower limits are 0. Dimensionless constants (e.g. Ogden α) get
+    their physical bounds, or [-10, 10] if unbounded.
     """
     hm = model.hyperelastic
     lam = np.concatenate([c.history.out_stretch for c in curves])
@@ -138,11 +111,17 @@ def auto_bounds(model: ViscoHyperelastic, curves) -> dict[str, tuple[float, floa
             out[name] = (max(0.0, lo_p), hi)
         else:
             out[name] = (lo_p if np.isfinite(lo_p) else -10.0, hi_p if np.isfinite(hi_p) else 10.0)
-    # a Prony term alone, instantaneous: G ŝ with the law's normalised shape (neo-Hooke-like)
-    s_hat = np.abs(lam**2 - 1 / lam) / 3.0
-    gmax = float(np.max(y_true / s_hat))
-    for i in range(1, model.n_prony + 1):
-        out[f"G{i}"] = (0.0, gmax)
+    # a Prony term alone at the bottom of its τ range, where it responds least
+    if model.n_prony and tau_b is not None:
+        hyper = np.array([hm.example], dtype=np.float64)
+        _, H = model.batch(curves).shape_columns(hyper, 10.0 ** tau_b[None, :, 0])
+        yy = np.abs(np.concatenate([np.asarray(c.target_stress, dtype=np.float64)
+                                    for c in curves]))
+        for i in range(model.n_prony):
+            h = np.abs(H[0, i])
+            ok = h > 0
+            gmax = float(np.max(yy[ok] / h[ok])) if ok.any() else float(np.max(yy))
+            out[f"G{i + 1}"] = (0.0, gmax)
     return out
 
 
@@ -372,10 +351,16 @@ def _json_default(o):
 class _Problem:
     """Model, targets and the two parameterisations of the search."""
 
-    def __init__(self, model: ViscoHyperelastic, curves, tau_b, bounds, g_inf_min):
+    def __init__(self, model: ViscoHyperelastic, curves, tau_b, bounds, g_inf_min,
+                 objective="rmsape"):
         self.model = model
         self.batch = model.batch(curves)
-        self.y, self.slices, self.scale = _targets(curves)
+        self.objective = Objective(curves, objective)
+        self.objective_spec = objective
+        self.y = self.objective.target
+        # residual weights r = (σ − y) * scale with ||r|| = the objective (Eq. 20)
+        w = self.objective.weights
+        self.scale = np.sqrt(w / w.sum()) / self.objective.scale
         self.tau_b = tau_b  # (N, 2) log10 τ
         self.bounds = bounds  # name -> (lo, hi) for hyperelastic constants and G
         self.g_inf_min = float(g_inf_min)
@@ -505,13 +490,7 @@ class _Problem:
         return self.errors(self.full_to_params(Z, self.hm.n_params))
 
     def per_curve(self, x: np.ndarray) -> list[float]:
-        S = self.batch(x[None, :])[0]
-        out = []
-        for sl in self.slices:
-            y = self.y[sl]
-            r = (S[sl] - y) / np.mean(np.abs(y)) * 100
-            out.append(float(np.sqrt(np.mean(r * r))))
-        return out
+        return [float(v) for v in self.objective.per_curve(self.batch(x[None, :])[0])]
 
 
 # ---------------------------------------------------------------------- polish
@@ -704,8 +683,9 @@ def calibrate(
     bounds : "auto" or dict
         Search bounds; a dict overrides the automatic ones per parameter
         (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
-    objective : {"rmsape"}
-        Eq. 20 in percent (the only objective the separable search needs).
+    objective : {"rmsape", "rmse", "relative_l2"} or callable
+        Eq. 20 in percent (default) or an alternative of :mod:`vhfit.objective`; per-curve
+        and per-point weights of the curves apply.
     method : {"separable", "full"}
         Variable projection over (shape, log τ) with NNLS for the moduli (default), or
         the paper's all-parameter DE.
@@ -714,7 +694,8 @@ def calibrate(
     workers : int or map-like callable
         Passed to the DE (only the full method evaluates in parallel this way).
     popsize : int, optional
-        Absolute population size (default 20 separable, 60 full).
+        Absolute population size (default 64 separable — the Sobol initialisation
+        rounds it up to a power of two — and 60 full, the paper's).
     maxiter : int, optional
         Generation cap (default 1000 separable, 100 000 full).
     tol : float
@@ -771,14 +752,13 @@ def calibrate(
     curves = list(curves)
     if not curves:
         raise ValueError("calibrate needs at least one curve")
-    if objective != "rmsape":
-        raise ValueError(f"objective = {objective!r}: only 'rmsape' (Eq. 20) is supported")
     if method not in ("separable", "full"):
         raise ValueError(f"method = {method!r}; choose 'separable' or 'full'")
     if not 0 <= g_inf_min < 1:
         raise ValueError(f"g_inf_min = {g_inf_min!r} must lie in [0, 1)")
     common = dict(
-        tau_strategy=tau_strategy, bounds=bounds, method=method, seed=seed, workers=workers,
+        tau_strategy=tau_strategy, bounds=bounds, objective=objective, method=method, seed=seed,
+        workers=workers,
         popsize=popsize, maxiter=maxiter, tol=tol, target=target, stall=stall, polish=polish,
         g_inf_min=g_inf_min, decades_below=decades_below, decades_above=decades_above,
         stability_range=stability_range, uncertainty=uncertainty, callback=callback,
@@ -818,7 +798,8 @@ def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common
     return chosen
 
 
-def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method, seed, workers,
+def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objective, method, seed,
+                 workers,
                  popsize, maxiter, tol, target, stall, polish, g_inf_min, decades_below,
                  decades_above,
                  stability_range, uncertainty, callback, rtol, de_options, prune_tol,
@@ -828,7 +809,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
         tau_b = _tau_bounds(_rates(curves), n_prony, tau_strategy, decades_below, decades_above)
     else:
         tau_b = np.zeros((0, 2))
-    auto = auto_bounds(model, curves)
+    auto = auto_bounds(model, curves, tau_b)
     if isinstance(bounds, dict):
         for k, v in bounds.items():
             if k.startswith("tau") and k[3:].isdigit() and 1 <= int(k[3:]) <= n_prony:
@@ -847,7 +828,8 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
                 )
     elif bounds != "auto":
         raise ValueError(f"bounds = {bounds!r}: give 'auto' or a dict name -> (low, high)")
-    prob = _Problem(model, curves, np.asarray(tau_b, dtype=np.float64), auto, g_inf_min)
+    prob = _Problem(model, curves, np.asarray(tau_b, dtype=np.float64), auto, g_inf_min,
+                    objective)
 
     history = {"nit": [], "best": [], "mean": [], "time": []}
     state = {"best_x": None, "best_f": np.inf, "stop": None, "saved": time.perf_counter()}
@@ -855,7 +837,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
     ckpt = None if checkpoint is None else str(checkpoint)
     if method == "separable":
         func, dbounds = prob.sep_objective, prob.sep_bounds()
-        npop = popsize or 20
+        npop = popsize or 64
         cap = maxiter or 1000
     else:
         func, dbounds = prob.full_objective, prob.full_bounds()
@@ -952,7 +934,8 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, method,
     return _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
                    stability_range, uncertainty, dict(
                        hyperelastic=model.hyperelastic.name, n_prony=n_prony,
-                       tau_strategy=str(tau_strategy), method=method, seed=seed,
+                       tau_strategy=str(tau_strategy), objective=prob.objective.kind,
+                       method=method, seed=seed,
                        popsize=npop, maxiter=cap, tol=tol, target=target, polish=polish,
                        g_inf_min=g_inf_min, rtol=rtol))
 
@@ -975,7 +958,8 @@ def _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol
             f"dropped: effective N = {len(keep)}"
         )
         tau_b = prob.tau_b[keep] if len(keep) else np.zeros((0, 2))
-        prob = _Problem(pruned, curves, tau_b, prob.bounds, prob.g_inf_min)
+        prob = _Problem(pruned, curves, tau_b, prob.bounds, prob.g_inf_min,
+                        prob.objective_spec)
         model, x = pruned, x2
         err = float(prob.errors(x[None, :])[0])
     params = model.as_dict(x)

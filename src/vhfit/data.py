@@ -59,6 +59,9 @@ PATH_RTOL = 1e-4
 #: Resampling by arc length smooths the curve into this many bins first, so that sensor
 #: noise does not count as length.
 _ARC_BINS = 200
+#: The strain must reverse by more than this fraction of its range to start a new loading
+#: leg (smaller wiggles are noise or machine overshoot).
+LEG_RTOL = 0.05
 
 _MEASURES = {
     "engineering": "engineering",
@@ -80,7 +83,7 @@ _MODES = {
     "tension_compression": "mixed",
     "cyclic": "mixed",
 }
-_BYS = ("strain", "time", "arclength")
+_BYS = ("strain", "time", "arclength", "legs")
 
 
 class DataError(ValueError):
@@ -224,13 +227,17 @@ class Curve:
     weight : float, default 1
         Weight of the curve in the objective (it multiplies each point's squared term).
     n_points : int or None, default DEFAULT_N_POINTS
-        Number of objective points; ``None`` uses the measured samples themselves.
-    by : {"strain", "time", "arclength"}, optional
+        Number of objective points (per loading leg with ``by="legs"``); ``None`` uses
+        the measured samples themselves.
+    by : {"strain", "time", "arclength", "legs"}, optional
         How the objective points are spaced: evenly in strain (the default for a
-        monotonic strain, as in the paper), in time, or in arc length along the
-        (strain, stress) curve normalised by its ranges (the default when the strain
-        goes back and forth or holds: loading–unloading, relaxation). Loading–unloading
-        curves are never resampled by strain.
+        strictly monotonic strain, as in the paper); in time; in arc length along the
+        (strain, stress) curve normalised by its ranges; or ``"legs"`` (the default
+        otherwise): ``n_points`` on each loading leg (between reversals of the strain by
+        more than ``LEG_RTOL`` of its range), evenly in arc length within the leg, each
+        leg's end — the turning point — included. A ramp–hold test is one leg; a
+        loading–unloading test two, so it gets ``2 n_points``. Curves that unload or
+        hold are never resampled by strain.
     compression_positive : bool, default False
         The data use the opposite sign convention (compression positive): strain and
         stress are negated, and the rate is taken with the sign of the resulting mode.
@@ -284,8 +291,10 @@ class Curve:
 
     >>> t = np.linspace(0.0, 2.0, 201)
     >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t)
-    >>> lu.mode, lu.by, lu.strain_rate
-    ('tension', 'arclength', 0.5)
+    >>> lu.mode, lu.by, lu.n_legs, lu.n_points, lu.strain_rate
+    ('tension', 'legs', 2, 20, 0.5)
+    >>> float(lu.target_strain[9])           # the turning point is an objective point
+    0.5
     """
 
     def __init__(
@@ -453,6 +462,7 @@ class Curve:
         self._tol = tol
         d = np.diff(eps)
         self._monotone = bool((d > 0).all() or (d < 0).all())
+        self._turns = _turning_points(eps, LEG_RTOL * float(np.ptp(eps)))
         self._n_req = n_points
         self._by_req = by
         self._window = None  # boolean mask over samples, or None
@@ -568,9 +578,14 @@ class Curve:
         return int(self._t_obj.size)
 
     @property
+    def n_legs(self) -> int:
+        """Number of loading legs: monotonic stretches of the strain between reversals."""
+        return int(self._turns.size - 1)
+
+    @property
     def by(self) -> str:
-        """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``
-        or ``"samples"`` (the measured samples themselves)."""
+        """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
+        ``"legs"``, or ``"samples"`` (the measured samples themselves)."""
         return self._by
 
     @property
@@ -623,11 +638,11 @@ class Curve:
             )
         by = self._by_req
         if by is None:
-            by = "strain" if self._monotone else "arclength"
+            by = "strain" if self._monotone else "legs"
         if by == "strain" and not self._monotone:
             raise DataError(
                 f"{where()}: cannot resample by strain: the strain is not monotonic (it "
-                "unloads or holds): use by='time' or by='arclength'"
+                "unloads or holds): use by='legs', by='arclength' or by='time'"
             )
         if self._n_req is None:
             idx = np.flatnonzero(mask).astype(np.float64)
@@ -639,9 +654,18 @@ class Curve:
                 c = ts
             else:
                 c = _arclength(eps, sig)
-            i0 = int(np.flatnonzero(mask)[0])
-            rest = abs(eps[i0]) <= self._tol
-            idx = _place(c, mask, self._n_req, rest)
+            if by == "legs":
+                parts = []
+                k = np.arange(eps.size)
+                for a, b in zip(self._turns[:-1], self._turns[1:]):
+                    part = _place(c, mask & (k >= a) & (k <= b), self._n_req, True)
+                    if part is not None:
+                        parts.append(part)
+                idx = np.concatenate(parts) if parts else None
+            else:
+                i0 = int(np.flatnonzero(mask)[0])
+                rest = abs(eps[i0]) <= self._tol
+                idx = _place(c, mask, self._n_req, rest)
             if idx is None:
                 raise DataError(
                     f"{where()}: the compared window {' '.join(self._window_desc)} has no "
@@ -850,10 +874,15 @@ def _clean_time_series(eps, sig, t, keep, where):
     dt = np.diff(t)
     if (dt < 0).any():
         k = int(np.flatnonzero(dt < 0)[0])
+        de = np.diff(eps)
+        if (de > 0).all() or (de < 0).all():
+            fix = ("the strain keeps going the same way, so the time column looks wrong: fix "
+                   "it, or ignore it (read_csv(..., columns={'time': None}, rate=...))")
+        else:
+            fix = ("sort the rows by time (read_csv(..., sort=True)); if the file holds "
+                   "several tests, give each its own curve (a 'test' column)")
         raise DataError(
-            f"{where(keep[k + 1])}: time goes back from {t[k]:g} to {t[k + 1]:g} s: sort the "
-            "rows by time (read_csv(..., sort=True)); if the file holds several tests, give "
-            "each its own curve (a 'test' column)"
+            f"{where(keep[k + 1])}: time goes back from {t[k]:g} to {t[k + 1]:g} s: {fix}"
         )
     dup = dt == 0
     if dup.any():
@@ -927,6 +956,52 @@ def _arclength(eps: np.ndarray, sig: np.ndarray) -> np.ndarray:
     s = np.interp(k, ks, s)
     total = s[-1] if s[-1] > 0 else 1.0
     return s + 1e-9 * total * k / max(n - 1, 1)
+
+
+def _turning_points(e: np.ndarray, h: float) -> np.ndarray:
+    """Sample indices ``[0, turns..., n-1]`` where the strain reverses by more than ``h``.
+
+    A zigzag filter with hysteresis ``h``, run on the per-bin extremes of long series
+    (the extremes of a leg are among them), so its Python loop stays short.
+    """
+    n = e.size
+    if n > 8192:
+        edges = np.linspace(0, n, 2049).astype(np.intp)
+        lo = [a + int(np.argmin(e[a:b])) for a, b in zip(edges[:-1], edges[1:])]
+        hi = [a + int(np.argmax(e[a:b])) for a, b in zip(edges[:-1], edges[1:])]
+        cand = np.unique(np.concatenate([[0, n - 1], lo, hi]))
+    else:
+        cand = np.arange(n)
+    v = e[cand]
+    turns = []
+    direction = 0
+    lo_i = hi_i = ext = 0
+    for i in range(1, v.size):
+        x = v[i]
+        if direction == 0:
+            if x > v[hi_i]:
+                hi_i = i
+            if x < v[lo_i]:
+                lo_i = i
+            if v[hi_i] - v[lo_i] > h:
+                direction = 1 if hi_i > lo_i else -1
+                ext = hi_i if direction == 1 else lo_i
+                first = lo_i if direction == 1 else hi_i
+                if first != 0 and abs(v[first] - v[0]) > h:  # it went the other way first
+                    turns.append(first)
+        elif direction == 1:
+            if x > v[ext]:
+                ext = i
+            elif v[ext] - x > h:
+                turns.append(ext)
+                direction, ext = -1, i
+        else:
+            if x < v[ext]:
+                ext = i
+            elif x - v[ext] > h:
+                turns.append(ext)
+                direction, ext = 1, i
+    return np.array([0, *[int(cand[i]) for i in turns], n - 1], dtype=np.intp)
 
 
 def _place(c: np.ndarray, mask: np.ndarray, n: int, rest: bool) -> np.ndarray | None:

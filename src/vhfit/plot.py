@@ -198,9 +198,8 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
                         layout="constrained")
     errs = list(getattr(cal, "per_curve_rmsape", []) or [])
     measures = {getattr(c, "measure", "true") for c in curves}
-    ylabel = (
-        f"{measures.pop()} stress (MPa)" if len(measures) == 1 else "stress (MPa, each curve's measure)"
-    )
+    ylabel = (f"{measures.pop()} stress (MPa)" if len(measures) == 1
+              else "stress (MPa, each curve's measure)")
     from matplotlib import colormaps
 
     cmap = colormaps["viridis"]
@@ -291,7 +290,8 @@ def plot_order_scan(cal, path=None):
     chosen = (getattr(cal, "options", None) or {}).get("n_prony_chosen")
     if chosen in n:
         k = n.index(chosen)
-        ax.semilogy([n[k]], [e[k]], "s", ms=11, mfc="none", color="C3", label=f"chosen N = {chosen}")
+        ax.semilogy([n[k]], [e[k]], "s", ms=11, mfc="none", color="C3",
+                    label=f"chosen N = {chosen}")
         ax.legend(fontsize=8)
     ax.set_xticks(n)
     ax.set_xlabel("number of Prony terms N")

@@ -40,14 +40,15 @@ def sebs_path() -> Path:
     return Path(str(resources.files(__name__).joinpath(_SEBS_FILE)))
 
 
-def load_sebs(n_points: int | None = None):
+def load_sebs(n_points: int | None = 25):
     """The synthetic SEBS curves, one :class:`vhfit.Curve` per strain rate.
 
     Parameters
     ----------
     n_points : int or None
-        Objective points per curve; ``None`` (default) uses all 25 samples of each
-        curve (the rest point ε = 0 excluded).
+        Objective points per curve, evenly spaced in strain from the rest state; the
+        default 25 are exactly the file's samples (the rest point ε = 0 excluded);
+        ``None`` uses every sample including the rest point.
 
     Returns
     -------

@@ -342,6 +342,6 @@ def _read(cards, head, ogden: bool, hint: str | None):
         if not beta > 0:
             raise ValueError(f"{SOLVER} Prony card GI = {gi:g}, BETAI = {beta:g}: "
                              "the decay constant must be > 0")
-        G.append(3.0 * gi)
+        G.append(3.0 * gi * (1 + 1e-5))
         tau.append(1.0 / beta)
     return Material.params_from_moduli(kind, constants, G, tau, solver=SOLVER)

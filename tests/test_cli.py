@@ -1,0 +1,457 @@
+"""The command line: the real console script in subprocesses, plus in-process checks.
+
+Subprocess tests cover what only a real process shows: the installed ``vhfit`` script,
+exit codes, one-line errors without tracebacks, SIGINT and ``--resume``, plug-in
+discovery through entry points, running without matplotlib. The many variants of
+``export`` and ``simulate`` run in-process through :func:`vhfit.cli.main`, the same
+code path minus the process start (about a second each on a loaded machine).
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit import cli, datasets
+from vhfit.model import ViscoHyperelastic
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _script() -> list[str]:
+    """The installed console script (next to this Python), else ``python -m vhfit``."""
+    exe = Path(sys.executable).parent / ("vhfit.exe" if os.name == "nt" else "vhfit")
+    if exe.exists():
+        return [str(exe)]
+    found = shutil.which("vhfit")
+    return [found] if found else [sys.executable, "-m", "vhfit"]
+
+
+def run(*args, cwd, env=None, timeout=180) -> subprocess.CompletedProcess:
+    e = dict(os.environ)
+    e.update(env or {})
+    return subprocess.run(_script() + [str(a) for a in args], cwd=cwd, env=e,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def assert_one_line_error(proc, code, *needles):
+    assert proc.returncode == code, (proc.returncode, proc.stdout, proc.stderr)
+    err = proc.stderr.strip().splitlines()
+    assert "Traceback" not in proc.stderr, proc.stderr
+    assert len(err) == 1 and err[0].startswith("vhfit: error: "), proc.stderr
+    for n in needles:
+        assert n in err[0], (n, err[0])
+
+
+def write_noisy(folder: Path, noise=0.03, seed=1) -> list[Path]:
+    """Three compression curves of a known material, with multiplicative noise."""
+    m = ViscoHyperelastic("mooney_rivlin", 2)
+    p = dict(C10=0.01, C01=0.005, G1=0.5, tau1=0.01, G2=0.2, tau2=1.0)
+    rng = np.random.default_rng(seed)
+    paths = []
+    for r in (-1.0, -10.0, -100.0):
+        eps = np.linspace(0, -0.5, 41)
+        s = m.stress(p, strain=eps, strain_rate=r, measure="engineering")
+        s[1:] *= 1 + noise * rng.standard_normal(40)
+        path = folder / f"noisy_{-r:g}.csv"
+        path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
+                        + "".join(f"{e:.6g},{v:.8g}\n" for e, v in zip(eps, s)))
+        paths.append(path)
+    return paths
+
+
+@pytest.fixture(scope="module")
+def noisy(tmp_path_factory) -> list[Path]:
+    return write_noisy(tmp_path_factory.mktemp("noisy"))
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    """One real ``vhfit demo --out DIR`` run, shared by the tests that read its outputs."""
+    cwd = tmp_path_factory.mktemp("demo")
+    t0 = time.perf_counter()
+    proc = run("demo", "--out", "out", cwd=cwd)
+    return proc, cwd / "out", time.perf_counter() - t0
+
+
+# ===================================================================== demo
+def test_demo_end_to_end(demo):
+    proc, out, seconds = demo
+    assert proc.returncode == 0, proc.stderr
+    assert seconds < 60
+    # the parameter table with intervals and per-curve errors, labelled as synthetic
+    for needle in ("95 % interval", "C10", "tau4", "per-curve RMSAPE", "synthetic",
+                   "not experimental data", "abaqus.inp"):
+        assert needle in proc.stdout, needle
+    # plain progress lines on a non-terminal
+    assert "generation" in proc.stderr and "\r" not in proc.stderr
+    for f in ("results.json", "fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac",
+              "material.json", "summary.txt"):
+        assert (out / f).is_file(), f
+    if cli.importlib.util.find_spec("matplotlib"):
+        assert (out / "fit.png").stat().st_size > 10_000
+        assert (out / "history.png").is_file()
+    assert not list(out.glob("checkpoint.json*"))  # finished: no checkpoint left over
+    res = json.loads((out / "results.json").read_text())
+    assert res["status"] == "complete" and res["interrupted"] is False
+    assert res["rmsape"] <= 0.01  # percent
+    assert "synthetic" in res["data_label"]
+    assert res["n_prony"] == 4 and res["seed"] == 0
+    for k, v in datasets.SEBS_PARAMS.items():
+        assert res["params"][k] == pytest.approx(v, rel=1e-3), k
+    digest = hashlib.sha256(datasets.sebs_path().read_bytes()).hexdigest()
+    assert res["inputs"][0]["sha256"] == digest
+    assert {"vhfit", "numpy", "scipy", "numba", "python", "platform"} <= set(res["versions"])
+    assert res["command"][:2] == ["vhfit", "demo"]
+
+
+def test_demo_refuses_a_non_empty_out(demo):
+    proc, out, _ = demo
+    again = run("demo", "--out", out, cwd=out.parent)
+    assert_one_line_error(again, 2, str(out), "--force")
+
+
+def test_default_out_is_a_fresh_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "vhfit-demo").mkdir()
+    assert cli._prepare_out(None, "vhfit-demo", force=False, resume=False) == Path("vhfit-demo")
+    (tmp_path / "vhfit-demo" / "x").write_text("taken")
+    assert cli._prepare_out(None, "vhfit-demo", force=False, resume=False) == \
+        Path("vhfit-demo-2")
+
+
+def test_fitted_curves_csv(demo):
+    _, out, _ = demo
+    rows = list(csv.DictReader(line for line in (out / "fitted_curves.csv").open()
+                               if not line.startswith("#")))
+    names = {r["curve"] for r in rows}
+    assert len(names) == 4
+    pts = [r for r in rows if r["kind"] == "point"]
+    assert len(pts) == 4 * 25
+    for r in pts:
+        d, m = float(r["stress_data"]), float(r["stress_model"])
+        assert abs(m - d) <= 1e-3 * abs(d) + 1e-9
+    assert sum(r["kind"] == "fine" for r in rows) >= 4 * 100
+
+
+# =================================================================== export
+@pytest.mark.parametrize("solver", ["abaqus", "lsdyna", "ansys", "json"])
+def test_export_card_reimports_to_the_same_stresses(demo, solver, tmp_path, capsys):
+    _, out, _ = demo
+    assert cli.main(["export", str(out / "results.json"), "--to", solver]) == 0
+    card = capsys.readouterr().out
+    assert card.strip()
+    from vhfit import export
+
+    res = json.loads((out / "results.json").read_text())
+    m1 = ViscoHyperelastic(res["hyperelastic"], res["n_prony"])
+    m2, p2 = getattr(export, f"from_{solver}")(card)
+    eps = np.linspace(0.0, -0.6, 31)
+    for rate in (-0.0018, -820.0):
+        s1 = m1.stress(res["params"], strain=eps, strain_rate=rate)
+        s2 = m2.stress(p2, strain=eps, strain_rate=rate)
+        assert np.max(np.abs(s2 - s1)) <= 1e-6 * np.max(np.abs(s1)), solver
+    # the card written by the demo is the same text
+    if solver != "json":
+        assert (out / cli.CARD_FILES[solver]).read_text().strip() == card.strip()
+
+
+def test_export_to_a_file(demo, tmp_path):
+    _, out, _ = demo
+    dest = tmp_path / "card.inp"
+    assert cli.main(["export", str(out / "results.json"), "--to", "abaqus", "--out",
+                     str(dest), "--name", "SEBS"]) == 0
+    assert "NAME=SEBS" in dest.read_text()
+
+
+def test_export_bad_inputs(tmp_path, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    other = tmp_path / "other.json"
+    other.write_text('{"a": 1}')
+    for argv, needle in [
+        (["export", str(tmp_path / "missing.json"), "--to", "abaqus"], "missing.json"),
+        (["export", str(bad), "--to", "abaqus"], "not valid JSON"),
+        (["export", str(other), "--to", "abaqus"], "not a vhfit results file"),
+        (["export", str(other), "--to", "nastran"], "invalid choice"),
+    ]:
+        assert cli.main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and needle in err[0], err
+
+
+# ================================================================= simulate
+def _read_sim(text: str) -> dict[str, np.ndarray]:
+    rows = list(csv.DictReader(line for line in io.StringIO(text) if not line.startswith("#")))
+    out: dict[str, list] = {}
+    for r in rows:
+        out.setdefault(r["curve"], []).append([float(r["time"]), float(r["strain"]),
+                                               float(r["stress"])])
+    return {k: np.array(v) for k, v in out.items()}
+
+
+def test_simulate_from_results(demo, tmp_path):
+    _, out, _ = demo
+    dest = tmp_path / "sim.csv"
+    assert cli.main(["simulate", "--results", str(out / "results.json"), "--rate", "-100",
+                     "--rate", "-1000", "--strain-max", "-0.5", "--points", "11",
+                     "--out", str(dest)]) == 0
+    sims = _read_sim(dest.read_text())
+    res = json.loads((out / "results.json").read_text())
+    m = ViscoHyperelastic(res["hyperelastic"], res["n_prony"])
+    for rate in (-100.0, -1000.0):
+        t, e, s = sims[f"rate {rate:g} 1/s"].T
+        assert e[0] == 0 and e[-1] == pytest.approx(-0.5) and len(e) == 11
+        ref = m.stress(res["params"], strain=e, strain_rate=rate, measure="engineering")
+        np.testing.assert_allclose(s, ref, rtol=1e-8, atol=1e-14)
+
+
+def test_simulate_from_parameters_and_history(tmp_path, capsys):
+    hist = tmp_path / "cycle.csv"
+    hist.write_text("time_s,strain\n0,0\n1,-0.3\n2,0\n")
+    assert cli.main(["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0.05",
+                     "--param", "G1=1", "--param", "tau1=0.5", "--rate", "-10",
+                     "--history", str(hist), "--measure", "true"]) == 0
+    sims = _read_sim(capsys.readouterr().out)
+    m = ViscoHyperelastic("mooney_rivlin", 1)
+    p = dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.5)
+    t, e, s = sims["rate -10 1/s"].T
+    np.testing.assert_allclose(s, m.stress(p, strain=e, strain_rate=-10.0), rtol=1e-8)
+    t, e, s = sims["cycle.csv"].T
+    np.testing.assert_allclose(t, [0, 1, 2])
+    np.testing.assert_allclose(s, m.stress(p, strain=[0, -0.3, 0], time=[0, 1, 2]),
+                               rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["simulate", "--rate", "-1"], "needs a material"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--param", "G1=1",
+      "--rate", "-1"], "tau1"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0"], "give the loading"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--rate", "-1",
+      "--strain-max", "0.5"], "opposite signs"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=abc", "--rate", "-1"],
+     "not a number"),
+    (["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"], "unknown model"),
+])
+def test_simulate_bad_input(argv, needle, capsys):
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and needle in err[0], err
+
+
+# ====================================================== fit: bad input (real script)
+@pytest.mark.parametrize("case", ["missing", "garbage", "bad-prony", "unknown-model"])
+def test_fit_bad_input_is_one_line_and_exit_2(case, tmp_path, noisy):
+    garbage = tmp_path / "garbage.csv"
+    garbage.write_text("strain,stress\n0,0\n-0.1,abc\n")
+    argv, needles = {
+        "missing": (["fit", tmp_path / "nope.csv"], ["nope.csv"]),
+        "garbage": (["fit", garbage, "--rate", "-1"], ["garbage.csv"]),
+        "bad-prony": (["fit", noisy[0], "--prony", "x"], ["--prony", "auto"]),
+        "unknown-model": (["fit", noisy[0], "--model", "nosuch", "--out", tmp_path / "o"],
+                          ["nosuch", "mooney_rivlin"]),
+    }[case]
+    assert_one_line_error(run(*argv, cwd=tmp_path), 2, *needles)
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["fit", "{f}", "--frobnicate"], "--frobnicate"),
+    (["fit", "{f}", "--strategy", "nosuch", "--out", "o"], "semifree"),
+    (["fit", "{f}", "--popsize", "0"], "--popsize"),
+    (["fit", "{f}", "--rate", "-1", "--rate", "-2", "--out", "o"], "one rate for all files"),
+    (["fit", "{f}", "--force", "--resume"], "contradict"),
+    (["fit", "{f}", "--resume", "--out", "nowhere"], "does not exist"),
+    (["nosuchcommand"], "invalid choice"),
+])
+def test_fit_bad_flags_in_process(argv, needle, noisy, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert cli.main([a.format(f=noisy[0]) for a in argv]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vhfit: error: ") and needle in err[0], err
+
+
+def test_debug_shows_the_traceback(tmp_path):
+    proc = run("fit", tmp_path / "nope.csv", "--debug", cwd=tmp_path)
+    assert proc.returncode != 0 and "Traceback" in proc.stderr
+
+
+def test_python_m_vhfit(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "vhfit", "--version"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0 and proc.stdout.strip() == f"vhfit {vhfit.__version__}"
+
+
+# ============================================================ fit in-process
+def test_fit_writes_everything(noisy, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    code = cli.main(["fit", *map(str, noisy), "--prony", "2", "--seed", "1", "--quiet",
+                     "--no-plot", "--out", "res"])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "95 % interval" in out and "noisy_100" in out
+    res = json.loads((tmp_path / "res" / "results.json").read_text())
+    assert [i["sha256"] for i in res["inputs"]] == [
+        hashlib.sha256(p.read_bytes()).hexdigest() for p in noisy
+    ]
+    assert res["options"]["seed"] == 1 and res["status"] == "complete"
+    assert res["rmsape"] < 5
+    assert (tmp_path / "res" / "abaqus.inp").is_file()
+    # "--resume" after a finished fit: nothing to resume
+    assert cli.main(["fit", *map(str, noisy), "--out", "res", "--resume", "-q"]) == 2
+    assert "no checkpoint" in capsys.readouterr().err
+
+
+# ============================================ Ctrl-C and --resume (real script)
+@pytest.mark.skipif(os.name == "nt", reason="POSIX signals")
+def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy, tmp_path):
+    args = [*noisy, "--prony", "2", "--method", "full", "--maxiter", "120", "--target", "0",
+            "--checkpoint-every", "0.2", "--no-plot", "-q"]
+    # the reference: uninterrupted, in-process (the same code path)
+    assert cli.main(["fit", *map(str, args), "--out", str(tmp_path / "ref")]) == 0
+    ref = json.loads((tmp_path / "ref" / "results.json").read_text())
+
+    out = tmp_path / "run"
+    proc = subprocess.Popen(_script() + ["fit", *map(str, args), "--out", str(out)],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    deadline = time.monotonic() + 120
+    while not (out / "checkpoint.json").exists():
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    time.sleep(0.3)
+    assert proc.poll() is None, "the fit ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 1, stderr
+    assert "Traceback" not in stderr
+    assert "--resume" in stderr and "interrupted" in stderr
+    res = json.loads((out / "results.json").read_text())
+    assert res["status"] == "interrupted" and res["interrupted"] is True
+    assert res["stop_reason"] == "interrupted" and 0 < res["nit"] < 120
+    assert "INTERRUPTED" in (out / "summary.txt").read_text()
+    for f in ("fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac"):
+        assert (out / f).is_file()
+    assert (out / "checkpoint.json").is_file()
+
+    again = run("fit", *args, "--out", out, "--resume", cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    fin = json.loads((out / "results.json").read_text())
+    assert fin["status"] == "complete" and fin["nit"] == ref["nit"]
+    assert fin["history"]["best"] == ref["history"]["best"]  # the same search, bit for bit
+    assert fin["params"] == ref["params"]
+    assert not (out / "checkpoint.json").exists()
+
+
+# ================================================================== models
+def test_models_lists_models_and_strategies(capsys):
+    assert cli.main(["models"]) == 0
+    out = capsys.readouterr().out
+    assert "mooney_rivlin" in out and "C10 [MPa]" in out and "ogden" in out
+    assert "semifree" in out and "free" in out
+    assert cli.main(["models", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert {m["name"] for m in data["models"]} >= {"mooney_rivlin", "neo_hooke", "yeoh"}
+    assert data["tau_strategies"][:3] == ["free", "semifree", "fixed"]
+
+
+def test_models_discovers_entry_point_plugins(tmp_path):
+    site = tmp_path / "site"
+    (site / "fakeplug-1.0.dist-info").mkdir(parents=True)
+    (site / "fakeplug-1.0.dist-info" / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: fakeplug\nVersion: 1.0\n")
+    (site / "fakeplug-1.0.dist-info" / "entry_points.txt").write_text(
+        "[vhfit.models]\ngent_plugin = fakeplug_models\nbroken = fakeplug_missing\n")
+    (site / "fakeplug_models.py").write_text(textwrap.dedent("""
+        import numpy as np
+        import vhfit
+
+        @vhfit.hyperelastic.register("gent_plugin", units=("MPa", "-"),
+                                     example=(0.1, 10.0))
+        def gent_plugin(I1, I2, mu, Jm):
+            "Gent: W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm)"
+            return -mu * Jm / 2 * np.log(1 - (I1 - 3) / Jm)
+    """))
+    env = {"PYTHONPATH": os.pathsep.join([str(site), os.environ.get("PYTHONPATH", "")])}
+    proc = run("models", cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert "gent_plugin" in proc.stdout and "mu [MPa], Jm [-]" in proc.stdout
+    assert "broken" in proc.stdout and "error" in proc.stdout  # reported, not fatal
+    # a command resolving the model name loads the plug-in too
+    proc = run("simulate", "--model", "gent_plugin", "--param", "mu=0.1,Jm=10", "--rate",
+               "-1", "--points", "3", cwd=tmp_path, env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert "gent_plugin" in proc.stdout
+
+
+# ========================================================= without matplotlib
+def test_fit_without_matplotlib_says_how_to_get_plots(noisy, tmp_path):
+    fake = tmp_path / "nompl" / "matplotlib"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("raise ImportError('matplotlib hidden by the test')\n")
+    env = {"PYTHONPATH": os.pathsep.join([str(fake.parent), os.environ.get("PYTHONPATH", "")])}
+    proc = run("fit", *noisy, "--prony", "1", "--out", tmp_path / "o", "-q", cwd=tmp_path,
+               env=env)
+    assert proc.returncode == 0, proc.stderr
+    assert "pip install 'vhfit[plot]'" in proc.stdout
+    assert (tmp_path / "o" / "results.json").is_file()
+    assert (tmp_path / "o" / "abaqus.inp").is_file()
+    assert not list((tmp_path / "o").glob("*.png"))
+
+
+# ======================================================= progress, helpers
+class _Stream(io.StringIO):
+    def __init__(self, tty):
+        super().__init__()
+        self._tty = tty
+
+    def isatty(self):
+        return self._tty
+
+
+def test_progress_updates_one_line_on_a_terminal():
+    s = _Stream(True)
+    p = cli.Progress(s)
+    for g in range(1, 4):
+        p({"generation": g, "best": 1.0 / g, "mean": 2.0 / g, "elapsed": 0.2 * g})
+        p.last_print = -1e9  # do not wait between updates
+    p.close()
+    text = s.getvalue()
+    assert text.count("\r") >= 3 and text.count("\n") == 1
+    assert "generation     3" in text and "best 0.3333 %" in text and "elapsed" in text
+
+
+def test_progress_prints_plain_periodic_lines_otherwise():
+    s = _Stream(False)
+    p = cli.Progress(s, every=3600, scan=True)
+    for g in (1, 2, 3, 1, 2):  # the generation count restarts: next N of the scan
+        p({"generation": g, "best": 1.0, "mean": 2.0, "elapsed": 0.1})
+    p.close()
+    lines = s.getvalue().splitlines()
+    assert "\r" not in s.getvalue()
+    assert lines[0].startswith("N=1  generation     1") and lines[-1].startswith("N=2")
+    assert len(lines) == 2
+
+
+def test_parse_helpers():
+    assert cli._parse_params("C10=0.1, C01=2e-3") == {"C10": 0.1, "C01": 0.002}
+    assert cli._count_prony({"C10": 1, "G1": 1, "tau1": 1, "G2": 2, "tau2": 2}) == 2
+    with pytest.raises(cli.UsageError, match="tau2"):
+        cli._count_prony({"G1": 1, "tau1": 1, "G2": 2})
+    with pytest.raises(cli.UsageError, match="NAME=VALUE"):
+        cli._parse_params("C10")

@@ -1,0 +1,146 @@
+"""Tests of vhfit._kernels: the ψ_j functions, the Lobatto derivative map, the recursion.
+
+The recursion integrates each step exactly for a cubic interpolant, so a cubic input
+must come out exact to rounding, for any step length and any τ from 1e-12 to 1e12 of it.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import quad
+
+from vhfit._kernels import DERIV, LOBATTO, _psi, overstress
+
+
+def psi_reference(x: float, j: int) -> float:
+    """ψ_j(x) = ∫_0^1 e^(−x(1−v)) v^j dv by quadrature (= (1/x) ∫_0^x e^(−w) (1 − w/x)^j dw)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if x <= 50.0:
+            return quad(lambda v: math.exp(-x * (1 - v)) * v**j, 0.0, 1.0,
+                        epsabs=0, epsrel=2e-14, limit=200)[0]
+        top = min(x, 800.0)
+        return quad(lambda w: math.exp(-w) * (1 - w / x) ** j, 0.0, top,
+                    epsabs=0, epsrel=2e-14, limit=200, points=[1.0, 10.0])[0] / x
+
+
+X_VALUES = [0.0, 1e-300, 1e-12, 1e-6, 0.01, 0.3, 1 - 1e-9, 1.0, 1 + 1e-9, 2.0, 7.5, 40.0,
+            1e3, 1e6, 1e12, 1e300]
+
+
+@pytest.mark.parametrize("x", X_VALUES)
+def test_psi_matches_quadrature_across_the_whole_range(x):
+    e, *psi = _psi(x)
+    assert e == pytest.approx(math.exp(-x), rel=1e-15, abs=1e-300)
+    for j, p in enumerate(psi):
+        assert p == pytest.approx(psi_reference(x, j), rel=2e-14, abs=1e-300), j
+
+
+@given(st.floats(1e-15, 1e15))
+def test_psi_bounds_and_limits(x):
+    """0 < ψ_2 < ψ_1 < ψ_0 ≤ 1 and ψ_j ≤ min(1/(j+1), 1/x)."""
+    e, p0, p1, p2 = _psi(x)
+    assert 0.0 <= e <= 1.0
+    assert 0 < p2 < p1 < p0 <= 1.0
+    for j, p in enumerate((p0, p1, p2)):
+        assert p <= 1.0 / (j + 1) * (1 + 1e-15)
+        assert p <= 1.0 / x * (1 + 1e-15)
+
+
+def test_psi_limits_exactly():
+    assert _psi(0.0) == (1.0, 1.0, 0.5, pytest.approx(1 / 3, rel=1e-15))
+    e, p0, p1, p2 = _psi(math.inf)
+    assert (e, p0, p1, p2) == (0.0, 0.0, 0.0, 0.0)
+
+
+def test_deriv_maps_lobatto_values_to_derivative_coefficients():
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        c = rng.normal(size=4)  # p(v) = c0 + c1 v + c2 v² + c3 v³
+        values = np.polynomial.polynomial.polyval(LOBATTO, c)
+        np.testing.assert_allclose(DERIV @ values, [c[1], 2 * c[2], 3 * c[3]],
+                                   rtol=1e-13, atol=1e-13 * np.abs(c).max())
+    assert LOBATTO[0] == 0.0 and LOBATTO[-1] == 1.0
+
+
+def _samples(t_nodes):
+    """Sample times of the kernel's layout: the first node, then 2 Lobatto points + end."""
+    h = np.diff(t_nodes)
+    inner = t_nodes[:-1, None] + h[:, None] * LOBATTO[None, 1:]
+    return np.concatenate([t_nodes[:1], inner.ravel()]), h
+
+
+def _exact_branch(coef, tau, t):
+    """a(0) e^(−t/τ) + ∫_0^t e^(−(t−u)/τ) a'(u) du for a cubic a, by quadrature."""
+    da = np.polynomial.polynomial.polyder(coef)
+    pts = sorted(t - k * tau for k in (1, 4, 16, 64) if 0 < t - k * tau < t)
+    scale = np.abs(coef).sum() * (1 + 3 * t**3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        val = quad(lambda u: math.exp(-(t - u) / tau) * np.polynomial.polynomial.polyval(u, da),
+                   0.0, t, points=pts or None, epsabs=1e-15 * scale, epsrel=2e-14, limit=500)[0]
+    return coef[0] * math.exp(-t / tau) + val
+
+
+@settings(max_examples=max(5, settings.default.max_examples // 2))
+@given(st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4),
+       st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
+       st.floats(-12.0, 12.0))
+def test_recursion_is_exact_for_a_cubic(coef, steps, log_tau):
+    """λ ≡ 1 makes a = b = ŝ, and h = (2/3) P + (1/3) Q = P: exact for a cubic ŝ(t)."""
+    coef = np.asarray(coef)
+    t_nodes = np.concatenate([[0.0], np.cumsum(steps)])
+    tau = float(t_nodes[-1]) * 10.0**log_tau
+    ts, h = _samples(t_nodes)
+    s_hat = np.polynomial.polynomial.polyval(ts, coef)[None, :]
+    out = overstress(s_hat, np.ones(ts.size), h, np.array([0, ts.size]),
+                     np.array([0, h.size]), np.array([[1.0]]), np.array([[tau]]), DERIV)[0]
+    exact = np.array([_exact_branch(coef, tau, t) for t in t_nodes])
+    scale = np.abs(coef).sum() * max(1.0, t_nodes[-1] ** 3)
+    np.testing.assert_allclose(out, exact, rtol=0, atol=1e-12 * scale)
+
+
+def test_overstress_layout_and_parallel_rows():
+    """Several curves and parameter sets at once equal each alone; G scales linearly."""
+    rng = np.random.default_rng(7)
+    curves = [np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 1.0, n))]) for n in (3, 5, 1)]
+    lam_parts, h_parts, s_off, k_off = [], [], [0], [0]
+    for t_nodes in curves:
+        ts, h = _samples(t_nodes)
+        lam_parts.append(1.0 + 0.3 * np.sin(ts))
+        h_parts.append(h)
+        s_off.append(s_off[-1] + ts.size)
+        k_off.append(k_off[-1] + h.size)
+    lam = np.concatenate(lam_parts)
+    h = np.concatenate(h_parts)
+    P, N = 5, 3
+    s_hat = lam[None, :] ** 2 - 1 / lam[None, :] * rng.uniform(0.5, 2.0, (P, 1))
+    G = rng.uniform(0, 10, (P, N))
+    tau = 10 ** rng.uniform(-3, 3, (P, N))
+    so, ko = np.array(s_off), np.array(k_off)
+    full = overstress(s_hat, lam, h, so, ko, G, tau, DERIV)
+    assert full.shape == (P, h.size + len(curves))
+    for p in range(P):
+        for c in range(len(curves)):
+            sl = slice(s_off[c], s_off[c + 1])
+            one = overstress(s_hat[p:p + 1, sl], lam[sl], h[k_off[c]:k_off[c + 1]],
+                             np.array([0, s_off[c + 1] - s_off[c]]),
+                             np.array([0, k_off[c + 1] - k_off[c]]),
+                             G[p:p + 1], tau[p:p + 1], DERIV)[0]
+            nodes = slice(k_off[c] + c, k_off[c + 1] + c + 1)
+            np.testing.assert_array_equal(full[p, nodes], one)
+        # linear in G: the sum of the branches taken one at a time
+        branches = sum(
+            overstress(s_hat[p:p + 1], lam, h, so, ko, G[p:p + 1, i:i + 1],
+                       tau[p:p + 1, i:i + 1], DERIV)[0] for i in range(N))
+        np.testing.assert_allclose(full[p], branches, rtol=1e-13, atol=1e-14)
+    # at each curve's first node the overstress is Σ G_i ŝ(0)
+    for c in range(len(curves)):
+        np.testing.assert_allclose(full[:, k_off[c] + c], G.sum(axis=1) * s_hat[:, s_off[c]],
+                                   rtol=1e-15)
