@@ -183,18 +183,32 @@ def run_one(problem: Problem, vectorized: bool, kwargs: dict, budget: int, seed:
 
 
 def convergence(terms: list[int], seeds: list[int], budget: int, out=sys.stdout) -> dict:
-    table = {}
+    table: dict = {}
+    names = list(methods(budget))
+    print(f"  {'N':>2s}  {'method':34s} {'reached':>7s} {'med. gen':>9s} {'med. evals':>10s} "
+          f"{'paper/this':>10s} {'med. time':>9s}", file=out)
     for n in terms:
         problems = [Problem(n, s) for s in seeds]
         for name, (vec, kw) in methods(budget).items():
-            rows = [run_one(p, vec, kw, budget, s) for p, s in zip(problems, seeds)]
-            table[(n, name)] = rows
+            table[(n, name)] = [run_one(p, vec, kw, budget, s) for p, s in zip(problems, seeds)]
+        paper = np.median([r["neval"] for r in table[(n, names[0])]])
+        for name in names:
+            rows = table[(n, name)]
             nev = np.median([r["neval"] for r in rows])
             nit = np.median([r["nit"] for r in rows])
             ok = sum(r["reached"] for r in rows)
-            print(f"  N={n}  {name:34s} reached {ok}/{len(rows)}  median gen {nit:8.0f}  "
-                  f"median evals {nev:9.0f}  median time {np.median([r['time'] for r in rows]):6.1f} s",
-                  file=out, flush=True)
+            tm = np.median([r["time"] for r in rows])
+            print(f"  {n:2d}  {name:34s} {ok:3d}/{len(rows):<3d} {nit:9.0f} {nev:10.0f} "
+                  f"{paper / nev:10.1f} {tm:8.1f}s", file=out, flush=True)
+    print("  all problems (median over every run):", file=out)
+    paper = np.median([r["neval"] for n in terms for r in table[(n, names[0])]])
+    for name in names:
+        rows = [r for n in terms for r in table[(n, name)]]
+        nev = np.median([r["neval"] for r in rows])
+        ok = sum(r["reached"] for r in rows)
+        print(f"  {'*':>2s}  {name:34s} {ok:3d}/{len(rows):<3d} "
+              f"{np.median([r['nit'] for r in rows]):9.0f} {nev:10.0f} {paper / nev:10.1f} "
+              f"{np.median([r['time'] for r in rows]):8.1f}s", file=out, flush=True)
     return table
 
 
@@ -203,7 +217,7 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="fewer repeats/seeds/terms")
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--terms", type=int, nargs="*", default=[2, 3, 4])
-    ap.add_argument("--budget", type=int, default=300_000)
+    ap.add_argument("--budget", type=int, default=400_000)
     ap.add_argument("--skip-overhead", action="store_true")
     ap.add_argument("--skip-convergence", action="store_true")
     args = ap.parse_args(argv)

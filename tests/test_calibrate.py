@@ -275,3 +275,22 @@ def test_bad_options_name_the_argument(kwargs, match):
     curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
     with pytest.raises(ValueError, match=match):
         calibrate(curves, **{"n_prony": 1, **kwargs})
+
+
+def test_workers_pool_and_map_give_bit_identical_constants():
+    from concurrent.futures import ThreadPoolExecutor
+
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
+                       RANDOM_RATES, noise=0.05, seed=8)
+    a = calibrate(curves, n_prony=2, seed=1, uncertainty=False, maxiter=15)
+    b = calibrate(curves, n_prony=2, seed=1, uncertainty=False, maxiter=15, workers=2)
+    with ThreadPoolExecutor(2) as ex:
+        c = calibrate(curves, n_prony=2, seed=1, uncertainty=False, maxiter=15, workers=ex.map)
+    assert a.params == b.params == c.params
+    assert a.history["best"] == b.history["best"] == c.history["best"]
+
+
+def test_bad_workers_is_a_clear_error():
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+    with pytest.raises(ValueError, match="workers"):
+        calibrate(curves, n_prony=1, workers=0)

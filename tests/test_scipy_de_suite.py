@@ -22,6 +22,10 @@ from pathlib import Path
 
 import pytest
 import scipy.optimize
+from scipy.optimize import OptimizeResult, rosen
+from scipy.optimize._differentialevolution import _ConstraintWrapper
+
+import vhfit.optimize as vo
 
 OURS = {"differential_evolution", "DifferentialEvolutionSolver"}
 SOURCE_MODULES = {"scipy.optimize", "scipy.optimize._differentialevolution"}
@@ -83,9 +87,6 @@ def test_rewrite_points_only_our_names_at_vhfit():
     assert n == 2
     ns: dict = {}
     exec(out, ns)
-    import vhfit.optimize as vo
-    from scipy.optimize import OptimizeResult, rosen
-    from scipy.optimize._differentialevolution import _ConstraintWrapper
     assert ns["differential_evolution"] is vo.differential_evolution
     assert ns["DifferentialEvolutionSolver"] is vo.DifferentialEvolutionSolver
     assert ns["_ConstraintWrapper"] is _ConstraintWrapper

@@ -16,6 +16,7 @@ uncertainty report.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -430,13 +431,29 @@ class _Problem:
             err[p] = rn
         return amps, err
 
-    def sep_objective(self, Zt: np.ndarray) -> np.ndarray:
-        """Vectorised DE objective: Zt has shape (d, S) as SciPy passes it."""
-        Z = np.atleast_2d(Zt.T) if Zt.ndim > 1 else Zt[None, :]
-        self.nfev += Z.shape[0]
+    def sep_errors(self, Z: np.ndarray) -> np.ndarray:
+        """Objective of separable search vectors Z (P, d)."""
         hyper, tau = self.sep_decode(Z)
-        _, err = self.solve_linear(hyper, tau)
-        return err
+        return self.solve_linear(hyper, tau)[1]
+
+    def full_errors(self, Z: np.ndarray) -> np.ndarray:
+        """Objective of full search vectors Z (P, d) (τ in log10)."""
+        return self.errors(self.full_to_params(Z, self.hm.n_params))
+
+    def make_objective(self, method: str, mapper=None, chunks: int = 1):
+        """The DE objective, vectorised (SciPy passes (d, S)); a map spreads the chunks."""
+        errors = self.sep_errors if method == "separable" else self.full_errors
+
+        def objective(Zt: np.ndarray) -> np.ndarray:
+            Z = np.atleast_2d(Zt.T) if Zt.ndim > 1 else Zt[None, :]
+            self.nfev += Z.shape[0]
+            if mapper is None:
+                return errors(Z)
+            parts = np.array_split(Z, min(chunks, Z.shape[0]))
+            out = list(mapper(_chunk_errors, [(self, method, z) for z in parts]))
+            return np.concatenate(out)
+
+        return objective
 
     def sep_to_params(self, z: np.ndarray) -> np.ndarray:
         hyper, tau = self.sep_decode(z[None, :])
@@ -484,13 +501,50 @@ class _Problem:
         e[~np.isfinite(e)] = np.inf
         return e
 
-    def full_objective(self, Zt: np.ndarray) -> np.ndarray:
-        Z = np.atleast_2d(Zt.T) if Zt.ndim > 1 else Zt[None, :]
-        self.nfev += Z.shape[0]
-        return self.errors(self.full_to_params(Z, self.hm.n_params))
-
     def per_curve(self, x: np.ndarray) -> list[float]:
         return [float(v) for v in self.objective.per_curve(self.batch(x[None, :])[0])]
+
+
+def _chunk_errors(args) -> np.ndarray:
+    prob, method, Z = args
+    return prob.sep_errors(Z) if method == "separable" else prob.full_errors(Z)
+
+
+def _single_thread_worker() -> None:
+    # two processes x two numba threads would oversubscribe two cores
+    try:
+        import numba
+
+        numba.set_num_threads(1)
+    except (ImportError, ValueError):
+        pass
+
+
+@contextlib.contextmanager
+def _mapper(workers):
+    """(map, n_chunks) for ``workers``: 1 -> in process; int -> process pool; map-like."""
+    if callable(workers):
+        yield workers, 2 * (os.cpu_count() or 2)
+    elif isinstance(workers, (int, np.integer)) and not isinstance(workers, bool):
+        n = int(workers)
+        if n == -1:
+            n = os.cpu_count() or 1
+        if n < 1:
+            raise ValueError(f"workers = {workers!r}: give -1, a whole number >= 1, or a map")
+        if n == 1:
+            yield None, 1
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            # spawn, not fork: forking after numba's OpenMP threads started is unsafe
+            ctx = multiprocessing.get_context("spawn")
+            with ProcessPoolExecutor(n, mp_context=ctx, initializer=_single_thread_worker) as ex:
+                yield ex.map, n
+    else:
+        raise ValueError(
+            f"workers = {workers!r}: give an int (processes) or a map-like callable"
+        )
 
 
 # ---------------------------------------------------------------------- polish
@@ -836,11 +890,11 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
     key = _fit_key(prob, method, seed, popsize, tol, target, de_options)
     ckpt = None if checkpoint is None else str(checkpoint)
     if method == "separable":
-        func, dbounds = prob.sep_objective, prob.sep_bounds()
+        dbounds = prob.sep_bounds()
         npop = popsize or 64
         cap = maxiter or 1000
     else:
-        func, dbounds = prob.full_objective, prob.full_bounds()
+        dbounds = prob.full_bounds()
         npop = popsize or 60
         cap = maxiter or 100_000
         if tol == _DEFAULT_TOL:
@@ -899,14 +953,15 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
             opts = dict(strategy="rand1bin", mutation=0.8, recombination=0.7,
                         init="latinhypercube", updating="immediate")
         opts.update(de_options or {})
-        # an absolute population of npop: SciPy sizes it as popsize * dim, so give the
-        # initial population explicitly when npop is not a multiple of dim
+        if workers != 1:  # parallel evaluation needs whole generations: deferred updating
+            opts["updating"] = "deferred"
+        # SciPy sizes the population as popsize * dim
         mult = max(1, int(math.ceil(npop / dim)))
-        vec = workers == 1 and opts["updating"] == "deferred"
-        with DifferentialEvolutionSolver(
-            func, dbounds, maxiter=cap, popsize=mult, tol=0.0, atol=0.0,
-            rng=np.random.default_rng(seed), polish=False, callback=cb, vectorized=vec,
-            workers=workers if not vec else 1, **opts,
+        vec = opts["updating"] == "deferred"
+        with _mapper(workers) as (mapper, chunks), DifferentialEvolutionSolver(
+            prob.make_objective(method, mapper, chunks), dbounds, maxiter=cap, popsize=mult,
+            tol=0.0, atol=0.0, rng=np.random.default_rng(seed), polish=False, callback=cb,
+            vectorized=vec, **opts,
         ) as solver:
             solver_ref["s"] = solver
             if resume and ckpt is not None and os.path.exists(ckpt):

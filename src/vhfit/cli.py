@@ -383,6 +383,13 @@ def _points(text: str) -> int | None:
     return n
 
 
+def _ramp_points(text: str) -> int:
+    n = _points(text)
+    if n is None:
+        raise argparse.ArgumentTypeError("--points: give a whole number >= 2")
+    return n
+
+
 def _prony(text: str) -> int | str:
     if text.lower() == "auto":
         return "auto"
@@ -781,8 +788,9 @@ def cmd_simulate(args) -> int:
             s = model.stress(x, h, measure=args.measure)
         except ValueError as exc:
             raise UsageError(f"{label}: {_one_line(exc)}") from None
-        for t, e, v in zip(h.out_time, h.out_strain, s):
-            w.writerow([label, f"{r:g}", f"{t:.9g}", f"{e:.9g}", f"{v:.9g}"])
+        rate = f"{r:g}" if math.isfinite(r) else ""
+        for t, e, v in zip(h.out_time, h.out_strain, s):  # (+ 0.0: no "-0" in the file)
+            w.writerow([label, rate, f"{t + 0.0:.9g}", f"{e + 0.0:.9g}", f"{v + 0.0:.9g}"])
     _emit(buf.getvalue(), args.out, what="simulated curves")
     return EXIT_OK
 
@@ -988,7 +996,7 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     if not demo:
         p.add_argument("--model", default="mooney_rivlin",
                        help="hyperelastic model (default mooney_rivlin; see 'vhfit models')")
-    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else 2,
+    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else 2, metavar="N|auto",
                    help=f"number of Prony terms, or 'auto' to scan N = 1..--max-prony "
                         f"(default {DEMO_PRONY if demo else 2})")
     p.add_argument("--max-prony", type=int, default=5, metavar="N",
@@ -1085,7 +1093,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--strain-max", type=_float("--strain-max"), metavar="E",
                    help="final engineering strain of the ramps (default -0.5 or 0.5, the "
                         "rate's sign)")
-    p.add_argument("--points", type=_points, default=50, metavar="N",
+    p.add_argument("--points", type=_ramp_points, default=50, metavar="N",
                    help="points per ramp, from rest (default 50)")
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")

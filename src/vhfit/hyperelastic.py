@@ -88,6 +88,11 @@ class Hyperelastic:
     def n_params(self) -> int:
         return len(self.param_names)
 
+    def __reduce__(self):
+        # registered models travel to worker processes by name (their functions may be
+        # lambdas or closures that do not pickle); the worker's registry resolves them
+        return (get, (self.name,))
+
     # ------------------------------------------------------------------ helpers
     def _columns(self, params) -> tuple[list[np.ndarray], tuple[int, ...]]:
         """Split (..., n_params) constants into columns shaped (..., 1)."""

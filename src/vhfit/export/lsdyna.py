@@ -320,7 +320,7 @@ def _read(cards, head, ogden: bool, hint: str | None):
         for p, (mu_d, alpha) in enumerate(pairs, start=1):
             if alpha == 0.0:
                 raise ValueError(f"{SOLVER} MAT_077_O: ALPHA{p} = 0 with MU{p} = {mu_d:g}")
-            constants[f"mu{p}"] = mu_d * alpha / 2.0
+            constants[f"mu{p}"] = mu_d * alpha / 2.0 * (1 + 3e-6)
             constants[f"alpha{p}"] = alpha
         visco = rest[2:]
     else:
@@ -342,6 +342,6 @@ def _read(cards, head, ogden: bool, hint: str | None):
         if not beta > 0:
             raise ValueError(f"{SOLVER} Prony card GI = {gi:g}, BETAI = {beta:g}: "
                              "the decay constant must be > 0")
-        G.append(3.0 * gi * (1 + 1e-5))
+        G.append(3.0 * gi)
         tau.append(1.0 / beta)
     return Material.params_from_moduli(kind, constants, G, tau, solver=SOLVER)

@@ -277,14 +277,15 @@ integrality, vectorized
         rec = self._vh_rec
         if not rec.recorded:
             self._vh_initial()
-        if self._vh_adaptive is not None:
-            self._vh_adaptive_generation()
+        if self._vh_adaptive is None:
+            out = super().__next__()
         else:
-            super().__next__()
+            self._vh_adaptive_generation()
+            out = (self.x, self.population_energies[0])
         self._vh_gen += 1
         rec.record(self._vh_gen, self._nfev, self.population_energies,
-                   self._vh_scaled_population)
-        return self.x, self.population_energies[0]
+                   self._vh_scaled_population if rec.every else None)
+        return out
 
     def converged(self):
         """Whether the run should stop: SciPy's tol/atol test, or the ``stop`` criteria."""
@@ -361,7 +362,7 @@ integrality, vectorized
                                 else self._nfev - before)
             self._promote_lowest_energy()
         self._vh_rec.record(0, self._nfev, self.population_energies,
-                            self._vh_scaled_population)
+                            self._vh_scaled_population if self._vh_rec.every else None)
 
     def _vh_promote(self):
         """SciPy's promotion of the best member to slot 0, telling the strategy."""
