@@ -96,8 +96,10 @@ def reference_stress(name, c, G, tau, time, stretch, t_out, form="conditioned"):
     E_inf = E_inf_ref(name, c)
     G0 = E_inf + sum(G)
     g_inf = E_inf / G0
-    s_max = max(abs(sigma_h_ref(name, lam_of(u), c)) for u in np.linspace(0, time[-1], 201))
-    s_max = max(s_max, 1e-300)
+    # scale of the integrands: |σ_h| along the path, every piece sampled
+    samples = np.concatenate([np.linspace(a, b, 21) for a, b in zip(time[:-1], time[1:])]
+                             + [np.asarray(time, float)])
+    s_max = max(max(abs(sigma_h_ref(name, lam_of(u), c)) for u in samples), 1e-300)
     out = []
     for t in map(float, t_out):
         lt = lam_of(t)
@@ -313,12 +315,12 @@ def test_random_measured_histories_match_quadrature(data):
     assert relative_error(s, ref) <= 1e-6
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "KNOWN SHORTFALL of the default grid: with a stiff fast branch (G/E∞ ~ 1e4, τ below one "
-    "grid step) the overstress is τ × the slope of the last step's cubic interpolant, whose "
-    "error is third order in the step, while model._dlog assumes fourth order. Measured "
-    "3.6e-5 (Ogden α = −6) and 6.4e-6 (Mooney–Rivlin) here at rtol = 1e-6; a step of 0.005 in "
-    "ln λ (0.5 rtol^(1/3)) gives 5.4e-7. Remove this marker when fixed."))
+# KNOWN SHORTFALL of the default grid (see docs/theory.md §7): with a stiff fast branch
+# (G/E∞ ~ 1e4, τ below one grid step) the overstress is τ × the slope of the last step's
+# cubic interpolant, whose error is third order in the step, while model._dlog assumes
+# fourth order. Measured at rtol = 1e-6: 3.6e-5 (Ogden α = −6) and 6.4e-6 (Mooney–Rivlin);
+# a step of 0.005 in ln λ (0.5 rtol^(1/3)) gives 5.4e-7. Remove the marker when fixed.
+@pytest.mark.xfail(strict=True, reason="known: stiff fast branch exceeds 1e-6 (theory.md §7)")
 @pytest.mark.parametrize("name,c,tau", [("ogden", (1.0, -6.0), 3e-4),
                                         ("mooney_rivlin", (0.0, 1.0), 1e-4)])
 def test_stiff_fast_branch_matches_quadrature(name, c, tau):
@@ -343,6 +345,18 @@ def test_accuracy_follows_rtol(rtol):
 
 
 # ==================================================================== limits
+
+def rounding_floor(model, history, sigma_scale, G_over_E) -> float:
+    """Worst-case rounding of the recursion on branch states that carry Σ G_i ŝ.
+
+    Each step adds d0 ψ0 + d1 ψ1 + d2 ψ2 with d = D · (4 sample values); the rows of the
+    cubic's derivative map D have absolute sums up to 97, so a step's increment carries
+    up to ~(18 + 97/2 + 97/3) u ≈ 100 u of the state's size: 128 u per step, plus the
+    first node and the final products.
+    """
+    n_steps = model.batch([history]).step.size
+    return 128 * (n_steps + 4) * U * sigma_scale * (1 + G_over_E)
+
 
 def kernel_bound(stretch) -> float:
     """max K(u, t) = (2/3)(λ(t)/λ(u))² + (1/3) λ(u)/λ(t) over a path's stretch range."""
@@ -436,14 +450,16 @@ def test_huge_relaxation_times_give_the_instantaneous_stress(case):
     """τ = 1e15 s: |h_i − ŝ(t)| ≤ (t/τ_i)(2 + max K) max|ŝ|, so σ → σ_h/g∞ = σ_h G0/E∞."""
     c, G, rate, eps = case
     tau = np.full(G.size, 1e15)
-    s = ViscoHyperelastic("mooney_rivlin", G.size).stress(
-        params_of(c, G, tau), strain=eps, strain_rate=rate)
+    m = ViscoHyperelastic("mooney_rivlin", G.size)
+    h = History.constant_rate(eps, rate)
+    s = m.stress(params_of(c, G, tau), h)
     E = 6 * sum(c)
     sh = sigma_h_mr(c, 1 + eps)
     inst = sh * (E + G.sum()) / E
     t_end = eps[-1] / rate
     bound = G.sum() * t_end / 1e15 * (2 + kernel_bound([1, 1 + eps[-1]])) * np.max(np.abs(sh)) / E
-    assert np.max(np.abs(s - inst)) <= bound + 64 * U * np.max(np.abs(inst))
+    floor = rounding_floor(m, h, np.max(np.abs(sh)), G.sum() / E)
+    assert np.max(np.abs(s - inst)) <= bound + floor
 
 
 @given(mr_cases(n_min=2))
@@ -482,10 +498,10 @@ def test_ramp_hold_relaxes_to_the_hyperelastic_stress(case):
         Gi[i] = G[i]
         si = m.stress(params_of(c, Gi, tau), h) - sh_hold
         decay = np.exp(-(t_out - T) / tau[i])
-        np.testing.assert_allclose(si, si[0] * decay, rtol=1e-9, atol=1e-12 * abs(si[0]))
-    # rounding floor: the branch states carry Σ G_i ŝ, i.e. |σ_h| (G0/E∞ − 1), to a few u
+        floor = rounding_floor(m, h, abs(sh_hold), G[i] / (6 * sum(c)))
+        np.testing.assert_allclose(si, si[0] * decay, rtol=1e-9, atol=floor)
     over0 = abs(s[0] - sh_hold)
-    floor = 64 * U * abs(sh_hold) * (1 + G.sum() / (6 * sum(c)))
+    floor = rounding_floor(m, h, abs(sh_hold), G.sum() / (6 * sum(c)))
     assert abs(s[-1] - sh_hold) <= over0 * math.exp(-50) + floor
 
 

@@ -227,12 +227,13 @@ class Progress:
     every : float
         Seconds between lines when ``stream`` is not a terminal.
     scan : bool
-        The fit scans the number of Prony terms (N is shown; a restart of the
-        generation count means the next N).
+        The fit scans the number of Prony terms: N is shown, from the callback's
+        ``n_prony`` if it has one, else counted (a restart of the generation count
+        means the next N, starting from ``first_n``; None hides N).
     """
 
     def __init__(self, stream: TextIO, *, quiet: bool = False, every: float = 2.0,
-                 scan: bool = False, first_n: int = 1):
+                 scan: bool = False, first_n: int | None = 1):
         self.stream = stream
         self.quiet = quiet
         self.tty = _is_tty(stream)
@@ -245,14 +246,15 @@ class Progress:
         self.last: dict | None = None
 
     def _text(self, d: dict) -> str:
-        pre = f"N={self.n}  " if self.scan else ""
+        n = d.get("n_prony", self.n)
+        pre = f"N={n}  " if self.scan and n is not None else ""
         return (
             f"{pre}generation {d['generation']:>5}  best {d['best']:.4g} %  "
             f"mean {d['mean']:.4g} %  elapsed {d['elapsed']:.1f} s"
         )
 
     def __call__(self, d: dict) -> None:
-        if d["generation"] < self.last_gen:
+        if d["generation"] < self.last_gen and self.n is not None:
             self.n += 1
         self.last_gen = d["generation"]
         self.last = d
@@ -455,7 +457,9 @@ def _run_fit(curves, inputs, args, out: Path, *, label: str | None, command: lis
         f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed {args.seed}, "
         f"to {len(curves)} curve(s); outputs in {out}/" + (" (resuming)" if args.resume else "")
     )
-    progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto")
+    # a resumed scan starts mid-way: N cannot be counted from the generations then
+    progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
+                        first_n=None if args.resume else 1)
     sigs = _Signals()
 
     def callback(d):
@@ -493,8 +497,15 @@ def _run_fit(curves, inputs, args, out: Path, *, label: str | None, command: lis
         sigs.writing = True
         files = _write_outputs(cal, curves, inputs, args, out, label=label, command=command,
                                interrupted=interrupted, demo=demo)
+    from vhfit.calibrate import CalibrationWarning
+
     seen = set(cal.warnings)
     for w in caught:
+        # the table lists the calibration's own warnings; numerical RuntimeWarnings of
+        # trial individuals are noise; data warnings (what the reader assumed) are shown
+        if issubclass(w.category, CalibrationWarning) or not issubclass(w.category,
+                                                                         UserWarning):
+            continue
         msg = _one_line(w.message)
         if msg not in seen:
             seen.add(msg)
@@ -540,13 +551,18 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
     _write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
 
-    cards_ok, card_errors = {}, {}
+    cards_ok, card_errors, card_notes = {}, {}, {}
     for solver in SOLVERS + ("json",):
         try:
-            text = _card(cal, solver)
+            with warnings.catch_warnings(record=True) as ws:
+                warnings.simplefilter("always")
+                text = _card(cal, solver)
         except Exception as exc:  # a solver that cannot take this model is not fatal
             card_errors[solver] = _one_line(exc)
             continue
+        notes = list(dict.fromkeys(_one_line(w.message) for w in ws))
+        if notes:
+            card_notes[solver] = notes
         _write(out / CARD_FILES[solver], text)
         cards_ok[solver] = CARD_FILES[solver]
         written[CARD_FILES[solver]] = f"{solver} card"
@@ -577,6 +593,8 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
     lines = [summary, ""]
     if cards_ok:
         lines.append("solver cards: " + ", ".join(f"{k} -> {v}" for k, v in cards_ok.items()))
+    for k, v in card_notes.items():
+        lines += [f"note ({k} card): {n}" for n in v]
     for k, v in card_errors.items():
         lines.append(f"no {k} card: {v}")
     if plot_note:
@@ -602,6 +620,7 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
         "files": {**{k: v for k, v in written.items()}, RESULTS: "this file"},
         "cards": cards_ok,
         "card_errors": card_errors,
+        "card_notes": card_notes,
     })
     _write(out / RESULTS, json.dumps(res, indent=2, default=_json_default) + "\n")
     written[RESULTS] = "results"

@@ -162,9 +162,38 @@ class _Where:
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise DataError(
-                f"{self(k)}: {what} = {arr[k]!r} is not finite: repair or delete that row"
+                f"{self(k)}: {what} = {arr[k]:g} is not finite: repair or delete that row"
             )
         return arr
+
+
+class _Subset:
+    """The labels ``rows[keep[k]]``, without building a list of them."""
+
+    def __init__(self, rows: Sequence[Any], keep: np.ndarray):
+        self.rows, self.keep = rows, keep
+
+    def __len__(self) -> int:
+        return len(self.keep)
+
+    def __getitem__(self, k: int) -> Any:
+        return self.rows[int(self.keep[k])]
+
+
+class _Labels:
+    """Lazy row labels ``"line 17"`` (files) or ``"row 3"`` (arrays)."""
+
+    def __init__(self, numbers: Any, word: str):
+        self.numbers = np.asarray(numbers, dtype=np.int64)
+        self.word = word
+
+    def __len__(self) -> int:
+        return int(self.numbers.size)
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, (slice, np.ndarray, list)):
+            return _Labels(self.numbers[i], self.word)
+        return f"{self.word} {int(self.numbers[i])}"
 
 
 def _warn(msg: str) -> None:
@@ -344,6 +373,11 @@ class Curve:
             )
         n_points, by = _check_points_args(n_points, by, where)
         keep = np.arange(n)
+        if not np.any(eps):
+            raise DataError(
+                f"{where()}: strain is 0 at every sample: nothing was deformed; check that "
+                "the strain (or stretch) column is the right one"
+            )
 
         # ---- duplicates and order
         if t is not None:
@@ -457,7 +491,7 @@ class Curve:
         self._name = name
         self._weight = weight
         self._source = src
-        self._where = _Where(name, src, None if rows is None else [rows[i] for i in keep])
+        self._where = _Where(name, src, None if rows is None else _Subset(rows, keep))
         self._metadata = dict(metadata or {})
         self._tol = tol
         d = np.diff(eps)
@@ -890,9 +924,9 @@ def _clean_time_series(eps, sig, t, keep, where):
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
             raise DataError(
-                f"{where(keep[k + 1])}: two samples at time {t[k]:g} s have different strains "
-                f"({eps[k]:g} and {eps[k + 1]:g}): fix the time column (more digits) or drop "
-                "one of them"
+                f"{where(keep[k + 1])}: two samples at the same time ({t[k]:g} s) have "
+                f"different strains ({eps[k]:g} and {eps[k + 1]:g}): fix the time column (more "
+                "digits) or drop one of them"
             )
         grp = np.concatenate([[0], np.cumsum(~dup)])
         first = np.flatnonzero(np.concatenate([[True], ~dup]))
@@ -1281,7 +1315,8 @@ def _resolve_columns(
             return None
         top = min(c.rank for c in cands)
         cands = [c for c in cands if c.rank == top]
-        if len(cands) > 1 and what == "stress":
+        if len(cands) > 1 and what == "stress" and all(c.unit for c in cands):
+            # the same stress in two units (e.g. kgf/cm2 and MPa): take the MPa one
             mpa = [c for c in cands if _norm_unit(c.unit) in ("mpa", "n/mm2")]
             if len(mpa) == 1:
                 cands = mpa
@@ -1339,22 +1374,73 @@ def _resolve_columns(
 # ================================================================ table layer
 @dataclass
 class _Table:
+    """A parsed table: column names, row labels, and the cells (split lazily for files)."""
+
     names: list[str]
-    cols: list[np.ndarray]  # one per header column: str/object or float
-    labels: list[str] | None  # per row; None -> "row k"
+    cols: list[np.ndarray] | None  # one per column (str/object or numbers); None until split
+    labels: _Labels
     source: str
     meta: dict[str, str]
-    row_word: str = "row"
+    lines: list[str] | None = None  # data lines of a file, for lazy splitting
+    split_line: Any = None  # line -> fields
+    delim: str | None = None
+    fast: bool = False  # clean delimited numbers: np.loadtxt may read whole columns
+    _cache: dict[int, np.ndarray] = field(default_factory=dict)
 
     def label(self, i: int) -> str:
-        return self.labels[i] if self.labels is not None else f"{self.row_word} {i}"
+        return self.labels[i]
 
     @property
     def n_rows(self) -> int:
-        return len(self.cols[0]) if self.cols else 0
+        return len(self.labels)
 
-    def floats(self, j: int, rows: np.ndarray | None = None) -> np.ndarray:
-        col = self.cols[j]
+    def column(self, j: int) -> np.ndarray:
+        if self.cols is None:
+            self.cols = self._split_all()
+        return self.cols[j]
+
+    def _split_all(self) -> list[np.ndarray]:
+        nh = len(self.names)
+        assert self.lines is not None
+        if self.fast:
+            rows = [line.split(self.delim) for line in self.lines]
+        else:
+            rows = []
+            for k, line in enumerate(self.lines):
+                f = self.split_line(line)
+                if len(f) > nh:
+                    if any(x.strip() for x in f[nh:]):
+                        sep = {"\t": "tab", None: "whitespace"}.get(self.delim, repr(self.delim))
+                        raise DataError(
+                            f"{self.source}, {self.label(k)}: {len(f)} fields but the header "
+                            f"has {nh} ({sep}-separated): remove the extra values; if ',' is "
+                            "the decimal mark, separate the columns with ';' instead"
+                        )
+                    f = f[:nh]
+                elif len(f) < nh:
+                    f = f + [""] * (nh - len(f))
+                rows.append(f)
+        return [np.array(c, dtype=object) for c in zip(*rows)]
+
+    def check_shape(self) -> None:
+        """Raise on rows with extra values (whatever columns are used)."""
+        if not self.fast and self.lines is not None:
+            self.column(0)
+
+    def floats(self, j: int, rows: np.ndarray | None = None, empty: str = "") -> np.ndarray:
+        if self.fast and self.cols is None:
+            if j not in self._cache:
+                try:
+                    self._cache[j] = np.loadtxt(
+                        self.lines, delimiter=self.delim, usecols=j, dtype=np.float64,
+                        comments=None, ndmin=1,
+                    )
+                except ValueError:
+                    self._cache[j] = None  # type: ignore[assignment]
+            full = self._cache[j]
+            if full is not None and np.isfinite(full).all():
+                return full if rows is None else full[rows]
+        col = self.column(j)
         sub = col if rows is None else col[rows]
         if sub.dtype.kind in "iufb":
             arr = sub.astype(np.float64)
@@ -1362,7 +1448,7 @@ class _Table:
             try:
                 arr = np.asarray(sub, dtype=np.float64)
             except (TypeError, ValueError):
-                arr = self._slow_floats(j, sub, rows)
+                arr = self._slow_floats(j, sub, rows, empty)
         bad = ~np.isfinite(arr)
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
@@ -1373,7 +1459,9 @@ class _Table:
             )
         return arr
 
-    def _slow_floats(self, j: int, sub: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
+    def _slow_floats(
+        self, j: int, sub: np.ndarray, rows: np.ndarray | None, empty: str = ""
+    ) -> np.ndarray:
         out = np.empty(len(sub))
         for k, v in enumerate(sub):
             s = "" if v is None else str(v).strip().strip("\"'").strip()
@@ -1389,6 +1477,9 @@ class _Table:
                 except ValueError:
                     pass
             i = k if rows is None else int(rows[k])
+            if s == "" and empty:
+                raise DataError(f"{self.source}, {self.label(i)}, column {self.names[j]!r}: "
+                                f"{empty}")
             what = "is empty" if s == "" else f"{s!r} is not a number"
             fix = ("fill it in or delete the row" if s == "" else
                    "use '.' or ',' as the decimal mark consistently, or delete the row")
@@ -1397,7 +1488,7 @@ class _Table:
         return out
 
     def texts(self, j: int) -> np.ndarray:
-        return np.array([str(v).strip() for v in self.cols[j]], dtype=object)
+        return np.array([str(v).strip() for v in self.column(j)], dtype=object)
 
 
 _META_RE = re.compile(r"^#+\s*(?P<key>[A-Za-z_][\w \-]*?)\s*[:=]\s*(?P<val>.*?)\s*$")
@@ -1512,28 +1603,12 @@ def _read_table(
     if not data:
         raise DataError(f"{src}: has a header but no data rows: the curve is empty")
     nh = len(head)
-    labels = [f"line {no}" for no in numbers]
-    simple = delim is not None and '"' not in text and "'" not in text
-    if simple and all(line.count(delim) == nh - 1 for line in data):
-        rows = [line.split(delim) for line in data]
-    else:
-        rows = []
-        for line, no in zip(data, numbers):
-            f = split(line)
-            if len(f) > nh:
-                if any(x.strip() for x in f[nh:]):
-                    sep = {"\t": "tab", None: "whitespace"}.get(delim, repr(delim))
-                    raise DataError(
-                        f"{src}, line {no}: {len(f)} fields but the header has {nh} "
-                        f"({sep}-separated): remove the extra values; if ',' is the decimal "
-                        "mark, separate the columns with ';' instead"
-                    )
-                f = f[:nh]
-            elif len(f) < nh:
-                f = f + [""] * (nh - len(f))
-            rows.append(f)
-    cols = [np.array(c, dtype=object) for c in zip(*rows)]
-    return _Table(head, cols, labels, src, meta, "line")
+    fast = (delim is not None and '"' not in text and "'" not in text
+            and all(line.count(delim) == nh - 1 for line in data))
+    table = _Table(head, None, _Labels(numbers, "line"), src, meta, lines=data,
+                   split_line=split, delim=delim, fast=fast)
+    table.check_shape()
+    return table
 
 
 def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None) -> _Table:
@@ -1545,7 +1620,8 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
             sizes = ", ".join(f"{h}: {c.size}" for h, c in zip(head, cols))
             raise DataError(f"{src}: columns have different lengths ({sizes}): give one value "
                             "per sample in every column")
-        return _Table(head if names is None else list(names), cols, None, src, {})
+        return _Table(head if names is None else list(names), cols,
+                      _Labels(np.arange(cols[0].size if cols else 0), "row"), src, {})
     arr_names = None
     if hasattr(data, "to_numpy") and not isinstance(data, np.ndarray):
         arr = np.asarray(data.to_numpy())
@@ -1556,7 +1632,8 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
         if arr.dtype.names:
             head = list(arr.dtype.names)
             return _Table(head if names is None else list(names),
-                          [np.asarray(arr[h]).reshape(-1) for h in head], None, src, {})
+                          [np.asarray(arr[h]).reshape(-1) for h in head],
+                          _Labels(np.arange(arr.size), "row"), src, {})
     if arr.ndim != 2:
         raise DataError(f"{src}: expected a 2-D table (rows x columns), got shape {arr.shape}: "
                         "pass np.column_stack([strain, stress]) or a mapping of columns")
@@ -1572,7 +1649,8 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
                             "names=['time_s', 'strain', 'stress_MPa', ...]")
     if len(head) != arr.shape[1]:
         raise DataError(f"{src}: {len(head)} names for {arr.shape[1]} columns")
-    return _Table([str(h) for h in head], [arr[:, j] for j in range(arr.shape[1])], None, src, {})
+    return _Table([str(h) for h in head], [arr[:, j] for j in range(arr.shape[1])],
+                  _Labels(np.arange(arr.shape[0]), "row"), src, {})
 
 
 # ================================================================ table -> curves
@@ -1661,11 +1739,7 @@ def _curves_from_table(
         ok = np.zeros(rows.size, dtype=bool)
         for w in wants:
             if isinstance(w, (int, float)) and not isinstance(w, bool):
-                f = table.floats(j, rows) if table.cols[j].dtype.kind in "iuf" else None
-                if f is None:
-                    with np.errstate(invalid="ignore"):
-                        f = np.array([_try_float(v) for v in vals])
-                ok |= f == float(w)
+                ok |= np.array([_try_float(v) for v in vals]) == float(w)
             else:
                 ok |= np.array([v.lower() == str(w).strip().lower() for v in vals], dtype=bool)
         rows = rows[ok]
@@ -1675,17 +1749,11 @@ def _curves_from_table(
     # ---- rate column
     rate_vals = None
     if plan.rate is not None:
-        rv = table.cols[plan.rate.index][rows]
-        if rv.dtype.kind not in "iuf":
-            empty = np.array([str(v).strip() == "" for v in rv], dtype=bool)
-            if empty.any():
-                k = int(np.flatnonzero(empty)[0])
-                if plan.time is None:
-                    raise DataError(
-                        f"{src}, {table.label(int(rows[k]))}, column {plan.rate.header!r}: the "
-                        "strain rate is missing: fill it in (1/s, negative in compression)"
-                    )
-        rate_vals = table.floats(plan.rate.index, rows) * plan.factors["rate"]
+        rate_vals = table.floats(
+            plan.rate.index, rows,
+            empty="the strain rate is missing: fill it in (1/s, negative in compression), or "
+                  "ignore the column with columns={'rate': None}",
+        ) * plan.factors["rate"]
     # ---- groups
     gcols: list[int] = []
     if group_by is not None:
@@ -1693,13 +1761,23 @@ def _curves_from_table(
     else:
         for j, h in enumerate(table.names):
             toks, _ = _split_header(h)
-            if len(toks) == 1 and toks[0] in _GROUP_NAMES and table.cols[j].dtype.kind == "O":
+            if len(toks) == 1 and toks[0] in _GROUP_NAMES:
                 if len(set(table.texts(j)[rows])) > 1:
                     gcols.append(j)
     key_cols = [table.texts(j)[rows] for j in gcols]
     use_rate_key = (rate_vals is not None and rate is None
                     and plan.rate.index not in gcols and len(np.unique(rate_vals)) > 1)
     if use_rate_key:
+        uniq, first_k, counts = np.unique(rate_vals, return_index=True, return_counts=True)
+        if counts.min() < 2:
+            k = int(first_k[np.argmin(counts)])
+            raise DataError(
+                f"{src}, column {plan.rate.header!r}: {uniq.size} different rates in "
+                f"{rows.size} rows, {table.label(int(rows[k]))} alone at {rate_vals[k]:g}: if "
+                "this is a measured rate channel, not the nominal rate of each test, ignore "
+                "it with columns={'rate': None} (and give rate= or a time column); otherwise "
+                "give each rate at least 2 rows"
+            )
         key_cols.append(np.array([f"{v:.12g}" for v in rate_vals], dtype=object))
     if key_cols:
         combo = np.array(["\x1f".join(map(str, t)) for t in zip(*key_cols)], dtype=object)
@@ -1722,13 +1800,6 @@ def _curves_from_table(
             gr = rate_vals[g]
             if np.ptp(gr) != 0:
                 k = int(np.flatnonzero(gr != gr[0])[0])
-                if len(g) > 1 and len(np.unique(gr)) > len(g) / 2:
-                    raise DataError(
-                        f"{src}, column {plan.rate.header!r}: {len(np.unique(gr))} different "
-                        f"values in {len(g)} rows: this looks like a measured rate channel, "
-                        "not the nominal rate of each test: ignore it with "
-                        "columns={'rate': None} (and give rate= or a time column)"
-                    )
                 raise DataError(
                     f"{src}, {table.label(int(r[k]))}, column {plan.rate.header!r}: the rate "
                     f"changes from {gr[0]:g} to {gr[k]:g} inside one curve: give each test its "
@@ -1759,11 +1830,11 @@ def _curves_from_table(
         t = None
         if plan.time is not None:
             t = table.floats(plan.time.index, r) * plan.factors["time"]
-        labels = [table.label(int(i)) for i in r]
+        labels = table.labels[r]
         if sort:
             key = t if t is not None else np.abs(d)
             o = np.argsort(key, kind="stable")
-            d, s, labels = d[o], s[o], [labels[i] for i in o]
+            d, s, labels = d[o], s[o], labels[o]
             t = None if t is None else t[o]
         cmeta = dict(meta)
         if gname_parts:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 from vhfit.export._common import (
     Material,
@@ -147,6 +148,9 @@ def to_lsdyna(
             f"this model has {mat.n_prony}: prune or refit with fewer terms"
         )
     w = 20 if long_format else 10
+    if parse_number(fixed_number(poisson, w)) >= 0.5:
+        raise ValueError(f"PR = {poisson!r} rounds to 0.5 in {w}-character fields "
+                         "(infinite bulk modulus): use long_format=True or a smaller PR")
 
     mu_inst = mat.mu0 / mat.g_inf
     K = 2.0 * mat.mu0 * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
@@ -157,12 +161,20 @@ def to_lsdyna(
         "MAT_077_H: W = sum Cpq (I1b-3)^p (I2b-3)^q, C10 C01 C11 C20 C02 C30 = vhfit Cij",
         "Prony cards: GI = shear relaxation modulus = G_i/3 (vhfit G_i is uniaxial), "
         "BETAI = 1/tau_i (1/s); added to the long-term hyperelastic stress",
-        f"PR = {poisson:g}: K = 2 G (1+PR)/(3 (1-2 PR)) = {K:.6g} MPa with G = long-term "
+        f"PR = {poisson!r}: K = 2 G (1+PR)/(3 (1-2 PR)) = {K:.6g} MPa with G = long-term "
         f"mu0 = {mat.mu0:.6g} MPa; instantaneous shear modulus {mu_inst:.6g} MPa "
         f"(K/mu_inst = {K / mu_inst:.4g})",
         ("Long format: 20-character fields (keyword suffix +)" if long_format else
          "Standard 10-character fields: values rounded to 4-6 significant digits"),
     ]
+    if K < 100.0 * mu_inst:
+        r = 1000.0 / mat.g_inf  # K = 1000 mu_inst, as a ratio to the long-term G
+        suggest = (3.0 * r - 2.0) / (6.0 * r + 2.0)
+        msg = (f"PR = {poisson!r} gives K = {K / mu_inst:.3g} x the instantaneous shear "
+               f"modulus: nearly compressible at high rates (g_inf = {mat.g_inf:.3g}); "
+               f"PR = {suggest:.10f} gives K = 1000 mu_inst")
+        conventions.append("WARNING: " + msg)
+        warnings.warn(msg, stacklevel=2)
     if density is None:
         conventions.append("RO (density, tonne/mm^3) is left blank: set it before running")
     lines = ["*KEYWORD"]
@@ -320,7 +332,7 @@ def _read(cards, head, ogden: bool, hint: str | None):
         for p, (mu_d, alpha) in enumerate(pairs, start=1):
             if alpha == 0.0:
                 raise ValueError(f"{SOLVER} MAT_077_O: ALPHA{p} = 0 with MU{p} = {mu_d:g}")
-            constants[f"mu{p}"] = mu_d * alpha / 2.0 * (1 + 3e-6)
+            constants[f"mu{p}"] = mu_d * alpha / 2.0
             constants[f"alpha{p}"] = alpha
         visco = rest[2:]
     else:

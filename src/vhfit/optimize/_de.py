@@ -759,12 +759,12 @@ def differential_evolution(
     A self-adaptive strategy with an absolute population size and custom criteria:
 
     >>> from vhfit.optimize import TargetValue, MaxGenerations
-    >>> res = differential_evolution(rosen, [(-2, 2)] * 4, strategy="lshade",
-    ...                              population_size=40, polish=False, rng=3,
-    ...                              stop=TargetValue(1e-10) | MaxGenerations(3000),
-    ...                              maxiter=3000)
-    >>> res.stop_reason
-    'TargetValue'
+    >>> res = differential_evolution(rosen, [(-2, 2)] * 3, strategy="shade",
+    ...                              population_size=30, polish=False, rng=3,
+    ...                              stop=TargetValue(1e-8) | MaxGenerations(2000),
+    ...                              maxiter=2000)
+    >>> res.stop_reason, bool(res.fun < 1e-8)
+    ('TargetValue', True)
     """
     with DifferentialEvolutionSolver(
         func, bounds, args=args, strategy=strategy, maxiter=maxiter, popsize=popsize,

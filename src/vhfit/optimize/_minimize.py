@@ -79,7 +79,7 @@ def de(fun: Callable[..., Any], x0: Any, args: tuple = (), jac: Any = None, hess
     >>> from scipy.optimize import minimize, rosen
     >>> from vhfit.optimize import de
     >>> res = minimize(rosen, [0.5, 0.5], method=de, bounds=[(0, 2), (0, 2)],
-    ...                options={"rng": 1, "strategy": "shade"})
+    ...                options={"rng": 1, "popsize": 10})
     >>> bool(res.success), bool(abs(res.x - 1).max() < 1e-6)
     (True, True)
     """

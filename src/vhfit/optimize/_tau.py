@@ -168,7 +168,7 @@ def register_tau_strategy(name: str, func: TauStrategy | None = None, *,
     ...     edges = np.linspace(a, b, n + 2)
     ...     return np.column_stack([edges[:-2], edges[2:]])
     >>> np.asarray(tau_bounds([-1, -1000], 2, strategy="overlapping"))
-    array([[-5.,  -1.],
+    array([[-5., -1.],
            [-3.,  1.]])
     """
     if not isinstance(name, str) or not name:
