@@ -313,6 +313,12 @@ def main(argv=None):
         if f is not None:
             f(*kargs)
             kern[name] = median_time(lambda f=f: f(*kargs), reps)[0]
+    t_hyper = median_time(lambda: b._s_hat(hyper), reps)[0]
+    c0 = time.process_time()
+    t0 = time.perf_counter()
+    for _ in range(reps):
+        b(X)
+    cpu_ratio = (time.process_time() - c0) / (time.perf_counter() - t0)
 
     print()
     print("Case: Mooney-Rivlin + 4 Prony, SEBS rates (-0.0018, -0.18, -59.5, -820 1/s), "
@@ -368,6 +374,8 @@ def main(argv=None):
     for name, tk in kern.items():
         print(f"{'  kernel alone, ' + name:<34}{'':>22}{'':>15}{tk * 1e3:>17.3f}"
               f"{tk / POP * 1e6:>17.1f}")
+    print(f"{'  hyperelastic part alone (numpy)':<34}{'':>22}{'':>15}{t_hyper * 1e3:>17.3f}"
+          f"{t_hyper / POP * 1e6:>17.1f}")
     if n_lag is not None:
         print(f"{'lag-graded trapezoid (numpy)':<34}{n_lag:>11} nodes/output{err_lag_chk:>15.2e}"
               f"{t_lag * 1e3:>17.1f}{t_lag / POP * 1e6:>17.1f}{t_lag / t_med:>9.0f}")
@@ -397,7 +405,8 @@ def main(argv=None):
           f"{(s_hat.nbytes + 8 * POP * (b.step.size + 4)) / 1024:.0f} KiB; peak RSS "
           f"{rss_cold:.0f} MB for a process that only runs vhfit, {rss_core:.0f} MB here "
           f"before the baselines, {max(rss_lag, rss_end):.0f} MB after them")
-    print(f"load average {os.getloadavg()[0]:.2f} at end; {n_calls} timed calls")
+    print(f"load average {os.getloadavg()[0]:.2f} at end; {n_calls} timed calls; the batch "
+          f"used {cpu_ratio:.2f} CPU-seconds per wall second (2 = both cores busy)")
     print()
     print("targets:")
     print(f"  accuracy <= {TARGET_ACC:g} vs quad on {N_REF} individuals: {err_vhfit:.2e} "

@@ -294,3 +294,30 @@ def test_bad_workers_is_a_clear_error():
     curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
     with pytest.raises(ValueError, match="workers"):
         calibrate(curves, n_prony=1, workers=0)
+
+
+def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypatch):
+    import sys
+
+    vc = sys.modules["vhfit.calibrate"]  # the package attribute is the function
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
+                       RANDOM_RATES, noise=0.05, seed=9)
+    ref = calibrate(curves, n_prony=2, seed=4, uncertainty=False)
+    ck = tmp_path / "ck.json"
+    real = vc._Problem.solve_linear
+    calls = {"n": 0}
+
+    def flaky(self, hyper, tau):
+        calls["n"] += 1
+        if calls["n"] == 7:  # inside the 6th generation's evaluation
+            raise KeyboardInterrupt
+        return real(self, hyper, tau)
+
+    monkeypatch.setattr(vc._Problem, "solve_linear", flaky)
+    cut = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck,
+                    checkpoint_every=1e9)
+    monkeypatch.setattr(vc._Problem, "solve_linear", real)
+    assert cut.stop_reason == "interrupted"
+    assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
+    res = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck, resume=True)
+    assert res.params == ref.params

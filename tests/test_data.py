@@ -113,7 +113,7 @@ def test_time_curve_history_follows_the_samples():
     np.testing.assert_allclose(h.stretch - 1, [0.0, -0.05, -0.1, -0.2, -0.1])
     np.testing.assert_allclose(h.out_time, c.target_time)
     np.testing.assert_allclose(h.out_strain, c.target_strain)
-    assert c.n_legs == 2 and c.by == "legs" and c.n_points == 6
+    assert c.n_segments == 2 and c.by == "segments" and c.n_points == 6
     assert -0.2 in c.target_strain  # the turning point
 
 
@@ -131,7 +131,7 @@ def test_loading_unloading_never_by_strain():
     t = np.linspace(0, 2, 41)
     eps = 0.5 - np.abs(0.5 - 0.5 * t)
     c = Curve(eps, eps**2, time=t)
-    with raises("not monotonic", "by='legs'"):
+    with raises("not monotonic", "by='segments'"):
         c.resample(10, by="strain")
     tc = c.resample(8, by="time")
     np.testing.assert_allclose(tc.target_time, 0.25 * np.arange(1, 9))
@@ -139,13 +139,28 @@ def test_loading_unloading_never_by_strain():
     assert ac.n_points == 8 and ac.target_time[-1] == pytest.approx(2.0)
 
 
-def test_ramp_hold_is_one_leg_and_gets_points_in_the_hold():
+def test_ramp_and_hold_are_two_segments():
     t = np.linspace(0, 100, 1001)
     eps = np.minimum(0.01 * t, 0.2)
     sig = np.where(t < 20, eps, 0.2 * (0.5 + 0.5 * np.exp(-(t - 20) / 10)))
     c = Curve(eps, sig, time=t)
-    assert c.n_legs == 1 and c.by == "legs" and c.n_points == 10
-    assert (c.target_time > 20).sum() >= 2 and (c.target_time < 20).sum() >= 2
+    assert c.n_segments == 2 and c.by == "segments" and c.n_points == 20
+    assert (c.target_time > 20).sum() == 10 and (c.target_time <= 20).sum() == 10
+    assert 20.0 in c.target_time and 100.0 in c.target_time  # hold start, test end
+
+
+def test_multistep_relaxation_segments():
+    # up in 3 steps with holds, back down in one ramp: 3 ramps + 3 holds + 1 ramp
+    t = np.linspace(0, 700, 7001)
+    eps = np.interp(t, [0, 10, 110, 120, 220, 230, 330, 700], [0, .1, .1, .2, .2, .3, .3, 0])
+    c = Curve(eps, eps + 0.01 * np.sin(t), time=t, n_points=4)
+    assert c.n_segments == 7 and c.n_points == 28
+
+
+def test_sine_cycles_have_no_holds():
+    t = np.linspace(0, 30, 3001)
+    c = Curve(0.2 * np.sin(t), np.sin(t), time=t)
+    assert c.n_segments == 10  # 9 turning points, no hold at any peak
 
 
 def test_trim_restricts_points_not_history():
@@ -321,7 +336,7 @@ def test_a_million_samples_give_a_short_history():
     h = c.history
     assert h.time.size < 50
     np.testing.assert_allclose(h.stretch_at(t) - 1, eps, atol=PATH_RTOL * 1.0 + 1e-12)
-    assert c.n_legs == 2 and c.n_points == 20
+    assert c.n_segments == 2 and c.n_points == 20
     assert float(c.target_strain[9]) == pytest.approx(1.0, abs=1e-5)  # the turning point
 
 

@@ -9,7 +9,7 @@ The public API (SPEC §7)::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import hyperelastic, viscoelastic
+from vhfit import export, hyperelastic, optimize, viscoelastic
 from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, read_csv
 from vhfit.history import History
@@ -28,7 +28,9 @@ __all__ = [
     "Objective",
     "ViscoHyperelastic",
     "calibrate",
+    "export",
     "hyperelastic",
+    "optimize",
     "per_curve_rmsape",
     "read_csv",
     "rmsape",

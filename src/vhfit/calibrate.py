@@ -298,21 +298,23 @@ def _fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     return h.hexdigest()
 
 
-def _save_checkpoint(path, key, solver, history, elapsed) -> None:
-    state = solver.random_number_generator.bit_generator.state
-    data = {
+def _snapshot(solver, history, elapsed) -> dict:
+    """The search state at a generation boundary (all a bit-identical resume needs)."""
+    return {
         "format": "vhfit-checkpoint-1",
-        "key": key,
         "population": solver.population.tolist(),
         "energies": [float(e) if np.isfinite(e) else "inf" for e in solver.population_energies],
-        "rng": state,
+        "rng": solver.random_number_generator.bit_generator.state,
         # SciPy shuffles this array in place to pick donors: it is state too
         "index": solver._random_population_index.tolist(),
         "nfev": int(solver._nfev),
-        "history": history,
+        "history": {k: list(v) for k, v in history.items()},
         "elapsed": elapsed,
     }
-    atomic_write(path, json.dumps(data, default=_json_default))
+
+
+def _save_checkpoint(path, key, snap: dict) -> None:
+    atomic_write(path, json.dumps({**snap, "key": key}, default=_json_default))
 
 
 def _load_checkpoint(path, key, solver, history) -> tuple[int, float]:
@@ -771,7 +773,7 @@ def calibrate(
     uncertainty : bool
         Compute 95 % intervals from the Jacobian.
     callback : callable, optional
-        Called each generation with a dict (generation, best, mean, elapsed, x);
+        Called each generation with a dict (generation, best, mean, elapsed, n_prony, x);
         returning True stops the search.
     rtol : float
         Accuracy of the model evaluation.
@@ -837,6 +839,8 @@ def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common
             opts["checkpoint"] = f"{opts['checkpoint']}.N{n}"
         results.append(_calibrate_n(curves, hyperelastic, n, max_time=left, t0=time.perf_counter(),
                                     **opts))
+        if results[-1].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
+            break
     best = min(r.rmsape for r in results)
     chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
     chosen.order_scan = [
@@ -911,11 +915,14 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         history["time"].append(el)
         if best < state["best_f"]:
             state["best_f"], state["best_x"] = best, np.array(intermediate_result.x)
-        if ckpt is not None and time.perf_counter() - state["saved"] >= checkpoint_every:
-            _save_checkpoint(ckpt, key, solver_ref["s"], history, time.perf_counter() - t0)
-            state["saved"] = time.perf_counter()
+        if ckpt is not None:
+            # a Ctrl-C may land mid-generation: only boundary states are ever written
+            state["snap"] = _snapshot(solver_ref["s"], history, el)
+            if time.perf_counter() - state["saved"] >= checkpoint_every:
+                _save_checkpoint(ckpt, key, state["snap"])
+                state["saved"] = time.perf_counter()
         if callback is not None and callback({"generation": len(history["nit"]), "best": best,
-                                             "mean": mean, "elapsed": el,
+                                             "mean": mean, "elapsed": el, "n_prony": n_prony,
                                              "x": np.array(intermediate_result.x)}):
             state["stop"] = "callback"
             return True
@@ -977,8 +984,8 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                 stop = "interrupted"
                 z = state["best_x"] if state["best_x"] is not None else solver.x
                 nit = len(history["nit"])
-            if ckpt is not None:
-                _save_checkpoint(ckpt, key, solver, history, time.perf_counter() - t0)
+            if ckpt is not None and state.get("snap") is not None:
+                _save_checkpoint(ckpt, key, state["snap"])
         nfev = max(prob.nfev, int(getattr(solver, "_nfev", 0)))
     x = prob.sep_to_params(np.asarray(z)) if method == "separable" else \
         prob.full_to_params(np.asarray(z), prob.hm.n_params)

@@ -639,7 +639,7 @@ def _curve_info(c) -> dict:
 
 
 def _jsonable(d: dict) -> dict:
-    return {k: v for k, v in d.items() if k not in ("func",) and not callable(v)}
+    return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
 
 
 def _json_default(o):
@@ -1164,7 +1164,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             parser.print_help()
             return EXIT_USAGE
         args._argv = argv
-        return int(args.func(args))
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning  # one line, no source excerpt
+            return int(args.func(args))
     except UsageError as exc:
         if debug:
             raise
@@ -1191,6 +1193,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         _error(f"{type(exc).__name__}: {_one_line(exc)} (unexpected: rerun with --debug "
                "for the traceback, and please report it)")
         return EXIT_FAILED
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    if issubclass(category, UserWarning):
+        msg = message if isinstance(message, Warning) else Warning(message)
+        text = f"warning: {_one_line(msg)}"
+        try:
+            (file or sys.stderr).write(text + "\n")
+        except (OSError, ValueError):
+            pass
 
 
 def _error(msg: str) -> None:

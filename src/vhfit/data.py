@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import codecs
 import csv
+import operator
 import os
 import re
 import warnings
@@ -62,6 +63,10 @@ _ARC_BINS = 200
 #: The strain must reverse by more than this fraction of its range to start a new loading
 #: leg (smaller wiggles are noise or machine overshoot).
 LEG_RTOL = 0.05
+#: A hold: the strain stays within this fraction of its range ...
+HOLD_RTOL = 0.002
+#: ... for at least this fraction of the test's duration.
+HOLD_MIN_DURATION = 0.05
 
 _MEASURES = {
     "engineering": "engineering",
@@ -83,7 +88,7 @@ _MODES = {
     "tension_compression": "mixed",
     "cyclic": "mixed",
 }
-_BYS = ("strain", "time", "arclength", "legs")
+_BYS = ("strain", "time", "arclength", "segments")
 
 
 class DataError(ValueError):
@@ -256,17 +261,19 @@ class Curve:
     weight : float, default 1
         Weight of the curve in the objective (it multiplies each point's squared term).
     n_points : int or None, default DEFAULT_N_POINTS
-        Number of objective points (per loading leg with ``by="legs"``); ``None`` uses
+        Number of objective points (per segment with ``by="segments"``); ``None`` uses
         the measured samples themselves.
-    by : {"strain", "time", "arclength", "legs"}, optional
+    by : {"strain", "time", "arclength", "segments"}, optional
         How the objective points are spaced: evenly in strain (the default for a
         strictly monotonic strain, as in the paper); in time; in arc length along the
-        (strain, stress) curve normalised by its ranges; or ``"legs"`` (the default
-        otherwise): ``n_points`` on each loading leg (between reversals of the strain by
-        more than ``LEG_RTOL`` of its range), evenly in arc length within the leg, each
-        leg's end — the turning point — included. A ramp–hold test is one leg; a
-        loading–unloading test two, so it gets ``2 n_points``. Curves that unload or
-        hold are never resampled by strain.
+        (strain, stress) curve normalised by its ranges; or ``"segments"`` (the default
+        otherwise): ``n_points`` on each segment of the history — a loading leg between
+        reversals of the strain by more than ``LEG_RTOL`` of its range, or a hold (the
+        strain within ``HOLD_RTOL`` of its range for at least ``HOLD_MIN_DURATION`` of the
+        test) — evenly in arc length within the segment, each segment's end (a turning
+        point, the start or end of a hold) included. A loading–unloading test has two
+        segments, a ramp–hold test two (ramp, relaxation). Curves that unload or hold
+        are never resampled by strain.
     compression_positive : bool, default False
         The data use the opposite sign convention (compression positive): strain and
         stress are negated, and the rate is taken with the sign of the resulting mode.
@@ -320,8 +327,8 @@ class Curve:
 
     >>> t = np.linspace(0.0, 2.0, 201)
     >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t)
-    >>> lu.mode, lu.by, lu.n_legs, lu.n_points, lu.strain_rate
-    ('tension', 'legs', 2, 20, 0.5)
+    >>> lu.mode, lu.by, lu.n_segments, lu.n_points, lu.strain_rate
+    ('tension', 'segments', 2, 20, 0.5)
     >>> float(lu.target_strain[9])           # the turning point is an objective point
     0.5
     """
@@ -434,7 +441,8 @@ class Curve:
                 )
             rate = -rate
         if t is None and mode == "mixed":
-            k = int(np.flatnonzero(np.sign(eps) != np.sign(eps[np.argmax(np.abs(eps))]))[0])
+            major = np.sign(eps[np.argmax(np.abs(eps))])
+            k = int(np.flatnonzero(eps * major < -tol)[0])
             raise DataError(
                 f"{where(keep[k])}: strain changes sign (strain = {eps[k]:g} here) but a "
                 "constant-rate ramp from strain 0 only reaches one sign: give the time "
@@ -496,7 +504,8 @@ class Curve:
         self._tol = tol
         d = np.diff(eps)
         self._monotone = bool((d > 0).all() or (d < 0).all())
-        self._turns = _turning_points(eps, LEG_RTOL * float(np.ptp(eps)))
+        self._bounds = (np.array([0, eps.size - 1]) if t is None
+                        else _segment_bounds(t, eps))
         self._n_req = n_points
         self._by_req = by
         self._window = None  # boolean mask over samples, or None
@@ -612,14 +621,17 @@ class Curve:
         return int(self._t_obj.size)
 
     @property
-    def n_legs(self) -> int:
-        """Number of loading legs: monotonic stretches of the strain between reversals."""
-        return int(self._turns.size - 1)
+    def n_segments(self) -> int:
+        """Number of segments of the history: loading legs between strain reversals, and holds.
+
+        A constant-rate ramp is one segment; see ``by="segments"`` in :class:`Curve`.
+        """
+        return int(self._bounds.size - 1)
 
     @property
     def by(self) -> str:
         """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
-        ``"legs"``, or ``"samples"`` (the measured samples themselves)."""
+        ``"segments"``, or ``"samples"`` (the measured samples themselves)."""
         return self._by
 
     @property
@@ -672,11 +684,11 @@ class Curve:
             )
         by = self._by_req
         if by is None:
-            by = "strain" if self._monotone else "legs"
+            by = "strain" if self._monotone else "segments"
         if by == "strain" and not self._monotone:
             raise DataError(
                 f"{where()}: cannot resample by strain: the strain is not monotonic (it "
-                "unloads or holds): use by='legs', by='arclength' or by='time'"
+                "unloads or holds): use by='segments', by='arclength' or by='time'"
             )
         if self._n_req is None:
             idx = np.flatnonzero(mask).astype(np.float64)
@@ -688,10 +700,10 @@ class Curve:
                 c = ts
             else:
                 c = _arclength(eps, sig)
-            if by == "legs":
+            if by == "segments":
                 parts = []
                 k = np.arange(eps.size)
-                for a, b in zip(self._turns[:-1], self._turns[1:]):
+                for a, b in zip(self._bounds[:-1], self._bounds[1:]):
                     part = _place(c, mask & (k >= a) & (k <= b), self._n_req, True)
                     if part is not None:
                         parts.append(part)
@@ -733,10 +745,10 @@ class Curve:
 
     # ------------------------------------------------------------- variants
     def resample(self, n_points: int | None = DEFAULT_N_POINTS, by: str | None = None) -> Curve:
-        """The same curve with ``n_points`` objective points spaced ``by`` strain/time/arclength.
+        """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
         ``n_points=None`` compares at the measured samples themselves. ``by=None`` picks
-        strain for a monotonic strain and arc length otherwise.
+        ``"strain"`` for a strictly monotonic strain and ``"segments"`` otherwise.
 
         Examples
         --------
@@ -1038,6 +1050,36 @@ def _turning_points(e: np.ndarray, h: float) -> np.ndarray:
     return np.array([0, *[int(cand[i]) for i in turns], n - 1], dtype=np.intp)
 
 
+def _segment_bounds(t: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """Sample indices bounding the segments of a history: turning points and holds."""
+    n = e.size
+    rng = float(np.ptp(e))
+    turns = _turning_points(e, LEG_RTOL * rng)
+    idx = _simplify_idx(t, e, 0.5 * HOLD_RTOL * rng)
+    band = 2 * HOLD_RTOL * rng
+    min_dur = HOLD_MIN_DURATION * (t[-1] - t[0])
+    holds = []  # (start sample, end sample) of runs of the path within a narrow band
+    start = lo = hi = None
+    for k in range(idx.size - 1):
+        a, b = int(idx[k]), int(idx[k + 1])
+        flat = abs(e[b] - e[a]) <= HOLD_RTOL * rng
+        if flat and start is not None and max(hi, e[b]) - min(lo, e[b]) <= band:
+            lo, hi = min(lo, e[b]), max(hi, e[b])
+            end = b
+            continue
+        if start is not None and t[end] - t[start] >= min_dur:
+            holds.append((start, end))
+        start = lo = hi = None
+        if flat:
+            start, end, lo, hi = a, b, min(e[a], e[b]), max(e[a], e[b])
+    if start is not None and t[end] - t[start] >= min_dur:
+        holds.append((start, end))
+    bounds = set(int(i) for i in turns)
+    for a, b in holds:
+        bounds = {i for i in bounds if not a < i < b} | {a, b}
+    return np.array(sorted(bounds | {0, n - 1}), dtype=np.intp)
+
+
 def _place(c: np.ndarray, mask: np.ndarray, n: int, rest: bool) -> np.ndarray | None:
     """Fractional sample indices of ``n`` points evenly spaced in coordinate ``c`` over the
     kept runs of ``mask`` (``c`` strictly increasing); None if the runs have no length."""
@@ -1066,14 +1108,20 @@ def _place(c: np.ndarray, mask: np.ndarray, n: int, rest: bool) -> np.ndarray | 
 
 
 def _simplify_path(t: np.ndarray, e: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """Drop breakpoints of a piecewise-linear path e(t) that move it by at most ``tol``.
+    """Drop breakpoints of a piecewise-linear path e(t) that move it by at most ``tol``."""
+    idx = _simplify_idx(t, e, tol)
+    return t[idx], e[idx]
+
+
+def _simplify_idx(t: np.ndarray, e: np.ndarray, tol: float) -> np.ndarray:
+    """Indices of the breakpoints kept by :func:`_simplify_path`.
 
     Douglas–Peucker on the vertical distance; segments shorter than 32 samples that need
     splitting are kept whole, which bounds the work on noisy data.
     """
     n = t.size
     if n <= 2 or not tol > 0:
-        return t, e
+        return np.arange(n)
     keep = np.zeros(n, dtype=bool)
     keep[0] = keep[-1] = True
     stack = [(0, n - 1)]
@@ -1093,7 +1141,7 @@ def _simplify_path(t: np.ndarray, e: np.ndarray, tol: float) -> tuple[np.ndarray
         keep[a + k] = True
         stack.append((a, a + k))
         stack.append((a + k, b))
-    return t[keep], e[keep]
+    return np.flatnonzero(keep)
 
 
 # ========================================================= column recognition
@@ -1385,6 +1433,7 @@ class _Table:
     split_line: Any = None  # line -> fields
     delim: str | None = None
     fast: bool = False  # clean delimited numbers: np.loadtxt may read whole columns
+    note: str = ""  # appended to column-recognition errors (e.g. about the encoding)
     _cache: dict[int, np.ndarray] = field(default_factory=dict)
 
     def label(self, i: int) -> str:
@@ -1481,8 +1530,12 @@ class _Table:
                 raise DataError(f"{self.source}, {self.label(i)}, column {self.names[j]!r}: "
                                 f"{empty}")
             what = "is empty" if s == "" else f"{s!r} is not a number"
-            fix = ("fill it in or delete the row" if s == "" else
-                   "use '.' or ',' as the decimal mark consistently, or delete the row")
+            if s == "":
+                fix = "fill it in or delete the row"
+            elif re.search(r"\d", s):
+                fix = "use '.' or ',' as the decimal mark consistently, or fix or delete the row"
+            else:
+                fix = "delete that row (text among the numbers) or fix it"
             raise DataError(f"{self.source}, {self.label(i)}, column {self.names[j]!r}: {what}: "
                             f"{fix}")
         return out
@@ -1494,10 +1547,15 @@ class _Table:
 _META_RE = re.compile(r"^#+\s*(?P<key>[A-Za-z_][\w \-]*?)\s*[:=]\s*(?P<val>.*?)\s*$")
 
 
-def _decode(raw: bytes, src: str, encoding: str | None) -> str:
+_LATIN1_NOTE = (" (the file is not UTF-8 and was read as Latin-1: if the names look garbled, "
+                "pass encoding=..., e.g. encoding='gbk')")
+
+
+def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
+    """The text of a file, and a note for messages if it was a guess."""
     if encoding is not None:
         try:
-            return raw.decode(encoding)
+            return raw.decode(encoding), ""
         except (UnicodeDecodeError, LookupError) as exc:
             raise DataError(
                 f"{src}: cannot decode as {encoding!r} ({exc}): check encoding="
@@ -1507,20 +1565,20 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> str:
             f"{src}: is a spreadsheet (xlsx/xls), not a CSV file: save it as CSV first"
         )
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        return raw.decode("utf-16")
+        return raw.decode("utf-16"), ""
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[3:]
     head = raw[:4096]
     if b"\x00" in head:
         if head[1::2].count(0) > 0.9 * len(head[1::2]):
-            return raw.decode("utf-16-le", errors="replace")
+            return raw.decode("utf-16-le", errors="replace"), ""
         if head[0::2].count(0) > 0.9 * len(head[0::2]):
-            return raw.decode("utf-16-be", errors="replace")
+            return raw.decode("utf-16-be", errors="replace"), ""
         raise DataError(f"{src}: is not a text file (binary data): give a CSV text file")
     try:
-        return raw.decode("utf-8")
+        return raw.decode("utf-8"), ""
     except UnicodeDecodeError:
-        return raw.decode("latin-1")  # never fails; numbers are ASCII anyway
+        return raw.decode("latin-1"), _LATIN1_NOTE  # never fails; numbers are ASCII anyway
 
 
 def _is_number(s: str) -> bool:
@@ -1538,7 +1596,8 @@ def _read_table(
     if hasattr(path, "read"):
         src = str(getattr(path, "name", "<stream>"))
         content = path.read()
-        text = content if isinstance(content, str) else _decode(content, src, encoding)
+        text, note = (content, "") if isinstance(content, str) else _decode(content, src,
+                                                                              encoding)
     else:
         p = Path(path)
         src = str(path)
@@ -1553,31 +1612,42 @@ def _read_table(
             raw = p.read_bytes()
         except OSError as exc:
             raise DataError(f"{src}: cannot be read ({exc.strerror}): check permissions") from None
-        text = _decode(raw, src, encoding)
+        text, note = _decode(raw, src, encoding)
     lines = text.splitlines()
     meta: dict[str, str] = {}
     header: str | None = None
     header_no = 0
-    data: list[str] = []
-    numbers: list[int] = []
+    forced: str | None = None
     for no, line in enumerate(lines, 1):
         s = line.strip()
         if not s:
             continue
         if s.startswith("#"):
             m = _META_RE.match(s)
-            if m and header is None:
+            if m:
                 meta[_norm_key(m["key"])] = m["val"]
             continue
-        if header is None:
-            header, header_no = line, no
+        m = re.fullmatch(r'"?sep=(.)"?', s, flags=re.IGNORECASE)
+        if m:  # Excel's separator hint
+            forced = m.group(1)
             continue
-        data.append(line)
-        numbers.append(no)
+        header, header_no = line, no
+        break
     if header is None:
         raise DataError(f"{src}: is empty (no header, no data): give a CSV file with a header "
                         "row such as 'strain,stress_MPa' and one row per sample")
-    delim = next((d for d in ("\t", ";", ",", "|") if d in header), None)
+    rest = lines[header_no:]
+    if all(rest) and not any(map(str.isspace, rest)) and "#" not in text.partition(header)[2]:
+        data: list[str] = rest  # the common case, checked at C speed: every line is data
+        numbers: Any = np.arange(header_no + 1, header_no + 1 + len(rest))
+    else:
+        data, numbers = [], []
+        for no, line in enumerate(rest, header_no + 1):
+            s = line.strip()
+            if s and not s.startswith("#"):
+                data.append(line)
+                numbers.append(no)
+    delim = forced or next((d for d in ("\t", ";", ",", "|") if d in header), None)
 
     def split(line: str) -> list[str]:
         if delim is None:
@@ -1591,8 +1661,17 @@ def _read_table(
                 f"{src}, line {header_no}: the first line holds numbers, not column names: add "
                 "a header row (e.g. 'strain,stress_MPa') or pass names=[...]"
             )
-        data.insert(0, header)
-        numbers.insert(0, header_no)
+        data = [header, *data]
+        numbers = np.concatenate([[header_no], np.asarray(numbers, dtype=np.int64)])
+    if names is None and data:
+        first = split(data[0])
+        if any(f.strip() for f in first) and not any(_is_number(f) for f in first if f.strip()):
+            # a second header line with the units ("s", "mm", "[N]"): fold it into the names
+            units = [u.strip().strip("[](){}").strip() for u in first] + [""] * len(head)
+            head = [f"{h} [{u}]" if u and not re.search(r"[\[\(\{]", h) else h
+                    for h, u in zip(head, units)]
+            data = data[1:]
+            numbers = np.asarray(numbers, dtype=np.int64)[1:]
     if names is not None:
         head = [str(n) for n in names]
     if len(head) < 2:
@@ -1604,9 +1683,9 @@ def _read_table(
         raise DataError(f"{src}: has a header but no data rows: the curve is empty")
     nh = len(head)
     fast = (delim is not None and '"' not in text and "'" not in text
-            and all(line.count(delim) == nh - 1 for line in data))
+            and set(map(operator.methodcaller("count", delim), data)) == {nh - 1})
     table = _Table(head, None, _Labels(numbers, "line"), src, meta, lines=data,
-                   split_line=split, delim=delim, fast=fast)
+                   split_line=split, delim=delim, fast=fast, note=note)
     table.check_shape()
     return table
 
@@ -1706,7 +1785,12 @@ def _curves_from_table(
     if measure is None and "measure" in known:
         measure = known["measure"]
     meas = None if measure is None else _norm_measure(measure, _Where(src, None, None))
-    plan = _resolve_columns(table.names, columns, units, meas, src)
+    try:
+        plan = _resolve_columns(table.names, columns, units, meas, src)
+    except DataError as exc:
+        if not table.note:
+            raise
+        raise DataError(f"{exc}{table.note}") from None
     if meas is not None and plan.measure is not None and plan.measure != meas:
         raise DataError(
             f"{src}, column {plan.stress.header!r}: the header says {plan.measure} stress but "
@@ -1720,7 +1804,11 @@ def _curves_from_table(
         compression_positive = (_meta_bool(known["compression_positive"], src,
                                            "compression_positive")
                                 if "compression_positive" in known else False)
-    weight = float(known["weight"]) if "weight" in known else 1.0
+    try:
+        weight = float(known["weight"]) if "weight" in known else 1.0
+    except ValueError:
+        raise DataError(f"{src}: '# weight: {known['weight']}' is not a number: write e.g. "
+                        "'# weight: 2'") from None
     meta_rate = _meta_rate(known["rate"], src) if "rate" in known else None
 
     def col_index(h: str) -> int:

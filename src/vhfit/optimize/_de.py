@@ -53,6 +53,7 @@ _SCIPY_STRATEGIES = tuple(_SciPySolver._binomial) + tuple(_SciPySolver._exponent
 _INITS = ("latinhypercube", "sobol", "halton", "random")
 _REPAIRS = ("random", "clip", "midpoint")
 _CALLBACK_STOP = "callback function requested stop early"
+_NO_CV = np.zeros((1, 1))  # constraint violation of an unconstrained trial (read-only use)
 
 
 def _is_default(value: Any, default: Any) -> bool:
@@ -404,14 +405,17 @@ integrality, vectorized
         st = self._vh_astate
         constrained = bool(self._wrapped_constraints)
         if self._updating == "immediate":
+            if self._nfev > self.maxfun:
+                raise StopIteration
+            strat.begin_generation(self, st)
+            pop_e = self.population_energies
             for c in range(self.num_population_members):
                 if self._nfev > self.maxfun:
                     raise StopIteration
-                cand = np.array([c])
-                parent = self.population[cand].copy()
-                trial = strat.trials(self, st, cand)
-                params = self._scale_parameters(trial[0])
-                feasible, cv, energy = True, np.atleast_2d([0.0]), np.inf
+                parent = self.population[c].copy()
+                trial = strat.trial(self, st, c)
+                params = self._scale_parameters(trial)
+                feasible, cv, energy = True, _NO_CV, math.inf
                 if constrained:
                     cv = self._constraint_violation_fn(params)
                     feasible = not np.sum(cv) > 0
@@ -421,28 +425,33 @@ integrality, vectorized
                     self._vh_nevals += 1
                     if np.size(energy) != 1:
                         raise RuntimeError("func(x, *args) must return a scalar value")
-                    energy = float(np.squeeze(energy))
-                pe = float(self.population_energies[c])
-                ok = self._accept_trial(energy, feasible, cv, pe, self.feasible[c],
-                                        self.constraint_violation[c])
-                delta = 0.0
-                if (ok and feasible and self.feasible[c] and math.isfinite(pe)
-                        and math.isfinite(energy)):
-                    delta = pe - energy
-                strat.report(self, st, cand, np.array([bool(ok)]), np.array([delta]), parent)
+                    energy = float(energy if isinstance(energy, float) else np.squeeze(energy))
+                pe = float(pop_e[c])
+                if constrained:
+                    ok = bool(self._accept_trial(energy, feasible, cv, pe, self.feasible[c],
+                                                 self.constraint_violation[c]))
+                    better = ok and feasible and bool(self.feasible[c])
+                else:
+                    ok = better = energy <= pe
+                delta = pe - energy if better and energy < pe and pe < math.inf else 0.0
+                strat.report(self, st, c, ok, delta, parent)
                 if ok:
-                    self.population[c] = trial[0]
-                    self.population_energies[c] = energy
-                    self.feasible[c] = feasible
-                    self.constraint_violation[c] = cv
-                    if self._accept_trial(energy, feasible, cv, self.population_energies[0],
-                                          self.feasible[0], self.constraint_violation[0]):
+                    self.population[c] = trial
+                    pop_e[c] = energy
+                    if constrained:
+                        self.feasible[c] = feasible
+                        self.constraint_violation[c] = cv
+                        if self._accept_trial(energy, feasible, cv, pop_e[0], self.feasible[0],
+                                              self.constraint_violation[0]):
+                            self._vh_promote()
+                    elif energy <= pop_e[0]:
                         self._vh_promote()
         else:
             if self._nfev >= self.maxfun:
                 raise StopIteration
             NP = self.num_population_members
             cand = np.arange(NP)
+            strat.begin_generation(self, st)
             trial_pop = strat.trials(self, st, cand)
             feasible, cv = self._calculate_population_feasibilities(trial_pop)
             trial_e = np.full(NP, np.inf)
@@ -461,7 +470,7 @@ integrality, vectorized
             delta = np.zeros(NP)
             delta[both] = pop_e[both] - trial_e[both]
             parents = self.population
-            strat.report(self, st, cand, loc, delta, parents)
+            strat.report_many(self, st, cand, loc, delta, parents)
             self.population = np.where(loc[:, None], trial_pop, parents)
             self.population_energies = np.where(loc, trial_e, pop_e)
             self.feasible = np.where(loc, feasible, self.feasible)

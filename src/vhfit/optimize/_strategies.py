@@ -52,14 +52,6 @@ def _pick(rng, n: int, size: int, exclude: list[np.ndarray]) -> np.ndarray:
         out[bad] = _integers(rng, n, k)
 
 
-def _binomial(rng, parents: np.ndarray, mutants: np.ndarray, cr: np.ndarray) -> np.ndarray:
-    """Binomial crossover; one component (j_rand) always comes from the mutant."""
-    S, N = parents.shape
-    mask = rng.uniform(size=(S, N)) < cr[:, None]
-    mask[np.arange(S), _integers(rng, N, S)] = True
-    return np.where(mask, mutants, parents)
-
-
 def _repair_midpoint(trial: np.ndarray, parents: np.ndarray) -> np.ndarray:
     """Move components outside [0, 1] halfway between the parent and the bound."""
     low = trial < 0.0
@@ -93,9 +85,12 @@ class AdaptiveStrategy:
 
     A strategy object holds only its settings; run-time state lives in the object
     returned by :meth:`init_state`, stored on the solver, so one strategy instance can
-    be reused for many runs. Subclasses implement :meth:`init_state` and
-    :meth:`trials`, and usually :meth:`report` and :meth:`end_generation`.
-    All arrays are in the solver's unit cube ``[0, 1]^N``.
+    be reused for many runs. All vectors are in the solver's unit cube ``[0, 1]^N``.
+
+    Per generation the solver calls :meth:`begin_generation` (draw every random number
+    the generation needs, vectorised), then for each candidate :meth:`trial` and
+    :meth:`report` (``updating='immediate'``), or :meth:`trials` and
+    :meth:`report_many` once (``'deferred'``), then :meth:`end_generation`.
     """
 
     name = "adaptive"
@@ -106,12 +101,25 @@ class AdaptiveStrategy:
         """Create the run-time state for `solver` (called before the first generation)."""
         raise NotImplementedError
 
+    def begin_generation(self, solver, state) -> None:
+        """Draw the generation's random numbers."""
+
+    def trial(self, solver, state, c: int) -> np.ndarray:
+        """Trial vector for candidate `c` (shape (N,), inside [0, 1])."""
+        return self.trials(solver, state, np.array([c]))[0]
+
     def trials(self, solver, state, candidates: np.ndarray) -> np.ndarray:
-        """Return trial vectors, shape ``(len(candidates), N)``, inside ``[0, 1]``."""
+        """Trial vectors for `candidates`, shape ``(len(candidates), N)``, inside [0, 1]."""
         raise NotImplementedError
 
-    def report(self, solver, state, candidates: np.ndarray, accepted: np.ndarray,
-               delta: np.ndarray, parents: np.ndarray) -> None:
+    def report(self, solver, state, c: int, accepted: bool, delta: float,
+               parent: np.ndarray) -> None:
+        """Feedback on candidate `c`'s trial (see :meth:`report_many`)."""
+        self.report_many(solver, state, np.array([c]), np.array([accepted]),
+                         np.array([delta]), parent[None, :])
+
+    def report_many(self, solver, state, candidates: np.ndarray, accepted: np.ndarray,
+                    delta: np.ndarray, parents: np.ndarray) -> None:
         """Feedback after evaluating the trials of `candidates`.
 
         `accepted` says which trials replaced their parent, `delta` is the strict
@@ -133,9 +141,22 @@ class AdaptiveStrategy:
         return f"{type(self).__name__}({fields})"
 
 
+def _crossover_draws(rng, NP: int, N: int) -> tuple[np.ndarray, np.ndarray]:
+    """Uniforms and j_rand of a generation's binomial crossovers."""
+    return rng.uniform(size=(NP, N)), _integers(rng, N, NP)
+
+
+def _crossover(u: np.ndarray, jrand: np.ndarray, cr: np.ndarray, cand: np.ndarray,
+               mutants: np.ndarray, parents: np.ndarray) -> np.ndarray:
+    """Binomial crossover of candidates `cand`: component j_rand always from the mutant."""
+    mask = u[cand] < cr[:, None]
+    mask[np.arange(cand.size), jrand[cand]] = True
+    return np.where(mask, mutants, parents)
+
+
 # ----------------------------------------------------------------------------- jDE
 class _JDEState:
-    __slots__ = ("F", "CR", "pend_F", "pend_CR")
+    __slots__ = ("F", "CR", "new_F", "new_CR", "r", "u", "jrand")
 
 
 class JDE(AdaptiveStrategy):
@@ -172,46 +193,63 @@ class JDE(AdaptiveStrategy):
         st = _JDEState()
         st.F = np.full(n, self.F_init)
         st.CR = np.full(n, self.CR_init)
-        st.pend_F = st.F.copy()
-        st.pend_CR = st.CR.copy()
         return st
 
-    def trials(self, solver, st: _JDEState, cand: np.ndarray) -> np.ndarray:
+    def begin_generation(self, solver, st: _JDEState) -> None:
         rng = solver.random_number_generator
+        NP, N = solver.population.shape
+        cand = np.arange(NP)
+        u = rng.uniform(size=(4, NP))
+        st.new_F = np.where(u[0] < self.tau_F, self.F_lower + u[1] * self.F_range, st.F)
+        st.new_CR = np.where(u[2] < self.tau_CR, u[3], st.CR)
+        r1 = _pick(rng, NP, NP, [cand])
+        r2 = _pick(rng, NP, NP, [cand, r1])
+        r3 = _pick(rng, NP, NP, [cand, r1, r2])
+        st.r = np.stack([r1, r2, r3])
+        st.u, st.jrand = _crossover_draws(rng, NP, N)
+
+    def trial(self, solver, st: _JDEState, c: int) -> np.ndarray:
         pop = solver.population
-        NP = pop.shape[0]
-        S = cand.size
-        u = rng.uniform(size=(4, S))
-        F = np.where(u[0] < self.tau_F, self.F_lower + u[1] * self.F_range, st.F[cand])
-        CR = np.where(u[2] < self.tau_CR, u[3], st.CR[cand])
-        r1 = _pick(rng, NP, S, [cand])
-        r2 = _pick(rng, NP, S, [cand, r1])
-        r3 = _pick(rng, NP, S, [cand, r1, r2])
-        mutant = pop[r1] + F[:, None] * (pop[r2] - pop[r3])
+        r1, r2, r3 = st.r[:, c]
+        parent = pop[c]
+        mutant = pop[r1] + st.new_F[c] * (pop[r2] - pop[r3])
+        mask = st.u[c] < st.new_CR[c]
+        mask[st.jrand[c]] = True
+        return _repair_midpoint(np.where(mask, mutant, parent), parent)
+
+    def trials(self, solver, st: _JDEState, cand: np.ndarray) -> np.ndarray:
+        pop = solver.population
+        r1, r2, r3 = st.r[:, cand]
         parents = pop[cand]
-        trial = _binomial(rng, parents, mutant, CR)
-        st.pend_F[cand] = F
-        st.pend_CR[cand] = CR
+        mutant = pop[r1] + st.new_F[cand, None] * (pop[r2] - pop[r3])
+        trial = _crossover(st.u, st.jrand, st.new_CR[cand], cand, mutant, parents)
         return _repair_midpoint(trial, parents)
 
-    def report(self, solver, st: _JDEState, cand, accepted, delta, parents) -> None:
+    def report(self, solver, st: _JDEState, c, accepted, delta, parent) -> None:
+        if accepted:
+            st.F[c] = st.new_F[c]
+            st.CR[c] = st.new_CR[c]
+
+    def report_many(self, solver, st: _JDEState, cand, accepted, delta, parents) -> None:
         win = cand[accepted]
-        st.F[win] = st.pend_F[win]
-        st.CR[win] = st.pend_CR[win]
+        st.F[win] = st.new_F[win]
+        st.CR[win] = st.new_CR[win]
 
     def swap(self, st: _JDEState, i: int, j: int) -> None:
-        for a in (st.F, st.CR, st.pend_F, st.pend_CR):
+        # F and CR belong to the individual; the generation's index and crossover
+        # draws belong to the slot (they exclude the slot's own index)
+        for a in (st.F, st.CR, st.new_F, st.new_CR):
             a[[i, j]] = a[[j, i]]
 
     def resize(self, st: _JDEState, keep: np.ndarray) -> None:
         st.F, st.CR = st.F[keep], st.CR[keep]
-        st.pend_F, st.pend_CR = st.pend_F[keep], st.pend_CR[keep]
 
 
 # ----------------------------------------------------------------------------- SHADE
 class _SHADEState:
     __slots__ = ("M_F", "M_CR", "k", "archive", "n_archive", "cap", "S_F", "S_CR", "S_w",
-                 "pend_F", "pend_CR", "np_init", "max_nfev")
+                 "F", "CR", "u", "jrand", "u_best", "n_best", "r1", "u2", "np_init",
+                 "max_nfev")
 
 
 class SHADE(AdaptiveStrategy):
@@ -242,17 +280,18 @@ class SHADE(AdaptiveStrategy):
 
     def __init__(self, memory_size: int = 6, p: float | None = None,
                  archive_rate: float = 1.0, F_init: float = 0.5, CR_init: float = 0.5) -> None:
-        self.memory_size = _check(f"{type(self).__name__}: memory_size", memory_size, 1, 1e9,
-                                  integer=True)
-        self.p = None if p is None else _check(f"{type(self).__name__}: p", p, 0, 1,
-                                               open_lo=True)
-        self.archive_rate = _check(f"{type(self).__name__}: archive_rate", archive_rate, 0, 1e6)
-        self.F_init = _check(f"{type(self).__name__}: F_init", F_init, 0, 1, open_lo=True)
-        self.CR_init = _check(f"{type(self).__name__}: CR_init", CR_init, 0, 1)
+        cls = type(self).__name__
+        self.memory_size = _check(f"{cls}: memory_size", memory_size, 1, 1e9, integer=True)
+        self.p = None if p is None else _check(f"{cls}: p", p, 0, 1, open_lo=True)
+        self.archive_rate = _check(f"{cls}: archive_rate", archive_rate, 0, 1e6)
+        self.F_init = _check(f"{cls}: F_init", F_init, 0, 1, open_lo=True)
+        self.CR_init = _check(f"{cls}: CR_init", CR_init, 0, 1)
 
     def init_state(self, solver) -> _SHADEState:
         NP, N = solver.population.shape
         st = _SHADEState()
+        # F, CR and the index/crossover draws are per slot and per generation (not
+        # carried by individuals), so promotion swaps need no bookkeeping here
         st.M_F = np.full(self.memory_size, self.F_init)
         st.M_CR = np.full(self.memory_size, self.CR_init)
         st.k = 0
@@ -260,69 +299,88 @@ class SHADE(AdaptiveStrategy):
         st.archive = np.empty((max(st.cap, 1), N))
         st.n_archive = 0
         st.S_F, st.S_CR, st.S_w = [], [], []
-        st.pend_F = np.zeros(NP)
-        st.pend_CR = np.zeros(NP)
         st.np_init = NP
         st.max_nfev = None
         return st
 
-    def _p(self, rng, NP: int, S: int) -> np.ndarray:
-        if self.p is None:
-            return rng.uniform(min(2.0 / NP, 0.2), 0.2, size=S)
-        return np.full(S, self.p)
-
-    def trials(self, solver, st: _SHADEState, cand: np.ndarray) -> np.ndarray:
+    def begin_generation(self, solver, st: _SHADEState) -> None:
         rng = solver.random_number_generator
-        pop = solver.population
-        NP, N = pop.shape
-        S = cand.size
-        H = self.memory_size
-        r = _integers(rng, H, S)
+        NP, N = solver.population.shape
+        r = _integers(rng, self.memory_size, NP)
         m_cr = st.M_CR[r]
-        CR = np.clip(m_cr + 0.1 * rng.standard_normal(S), 0.0, 1.0)
+        CR = np.clip(m_cr + 0.1 * rng.standard_normal(NP), 0.0, 1.0)
         CR[np.isnan(m_cr)] = 0.0  # terminal value (L-SHADE)
         m_f = st.M_F[r]
-        F = m_f + 0.1 * rng.standard_cauchy(S)
+        F = m_f + 0.1 * rng.standard_cauchy(NP)
         bad = F <= 0.0
         while bad.any():
             F[bad] = m_f[bad] + 0.1 * rng.standard_cauchy(int(np.count_nonzero(bad)))
             bad = F <= 0.0
-        F = np.minimum(F, 1.0)
-        # x_pbest: uniformly among the best max(2, round(p NP)) members
-        n_best = np.clip(np.rint(self._p(rng, NP, S) * NP).astype(np.int64), 2, NP)
+        st.F = np.minimum(F, 1.0)
+        st.CR = CR
+        p = (rng.uniform(min(2.0 / NP, 0.2), 0.2, size=NP) if self.p is None
+             else np.full(NP, self.p))
+        st.n_best = np.clip(np.rint(p * NP).astype(np.int64), 2, NP)
+        st.u_best = rng.uniform(size=NP)
+        st.r1 = _pick(rng, NP, NP, [np.arange(NP)])
+        st.u2 = rng.uniform(size=NP)
+        st.u, st.jrand = _crossover_draws(rng, NP, N)
+
+    def _r2(self, solver, st: _SHADEState, cand: np.ndarray) -> np.ndarray:
+        """Indices into population ∪ archive, different from the candidate and r1."""
+        NP = solver.num_population_members
+        n = NP + st.n_archive
+        r2 = np.minimum((st.u2[cand] * n).astype(np.int64), n - 1)
+        r1 = st.r1[cand]
+        clash = (r2 == cand) | (r2 == r1)
+        if clash.any():
+            r2[clash] = _pick(solver.random_number_generator, n, int(clash.sum()),
+                              [cand[clash], r1[clash]])
+        return r2
+
+    def trials(self, solver, st: _SHADEState, cand: np.ndarray) -> np.ndarray:
+        pop = solver.population
+        NP = pop.shape[0]
         order = np.argsort(solver.population_energies, kind="stable")
-        pbest = order[np.minimum((rng.uniform(size=S) * n_best).astype(np.int64), n_best - 1)]
-        r1 = _pick(rng, NP, S, [cand])
-        NA = st.n_archive
-        r2 = _pick(rng, NP + NA, S, [cand, r1])
+        nb = st.n_best[cand]
+        pbest = order[np.minimum((st.u_best[cand] * nb).astype(np.int64), nb - 1)]
+        r2 = self._r2(solver, st, cand)
         x2 = pop[np.minimum(r2, NP - 1)]
         from_archive = r2 >= NP
         if from_archive.any():
             x2[from_archive] = st.archive[r2[from_archive] - NP]
         xc = pop[cand]
-        Fc = F[:, None]
-        mutant = xc + Fc * (pop[pbest] - xc) + Fc * (pop[r1] - x2)
-        trial = _binomial(rng, xc, mutant, CR)
-        st.pend_F[cand] = F
-        st.pend_CR[cand] = CR
-        return _repair_midpoint(trial, xc)
+        Fc = st.F[cand, None]
+        mutant = xc + Fc * (pop[pbest] - xc) + Fc * (pop[st.r1[cand]] - x2)
+        return _repair_midpoint(_crossover(st.u, st.jrand, st.CR[cand], cand, mutant, xc), xc)
 
-    def report(self, solver, st: _SHADEState, cand, accepted, delta, parents) -> None:
+    def report(self, solver, st: _SHADEState, c, accepted, delta, parent) -> None:
+        if accepted and delta > 0:
+            st.S_F.append(float(st.F[c]))
+            st.S_CR.append(float(st.CR[c]))
+            st.S_w.append(float(delta))
+            self._archive_add(solver, st, parent)
+
+    def report_many(self, solver, st: _SHADEState, cand, accepted, delta, parents) -> None:
         imp = accepted & (delta > 0)
         if not imp.any():
             return
         c = cand[imp]
-        st.S_F.extend(st.pend_F[c].tolist())
-        st.S_CR.extend(st.pend_CR[c].tolist())
+        st.S_F.extend(st.F[c].tolist())
+        st.S_CR.extend(st.CR[c].tolist())
         st.S_w.extend(delta[imp].tolist())
-        if st.cap > 0:
-            rng = solver.random_number_generator
-            for row in parents[imp]:
-                if st.n_archive < st.cap:
-                    st.archive[st.n_archive] = row
-                    st.n_archive += 1
-                else:  # archive full: a random member makes room
-                    st.archive[int(_integers(rng, st.cap, 1)[0])] = row
+        for row in parents[imp]:
+            self._archive_add(solver, st, row)
+
+    @staticmethod
+    def _archive_add(solver, st: _SHADEState, row: np.ndarray) -> None:
+        if st.cap <= 0:
+            return
+        if st.n_archive < st.cap:
+            st.archive[st.n_archive] = row
+            st.n_archive += 1
+        else:  # archive full: a random member makes room
+            st.archive[int(_integers(solver.random_number_generator, st.cap, 1)[0])] = row
 
     def end_generation(self, solver, st: _SHADEState) -> None:
         if st.S_F:
