@@ -520,6 +520,8 @@ def test_select_and_group_by(tmp_path):
         b"strain,stress_kPa,\n0,0,\n\n-0.1,-100,\n-0.2,-300,\n\n",  # trailing commas
         "strain;Spannung [kPa]\n0;0\n-0,1;-100\n-0,2;-300\n".encode("latin-1"),
         "Dehnung [%];Spannung [N/mm²]\n0;0\n-10;-0,1\n-20;-0,3\n".encode("latin-1"),
+        b"sep=;\nstrain;stress_kPa\n0;0\n-0,1;-100\n-0,2;-300\n",  # Excel's separator hint
+        b"strain,stress\n%,[kPa]\n0,0\n-10,-100\n-20,-300\n",  # a units row
     ],
 )
 def test_hostile_but_valid_files_read_correctly(tmp_path, raw):
@@ -555,6 +557,8 @@ def test_hostile_but_valid_files_read_correctly(tmp_path, raw):
         ("# strain_rate: fast\nstrain,stress\n0,0\n-0.1,-1\n", ["'# strain_rate: fast'"]),
         ("strain,stress\n0,0\n0.1,1\n0.2,2\n", ["mode='compression'", "line 3"]),
         ("strain_rate,strain,stress\n-1,0,0\n-2,-0.1,-1\n-3,-0.2,-2\n", ["measured rate"]),
+        ("strain,stress\n0,0\n-0.1,-1\nend of test,\n", ["line 4", "'end of test'", "text"]),
+        ("# weight: heavy\nstrain,stress\n0,0\n-0.1,-1\n", ["'# weight: heavy'"]),
     ],
 )
 def test_hostile_files_raise_a_one_line_error_naming_the_place(tmp_path, text, parts):
@@ -566,6 +570,12 @@ def test_hostile_files_raise_a_one_line_error_naming_the_place(tmp_path, text, p
         kw["mode"] = "compression"
     with raises("test.csv", *parts):
         read_csv(p, **kw)
+
+
+def test_undecodable_header_hints_at_the_encoding(tmp_path):
+    p = write(tmp_path, "时间,位移,力\n0,0,0\n1,1,1\n".encode("gbk"))
+    with raises("test.csv", "no strain or stretch column", "encoding="):
+        read_csv(p)
 
 
 def test_measured_rate_channel_hint(tmp_path):

@@ -11,7 +11,7 @@ The public API (SPEC §7)::
 
 from vhfit import export, hyperelastic, optimize, viscoelastic
 from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
-from vhfit.data import Curve, DataError, read_csv
+from vhfit.data import Curve, DataError, DataWarning, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 from vhfit.objective import Objective, per_curve_rmsape, rmsape
@@ -24,6 +24,7 @@ __all__ = [
     "CalibrationWarning",
     "Curve",
     "DataError",
+    "DataWarning",
     "History",
     "Objective",
     "ViscoHyperelastic",

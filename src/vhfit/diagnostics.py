@@ -136,7 +136,7 @@ def _bases(hm: _hyper.Hyperelastic) -> np.ndarray:
             mu0 = float(np.asarray(hm.initial_shear_modulus(b[None, :])).ravel()[0])
         if np.isfinite(mu0) and mu0 > 0:
             keep.append(b)
-    return np.array(keep)
+    return np.array(keep).reshape(len(keep), hm.n_params)
 
 
 def _term_ratios(hm, pairs, tau) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -313,8 +313,14 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
     specs = [(eps, float(ca.strain_rate), float(cb.strain_rate)) for ca, cb, eps, _ in cand]
     if n == 0:
         bounds = [(np.ones(e.size), np.ones(e.size)) for e, _, _ in specs]
+    elif _bases(hm).size == 0:  # no usable shape of the law: nothing can be bounded
+        return []
     else:
-        h1, h2, base = _term_ratios(hm, specs, _tau_grid(specs))
+        try:
+            with np.errstate(all="ignore"):
+                h1, h2, base = _term_ratios(hm, specs, _tau_grid(specs))
+        except (ValueError, ArithmeticError):  # a law undefined on these strains
+            return []
         bounds, j = [], 0
         for eps, r1, r2 in specs:
             sl = slice(j, j + eps.size)
