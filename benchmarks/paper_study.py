@@ -179,6 +179,7 @@ def run_job(spec: dict) -> dict:
     """One calibration of the study (runs in a worker process)."""
     warnings.simplefilter("ignore")
     rec = dict(spec)
+    cpu0 = time.process_time()
     try:
         curves, truth = case_curves(spec["case"], spec.get("noise_seed"))
         n, seed = spec["n"], spec["seed"]
@@ -213,6 +214,7 @@ def run_job(spec: dict) -> dict:
             rec["floor"] = float(cases.rmsape_of(truth, curves))
     except Exception as exc:  # keep the study going; failures are reported in the doc
         rec.update(error=f"{type(exc).__name__}: {exc}")
+    rec["cpu"] = time.process_time() - cpu0
     return rec
 
 
@@ -715,6 +717,11 @@ def section_setup(meta):
         ["calibrations", f"{meta['n_runs']} ({meta['n_failed']} failed)"],
         ["**total wall time**", f"**{meta['wall'] / 60:.1f} min**"],
     ]
+    if meta.get("cpu_total"):
+        rows.append(["CPU time of all calibrations",
+                     f"{meta['cpu_total'] / 60:.1f} min, i.e. about "
+                     f"{meta['cpu_total'] / 60 / meta['workers']:.1f} min of wall time on "
+                     f"{meta['workers']} idle cores"])
     return table(["", ""], rows, ["l", "l"])
 
 
@@ -1592,6 +1599,8 @@ def main(argv=None) -> None:
         with open(path, "w") as f:
             json.dump(dict(meta=meta, results=R), f)
         print(f"raw results: {path}", file=sys.stderr)
+    cpu = [r["cpu"] for r in R if "cpu" in r]
+    meta["cpu_total"] = float(sum(cpu)) if len(cpu) == len(R) else None
     t = time.perf_counter()
     render(R, meta, out)
     print(f"study {meta['wall']:.0f} s + rendering {time.perf_counter() - t:.0f} s; "

@@ -1,6 +1,6 @@
 """Tests of vhfit._kernels: the ψ_j functions, the Lobatto derivative map, the recursion.
 
-The recursion integrates each step exactly for a cubic interpolant, so a cubic input
+The recursion integrates each step exactly for a quartic interpolant, so a quartic input
 must come out exact to rounding, for any step length and any τ from 1e-12 to 1e12 of it.
 """
 
@@ -44,43 +44,43 @@ def test_psi_matches_quadrature_across_the_whole_range(x):
 
 @given(st.floats(1e-15, 1e15))
 def test_psi_bounds_and_limits(x):
-    """0 < ψ_2 < ψ_1 < ψ_0 ≤ 1 and ψ_j ≤ min(1/(j+1), 1/x)."""
-    e, p0, p1, p2 = _psi(x)
+    """0 < ψ_3 < ψ_2 < ψ_1 < ψ_0 ≤ 1 and ψ_j ≤ min(1/(j+1), 1/x)."""
+    e, p0, p1, p2, p3 = _psi(x)
     assert 0.0 <= e <= 1.0
-    assert 0 < p2 < p1 < p0 <= 1.0
-    for j, p in enumerate((p0, p1, p2)):
+    assert 0 < p3 < p2 < p1 < p0 <= 1.0
+    for j, p in enumerate((p0, p1, p2, p3)):
         assert p <= 1.0 / (j + 1) * (1 + 1e-15)
         assert p <= 1.0 / x * (1 + 1e-15)
 
 
 def test_psi_limits_exactly():
-    assert _psi(0.0) == (1.0, 1.0, 0.5, pytest.approx(1 / 3, rel=1e-15))
-    e, p0, p1, p2 = _psi(math.inf)
-    assert (e, p0, p1, p2) == (0.0, 0.0, 0.0, 0.0)
+    assert _psi(0.0) == (1.0, 1.0, 0.5, pytest.approx(1 / 3, rel=1e-15),
+                         pytest.approx(1 / 4, rel=1e-15))
+    assert _psi(math.inf) == (0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def test_deriv_maps_lobatto_values_to_derivative_coefficients():
     rng = np.random.default_rng(3)
     for _ in range(20):
-        c = rng.normal(size=4)  # p(v) = c0 + c1 v + c2 v² + c3 v³
+        c = rng.normal(size=5)  # p(v) = c0 + c1 v + c2 v² + c3 v³ + c4 v⁴
         values = np.polynomial.polynomial.polyval(LOBATTO, c)
-        np.testing.assert_allclose(DERIV @ values, [c[1], 2 * c[2], 3 * c[3]],
+        np.testing.assert_allclose(DERIV @ values, [c[1], 2 * c[2], 3 * c[3], 4 * c[4]],
                                    rtol=1e-13, atol=1e-13 * np.abs(c).max())
     assert LOBATTO[0] == 0.0 and LOBATTO[-1] == 1.0
 
 
 def _samples(t_nodes):
-    """Sample times of the kernel's layout: the first node, then 2 Lobatto points + end."""
+    """Sample times of the kernel's layout: the first node, then 3 Lobatto points + end."""
     h = np.diff(t_nodes)
     inner = t_nodes[:-1, None] + h[:, None] * LOBATTO[None, 1:]
     return np.concatenate([t_nodes[:1], inner.ravel()]), h
 
 
 def _exact_branch(coef, tau, t):
-    """a(0) e^(−t/τ) + ∫_0^t e^(−(t−u)/τ) a'(u) du for a cubic a, by quadrature."""
+    """a(0) e^(−t/τ) + ∫_0^t e^(−(t−u)/τ) a'(u) du for a polynomial a, by quadrature."""
     da = np.polynomial.polynomial.polyder(coef)
     pts = sorted(t - k * tau for k in (1, 4, 16, 64) if 0 < t - k * tau < t)
-    scale = np.abs(coef).sum() * (1 + 3 * t**3)
+    scale = np.abs(coef).sum() * (1 + 4 * t**4)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         val = quad(lambda u: math.exp(-(t - u) / tau) * np.polynomial.polynomial.polyval(u, da),
@@ -89,11 +89,11 @@ def _exact_branch(coef, tau, t):
 
 
 @settings(max_examples=max(5, settings.default.max_examples // 2))
-@given(st.lists(st.floats(-1.0, 1.0), min_size=4, max_size=4),
+@given(st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
        st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
        st.floats(-12.0, 12.0))
-def test_recursion_is_exact_for_a_cubic(coef, steps, log_tau):
-    """λ ≡ 1 makes a = b = ŝ, and h = (2/3) P + (1/3) Q = P: exact for a cubic ŝ(t)."""
+def test_recursion_is_exact_for_a_quartic(coef, steps, log_tau):
+    """λ ≡ 1 makes a = b = ŝ, and h = (2/3) P + (1/3) Q = P: exact for a quartic ŝ(t)."""
     coef = np.asarray(coef)
     t_nodes = np.concatenate([[0.0], np.cumsum(steps)])
     tau = float(t_nodes[-1]) * 10.0**log_tau
@@ -102,7 +102,7 @@ def test_recursion_is_exact_for_a_cubic(coef, steps, log_tau):
     out = overstress(s_hat, np.ones(ts.size), h, np.array([0, ts.size]),
                      np.array([0, h.size]), np.array([[1.0]]), np.array([[tau]]), DERIV)[0]
     exact = np.array([_exact_branch(coef, tau, t) for t in t_nodes])
-    scale = np.abs(coef).sum() * max(1.0, t_nodes[-1] ** 3)
+    scale = np.abs(coef).sum() * max(1.0, t_nodes[-1] ** 4)
     np.testing.assert_allclose(out, exact, rtol=0, atol=1e-12 * scale)
 
 

@@ -315,12 +315,10 @@ def test_random_measured_histories_match_quadrature(data):
     assert relative_error(s, ref) <= 1e-6
 
 
-# KNOWN SHORTFALL of the default grid (see docs/theory.md §7): with a stiff fast branch
-# (G/E∞ ~ 1e4, τ below one grid step) the overstress is τ × the slope of the last step's
-# cubic interpolant, whose error is third order in the step, while model._dlog assumes
-# fourth order. Measured at rtol = 1e-6: 3.6e-5 (Ogden α = −6) and 6.4e-6 (Mooney–Rivlin);
-# a step of 0.005 in ln λ (0.5 rtol^(1/3)) gives 5.4e-7. Remove the marker when fixed.
-@pytest.mark.xfail(strict=True, reason="known: stiff fast branch exceeds 1e-6 (theory.md §7)")
+# Regression: with a stiff fast branch (G/E∞ ~ 1e4, τ below one grid step) the overstress
+# is τ × the slope of the last step's interpolant. With the former cubic (4 Lobatto points)
+# that slope was third order and the error reached 3.6e-5 (Ogden α = −6) and 6.4e-6 (MR);
+# the quartic (5 points) makes it fourth order.
 @pytest.mark.parametrize("name,c,tau", [("ogden", (1.0, -6.0), 3e-4),
                                         ("mooney_rivlin", (0.0, 1.0), 1e-4)])
 def test_stiff_fast_branch_matches_quadrature(name, c, tau):

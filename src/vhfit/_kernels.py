@@ -8,10 +8,14 @@ branch i as
     Q_i(t) = b(0) e^(−t/τ_i) + ∫_0^t e^(−(t−u)/τ_i) b'(u) du,   b = ŝ λ,
 
 with ŝ = σ_h / E∞. Over a step of length h the states decay by e^(−h/τ) and gain the
-step's integral, which is exact for a cubic interpolant of a (and b) through four
-Gauss–Lobatto points of the step: with p'(v) = d0 + d1 v + d2 v² (v ∈ [0, 1]),
+step's integral, which is exact for a quartic interpolant of a (and b) through five
+Gauss–Lobatto points of the step: with p'(v) = Σ_j d_j v^j, j = 0..3 (v ∈ [0, 1]),
 
-    ∫_0^1 e^(−x(1−v)) p'(v) dv = d0 ψ0(x) + d1 ψ1(x) + d2 ψ2(x),   x = h/τ.
+    ∫_0^1 e^(−x(1−v)) p'(v) dv = Σ_j d_j ψ_j(x),   x = h/τ.
+
+A quartic, not a cubic: when τ is far below the step, the overstress is τ times the
+slope of the interpolant at the step's end, and that slope is one order less accurate
+than the values; with five points it is fourth order, like the values of a cubic.
 
 Nothing is divided by τ (τ → 0 gives x → ∞ and ψ_j → 0; τ → ∞ gives x = 0 and
 ψ_j = 1/(j+1)), and no two large numbers are subtracted.
@@ -22,32 +26,40 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-# Gauss–Lobatto points of a step (v in [0, 1]) and the matrix mapping the four values
-# of a cubic at those points to the coefficients of its derivative in v.
-LOBATTO = np.array([0.0, 0.5 - 0.1 * np.sqrt(5.0), 0.5 + 0.1 * np.sqrt(5.0), 1.0])
-_V = np.vander(LOBATTO, 4, increasing=True)
-DERIV = (np.diag([1.0, 2.0, 3.0]) @ np.linalg.inv(_V)[1:, :]).copy()
+# Gauss–Lobatto points of a step (v in [0, 1]) and the matrix mapping the five values
+# of a quartic at those points to the coefficients of its derivative in v.
+LOBATTO = np.array([0.0, 0.5 - 0.5 * np.sqrt(3.0 / 7.0), 0.5, 0.5 + 0.5 * np.sqrt(3.0 / 7.0),
+                    1.0])
+STRIDE = LOBATTO.size - 1  # samples a step adds: its inner points and its end
+_V = np.vander(LOBATTO, LOBATTO.size, increasing=True)
+DERIV = (np.diag(np.arange(1.0, LOBATTO.size)) @ np.linalg.inv(_V)[1:, :]).copy()
 
-# 1/(k+3)! for the series of ψ2 at small x
-_INV_FACT3 = np.array([1.0 / np.prod(np.arange(1.0, k + 4.0)) for k in range(20)])
+# 1/(k+4)! for the series of ψ3 at small x
+_INV_FACT4 = np.array([1.0 / np.prod(np.arange(1.0, k + 5.0)) for k in range(20)])
 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _psi(x):
-    """e^(−x) and ψ_j(x) = ∫_0^1 e^(−x(1−v)) v^j dv for j = 0, 1, 2."""
+    """e^(−x) and ψ_j(x) = ∫_0^1 e^(−x(1−v)) v^j dv for j = 0..3.
+
+    Below x = 1 the series ψ3 = 6 Σ_k (−x)^k/(k+4)! and the stable downward recurrence
+    ψ_(j−1) = (1 − x ψ_j)/j; above, e^(−x) and the upward ψ_j = (1 − j ψ_(j−1))/x.
+    """
     if x < 1.0:
-        s = _INV_FACT3[19]
+        s = _INV_FACT4[19]
         for k in range(18, -1, -1):
-            s = _INV_FACT3[k] - x * s
-        psi2 = 2.0 * s
+            s = _INV_FACT4[k] - x * s
+        psi3 = 6.0 * s
+        psi2 = (1.0 - x * psi3) / 3.0
         psi1 = 0.5 * (1.0 - x * psi2)
         psi0 = 1.0 - x * psi1
-        return 1.0 - x * psi0, psi0, psi1, psi2
+        return 1.0 - x * psi0, psi0, psi1, psi2, psi3
     e = np.exp(-x)
     psi0 = (1.0 - e) / x
     psi1 = (1.0 - psi0) / x
     psi2 = (1.0 - 2.0 * psi1) / x
-    return e, psi0, psi1, psi2
+    psi3 = (1.0 - 3.0 * psi2) / x
+    return e, psi0, psi1, psi2, psi3
 
 
 @njit(cache=True, error_model="numpy")
@@ -70,32 +82,36 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
         acc += G[p, i]
     out[p, node0] = acc * s_hat[p, s0]
     for k in range(nsteps):
-        base = s0 + 3 * k
+        base = s0 + 4 * k
         da0 = 0.0
         da1 = 0.0
         da2 = 0.0
+        da3 = 0.0
         db0 = 0.0
         db1 = 0.0
         db2 = 0.0
-        for m in range(4):
+        db3 = 0.0
+        for m in range(5):
             lm = lam[base + m]
             fa = s_hat[p, base + m] / (lm * lm)
             fb = s_hat[p, base + m] * lm
             da0 += D[0, m] * fa
             da1 += D[1, m] * fa
             da2 += D[2, m] * fa
+            da3 += D[3, m] * fa
             db0 += D[0, m] * fb
             db1 += D[1, m] * fb
             db2 += D[2, m] * fb
+            db3 += D[3, m] * fb
         hk = h[k0 + k]
-        le = lam[base + 3]
+        le = lam[base + 4]
         w2 = (2.0 / 3.0) * le * le
         w1 = (1.0 / 3.0) / le
         acc = 0.0
         for i in range(N):
-            e, q0, q1, q2 = _psi(hk / tau[p, i])
-            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2
-            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2
+            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
+            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
+            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
             acc += G[p, i] * (w2 * Ps[i] + w1 * Qs[i])
         out[p, node0 + k + 1] = acc
 
@@ -118,7 +134,9 @@ def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D):
     return out
 
 
-PARALLEL_MIN_JOBS = 16  # threads pay off for populations, not for one parameter set
+# Threads pay off only for large populations: on a small shared machine the threaded
+# kernel's median time under contention is several times the serial one's.
+PARALLEL_MIN_JOBS = 4096
 
 
 def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
@@ -128,11 +146,11 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
     ----------
     s_hat : (P, S) normalised hyperelastic stress σ_h/E∞ at every sample; curve c owns
         samples ``sample_off[c] : sample_off[c+1]``: its first node, then for each step
-        the two inner Lobatto points and the step's end node.
+        the three inner Lobatto points and the step's end node.
     lam : (S,) stretch at every sample.
     h : (K,) step lengths in s; curve c owns steps ``step_off[c] : step_off[c+1]``.
     G, tau : (P, N) Prony moduli and relaxation times.
-    D : (3, 4) Lobatto values -> derivative coefficients (``DERIV``).
+    D : (4, 5) Lobatto values -> derivative coefficients (``DERIV``).
 
     Returns
     -------

@@ -282,7 +282,7 @@ class Batch:
             samples = np.concatenate([lam[:1], inner.reshape(-1)])
             node0 = k_off[-1] + c
             gather_node.append(node0 + idx)
-            gather_sample.append(s_off[-1] + 3 * idx)
+            gather_sample.append(s_off[-1] + _kernels.STRIDE * idx)
             out_lam.append(lam[idx])
             lam_s.append(samples)
             hstep.append(dt)

@@ -1,0 +1,296 @@
+"""calibrate_many: executors, streaming, failure isolation, determinism, numba's cache, Dask.
+
+Process pools here use the "spawn" start method (workers are fresh interpreters), so
+each pool costs an interpreter start and an import of vhfit; the tests share one
+pool where they can. Jobs are small synthetic calibrations (a second or less).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit.calibrate import CalibrationWarning
+from vhfit.parallel import Job, JobResult, calibrate_many
+
+TRUTH = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-2)
+RATES = (-1.0, -100.0)
+
+
+def curves(noise=0.05, seed=5, truth=TRUTH, rates=RATES):
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", sum(k.startswith("tau") for k in truth))
+    rng = np.random.default_rng(seed)
+    eps = np.linspace(-0.05, -0.5, 10)
+    out = []
+    for r in rates:
+        s = m.stress(truth, strain=eps, strain_rate=r, measure="engineering")
+        out.append(vhfit.Curve(strain=eps, stress=s * (1 + rng.uniform(-noise, noise, s.size)),
+                               strain_rate=r, name=f"rate {r:g}"))
+    return out
+
+
+def small_jobs(n=3):
+    c = curves()
+    return [dict(name=f"seed {k}", curves=c, n_prony=1, seed=k, uncertainty=False)
+            for k in range(n)]
+
+
+def kill_self(state):
+    """A callback that kills its own (worker) process: a stand-in for a segfault or OOM."""
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def same(a: JobResult, b: JobResult) -> bool:
+    ca, cb = a.calibration, b.calibration
+    return (ca.params == cb.params and ca.history["best"] == cb.history["best"]
+            and ca.history["mean"] == cb.history["mean"] and ca.nit == cb.nit)
+
+
+@pytest.fixture(autouse=True)
+def _quiet():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CalibrationWarning)
+        yield
+
+
+@pytest.fixture(scope="module")
+def serial():
+    """The reference: every small job run in this process."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CalibrationWarning)
+        return {r.name: r for r in calibrate_many(small_jobs())}
+
+
+@pytest.fixture(scope="module")
+def pool():
+    """One user-supplied spawn process pool shared by the tests of this module."""
+    ex = cf.ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn"))
+    yield ex
+    ex.shutdown(cancel_futures=True)
+
+
+# ------------------------------------------------------------------ serial runs
+def test_serial_run_yields_in_input_order_and_isolates_failures(serial):
+    c = curves()
+    jobs = [
+        dict(name="good", curves=c, n_prony=1, seed=0, uncertainty=False),
+        dict(name="bad option", curves=c, n_prony=1, method="simplex"),
+        dict(name="no curves", n_prony=1),
+        "not a job",
+        dict(name="bad model", curves=c, hyperelastic="no_such_law"),
+        Job("as Job", c, dict(n_prony=1, seed=0, uncertainty=False)),
+        dict(name="unknown keyword", curves=c, n_prony=1, colour="red"),
+        dict(name="empty", curves=[]),
+    ]
+    res = list(calibrate_many(jobs))
+    by = {r.name: r for r in res}
+    assert len(res) == len(jobs)
+    assert sorted(r.index for r in res) == list(range(len(jobs)))
+    assert by["good"].ok and by["as Job"].ok
+    assert by["good"].calibration.params == by["as Job"].calibration.params
+    assert by["bad option"].error.startswith("ValueError: method = 'simplex'")
+    assert "has no 'curves'" in by["no curves"].error
+    assert by["job 3"].error.startswith("TypeError: job 3 is a str")
+    assert by["bad model"].error.startswith("ValueError") and "no_such_law" in by["bad model"].error
+    assert by["unknown keyword"].error.startswith("TypeError") and "colour" in by[
+        "unknown keyword"].error
+    assert "at least one curve" in by["empty"].error
+    assert "Traceback" in by["bad option"].traceback
+    for r in res:
+        assert (r.calibration is None) == (not r.ok)
+        assert r.wall_time >= 0
+        assert r.name in repr(r)
+
+
+def test_serial_run_is_lazy():
+    it = calibrate_many(small_jobs(2))
+    first = next(it)
+    assert first.index == 0 and first.ok
+    it.close()
+
+
+def test_paths_are_read_by_the_worker_and_a_bad_file_fails_alone(tmp_path):
+    c = curves()[0]
+    good = tmp_path / "good.csv"
+    good.write_text("# strain_rate: -1\nstrain,stress_MPa\n" + "".join(
+        f"{float(e)!r},{float(s)!r}\n" for e, s in zip(c.strain, c.stress)))
+    jobs = [dict(name="file", curves=str(good), n_prony=1, seed=0, uncertainty=False),
+            dict(name="files", curves=[good, good], n_prony=1, seed=0, uncertainty=False),
+            dict(name="missing", curves=str(tmp_path / "nope.csv"), n_prony=1),
+            dict(name="directory", curves=tmp_path, n_prony=1)]
+    by = {r.name: r for r in calibrate_many(jobs)}
+    assert by["file"].ok and by["files"].ok
+    assert by["missing"].error.startswith("DataError") and "nope.csv" in by["missing"].error
+    assert by["directory"].error.startswith("DataError") and "directory" in by["directory"].error
+
+
+def test_base_seed_gives_each_job_its_own_repeatable_seed():
+    c = curves()
+    jobs = [dict(curves=c, n_prony=1, uncertainty=False, polish=False) for _ in range(2)]
+    jobs.append(dict(curves=c, n_prony=1, uncertainty=False, polish=False, seed=3))
+    a = list(calibrate_many(jobs, seed=11))
+    b = list(calibrate_many(jobs, seed=11))
+    seeds = [r.calibration.options["seed"] for r in a]
+    assert seeds == [r.calibration.options["seed"] for r in b]
+    assert seeds[0] != seeds[1] and seeds[2] == 3
+    assert all(same(x, y) for x, y in zip(a, b))
+
+
+@pytest.mark.parametrize(
+    "executor, kw, err",
+    [
+        ("cluster", {}, ValueError),
+        (0, {}, ValueError),
+        (True, {}, TypeError),
+        (3.5, {}, TypeError),
+        (None, {"max_workers": 0}, ValueError),
+        (None, {"threads_per_job": 0}, ValueError),
+        (None, {"max_pending": 0}, ValueError),
+    ],
+)
+def test_bad_executor_arguments_are_refused_at_once(executor, kw, err):
+    with pytest.raises(err):
+        calibrate_many([], executor, **kw)
+
+
+# ------------------------------------------------------------------- executors
+def test_user_executor_streams_results_as_they_finish(pool, serial):
+    c = curves()
+    slow = dict(name="slow", curves=c, n_prony=1, seed=0, method="full", maxiter=150,
+                tol=0.0, target=0.0, stall=(0.0, 10**6), polish=False, uncertainty=False)
+    fast = dict(name="fast", curves=c, n_prony=1, seed=0, polish=False, uncertainty=False,
+                maxiter=2)
+    order = [r.name for r in calibrate_many([slow, fast], pool)]
+    assert order == ["fast", "slow"]
+
+
+def test_process_pool_constants_are_bit_identical_to_in_process(pool, serial):
+    res = {r.name: r for r in calibrate_many(small_jobs(), pool)}
+    assert set(res) == set(serial)
+    for name, r in res.items():
+        assert r.ok, r.error
+        assert same(r, serial[name])
+
+
+def test_map_like_callables_give_input_order_and_identical_constants(pool, serial):
+    via_map = list(calibrate_many(small_jobs(), pool.map))
+    assert [r.index for r in via_map] == [0, 1, 2]
+    assert all(same(r, serial[r.name]) for r in via_map)
+    via_builtin = list(calibrate_many(small_jobs(), map))
+    assert all(same(r, serial[r.name]) for r in via_builtin)
+
+
+def test_a_broken_map_reports_the_remaining_jobs():
+    def mapper(fn, tasks):
+        for k, t in enumerate(tasks):
+            if k == 1:
+                raise RuntimeError("cluster lost")
+            yield fn(t)
+
+    res = list(calibrate_many(small_jobs(3), mapper))
+    assert res[0].ok
+    assert [r.index for r in res] == [0, 1, 2]
+    assert all("cluster lost" in r.error for r in res[1:])
+
+
+def test_thread_pool_runs_jobs(serial):
+    res = {r.name: r for r in calibrate_many(small_jobs(2), "thread", max_workers=2)}
+    assert all(same(r, serial[r.name]) for r in res.values())
+
+
+def test_own_pool_isolates_a_job_that_kills_its_worker(serial):
+    jobs = small_jobs()
+    c = jobs[0]["curves"]
+    jobs.insert(1, dict(name="killer", curves=c, n_prony=1, seed=0, callback=kill_self))
+    jobs.insert(2, dict(name="bad option", curves=c, n_prony=1, method="simplex"))
+    before = set(multiprocessing.active_children())
+    res = {r.name: r for r in calibrate_many(jobs, 2)}
+    assert len(res) == len(jobs)
+    assert res["killer"].error.startswith("WorkerDied")
+    assert res["bad option"].error.startswith("ValueError")
+    for name, r in serial.items():
+        assert res[name].ok and same(res[name], r)
+    assert set(multiprocessing.active_children()) <= before
+
+
+def test_closing_the_stream_early_stops_the_workers():
+    before = set(multiprocessing.active_children())
+    it = calibrate_many(small_jobs(6), 2, max_pending=6)
+    assert next(it).ok
+    assert set(multiprocessing.active_children()) > before
+    it.close()
+    deadline = time.monotonic() + 10
+    while set(multiprocessing.active_children()) - before and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert set(multiprocessing.active_children()) <= before
+
+
+# ----------------------------------------------------------------- numba's cache
+WARM = textwrap.dedent(
+    """
+    import numpy as np, vhfit
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+    eps = np.linspace(-0.05, -0.5, 10)
+    cs = [vhfit.Curve(strain=eps, stress=eps, strain_rate=r) for r in (-1.0, -10.0, -100.0)]
+    b = m.batch(cs)
+    X = np.tile([0.1, 0.05, 1.0, 1e-3, 2.0, 1e-1], (24, 1)) * np.linspace(1, 2, 24)[:, None]
+    one = m.stress([0.1, 0.05, 1.0, 1e-3, 2.0, 1e-1], strain=eps, strain_rate=-10.0)
+    print(repr(np.concatenate([b(X).ravel(), one]).tobytes().hex()[:4000]))
+    """
+)
+
+
+def _start_many(n, cache):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "NUMBA_NUM_THREADS": "2",
+           "NUMBA_DEBUG_CACHE": "1"}
+    return [subprocess.Popen([sys.executable, "-c", WARM], env=env, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True) for _ in range(n)]
+
+
+@pytest.mark.parametrize(
+    "writers, readers",
+    [(3, 2), pytest.param(8, 8, marks=pytest.mark.slow)],
+)
+def test_numba_cache_is_safe_when_many_processes_start_at_once(tmp_path, writers, readers):
+    cache = tmp_path / "numba-cache"
+    results, loaded = [], []
+    # first wave: all compile and write the empty cache together; second: all load it
+    for wave, n in enumerate((writers, readers)):
+        procs = _start_many(n, cache)
+        for p in procs:
+            out, err = p.communicate(timeout=600)
+            assert p.returncode == 0, err[-2000:]
+            lines = out.splitlines()
+            results.append(lines[-1])
+            if wave == 1:
+                loaded.append(sum(line.startswith("[cache] data loaded") for line in lines))
+    assert len(set(results)) == 1
+    assert any(f.suffix == ".nbi" for f in cache.rglob("*"))
+    assert min(loaded) >= 2  # the readers used the cache the writers left (seq + parallel kernel)
+
+
+# ------------------------------------------------------------------------ Dask
+def test_local_dask_cluster_gives_identical_constants(serial):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        ex = client.get_executor()
+        streamed = {r.name: r for r in calibrate_many(small_jobs(), ex)}
+        mapped = list(calibrate_many(small_jobs(), ex.map))
+    for name, r in serial.items():
+        assert streamed[name].ok, streamed[name].error
+        assert same(streamed[name], r)
+    assert [r.index for r in mapped] == [0, 1, 2]
+    assert all(same(r, serial[r.name]) for r in mapped)

@@ -1,0 +1,463 @@
+"""Reliability: extreme parameters, determinism, durability under SIGKILL, resource bounds.
+
+* Extreme but valid parameters give finite stresses; invalid ones an infinite error
+  for that individual; never a crash, never a NaN.
+* The same inputs and seed give bit-identical constants and histories: across runs,
+  across ``workers``, and after resuming from a checkpoint.
+* Checkpoints are written atomically: real child processes are SIGKILLed at random
+  moments, 20 times in a row; the checkpoint is always whole, and the resumed run ends
+  on the uninterrupted run's constants.
+* ``max_time`` ends a fit cleanly; 10⁶-point curves and 10 000-individual populations
+  stay within bounded memory.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import random
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import tracemalloc
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import vhfit
+from vhfit.calibrate import CalibrationWarning, atomic_write, calibrate
+
+posix_only = pytest.mark.skipif(os.name != "posix", reason="needs fork and SIGKILL")
+
+
+@pytest.fixture(autouse=True)
+def _quiet():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CalibrationWarning)
+        yield
+
+
+def noisy_curves(truth=None, rates=(-1.0, -10.0, -100.0, -1000.0), noise=0.05, seed=11, n=10):
+    truth = truth or dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", sum(k.startswith("tau") for k in truth))
+    rng = np.random.default_rng(seed)
+    eps = np.linspace(-0.5 / n, -0.5, n)
+    out = []
+    for r in rates:
+        s = m.stress(truth, strain=eps, strain_rate=r, measure="engineering")
+        out.append(vhfit.Curve(strain=eps, stress=s * (1 + rng.uniform(-noise, noise, n)),
+                               strain_rate=r))
+    return out
+
+
+# ========================================================= extreme parameters
+def _log_uniform(lo, hi, zero=False):
+    s = st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
+    return st.one_of(st.just(0.0), s) if zero else s
+
+
+@st.composite
+def extreme_batch(draw):
+    """A model, a batch of extreme parameter sets, and extreme histories."""
+    name = draw(st.sampled_from(vhfit.hyperelastic.available()))
+    n_prony = draw(st.integers(0, 3))
+    m = vhfit.ViscoHyperelastic(name, n_prony)
+    hm = m.hyperelastic
+    P = 16
+    X = np.empty((P, m.n_params))
+    for k in range(hm.n_params):
+        if hm.units[k] == "MPa":
+            X[:, k] = draw(st.lists(_log_uniform(1e-12, 1e9, zero=True), min_size=P,
+                                    max_size=P))
+        else:  # exponents: anywhere in their bounds, or the edges of the search box
+            lo, hi = hm.bounds[k]
+            lo, hi = max(lo, -30.0), min(hi, 30.0)
+            X[:, k] = draw(st.lists(st.floats(lo, hi), min_size=P, max_size=P))
+    for i in range(n_prony):
+        X[:, hm.n_params + 2 * i] = draw(st.lists(_log_uniform(1e-12, 1e9, zero=True),
+                                                  min_size=P, max_size=P))
+        X[:, hm.n_params + 2 * i + 1] = draw(st.lists(_log_uniform(1e-15, 1e15), min_size=P,
+                                                      max_size=P))
+    # a few plainly invalid individuals: negative or non-finite entries
+    for row in draw(st.lists(st.integers(0, P - 1), max_size=3)):
+        col = draw(st.integers(0, m.n_params - 1))
+        X[row, col] = draw(st.sampled_from([-1.0, np.nan, np.inf, -np.inf, 0.0]))
+    lam_end = draw(st.sampled_from([0.01, 0.05, 0.5, 1.5, 10.0]))
+    rates = draw(st.lists(_log_uniform(1e-6, 1e6), min_size=1, max_size=3))
+    sign = 1.0 if lam_end > 1 else -1.0
+    eps = np.linspace((lam_end - 1) / 5, lam_end - 1, 5)
+    hist = [vhfit.History.constant_rate(eps, sign * r) for r in rates]
+    if draw(st.booleans()):  # load, unload, hold
+        t = np.array([0.0, 1.0, 2.0, 5.0]) * draw(_log_uniform(1e-6, 1e6))
+        hist.append(vhfit.History.piecewise_linear(t, [0.0, lam_end - 1, (lam_end - 1) / 2,
+                                                       (lam_end - 1) / 2]))
+    return m, X, hist
+
+
+@settings(suppress_health_check=[HealthCheck.too_slow],
+          max_examples=max(settings.default.max_examples * 3, 30))
+@given(extreme_batch())
+def test_extreme_parameters_give_finite_stress_or_inf_never_nan(case):
+    m, X, hist = case
+    with warnings.catch_warnings():
+        # invalid individuals may warn (numpy arithmetic on inf/nan); they must not crash
+        warnings.simplefilter("ignore", RuntimeWarning)
+        S = m.batch(hist)(X)
+    assert not np.isnan(S).any()
+    assert np.all(np.isfinite(S) | (S == np.inf))
+    rows_inf = np.all(S == np.inf, axis=1)
+    assert np.all(np.isfinite(S[~rows_inf]))  # an individual is wholly valid or wholly inf
+    hyper, G, tau = m.split(X)
+    # tau = +inf is a valid limit (a frozen branch); NaN, other infinities, G < 0 and
+    # tau <= 0 are not
+    plainly_bad = (np.isnan(X).any(axis=1) | ~np.isfinite(hyper).all(axis=1)
+                   | ~np.isfinite(G).all(axis=1) | (G < 0).any(axis=1) | (tau <= 0).any(axis=1))
+    assert rows_inf[plainly_bad].all()
+    finite = ~plainly_bad
+    if finite.any():  # individuals without plainly bad entries: no RuntimeWarning at all
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            np.testing.assert_array_equal(m.batch(hist)(X[finite]), S[finite])
+    if m.hyperelastic.name in ("mooney_rivlin", "neo_hooke", "yeoh"):
+        # invariant laws with non-negative moduli and E_inf > 0 are defined on every
+        # history: an extreme but valid individual must come out finite
+        E = 3 * m.hyperelastic.initial_shear_modulus(np.nan_to_num(hyper, nan=-1))
+        valid = ~plainly_bad & np.all(hyper >= 0, axis=1) & (E > 0)
+        assert not rows_inf[valid].any()
+
+
+@pytest.mark.parametrize("tau, limit", [(1e-15, "long-term"), (1e15, "instantaneous")])
+@pytest.mark.parametrize("lam_end", [0.01, 10.0])
+def test_relaxation_time_extremes_reach_their_limits(tau, limit, lam_end):
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    C10, C01, G = 0.3, 0.2, 1e9
+    eps = np.linspace((lam_end - 1) / 4, lam_end - 1, 4)
+    # slow enough that the viscous correction G tau r dŝ/dλ of tau = 1e-15 is below 1e-6
+    r = 1e-3 if lam_end > 1 else -1e-3
+    s = m.stress([C10, C01, G, tau], strain=eps, strain_rate=r)
+    lam = 1 + eps
+    s_h = 2 * C10 * (lam**2 - 1 / lam) + 2 * C01 * (lam - 1 / lam**2)
+    E = 6 * (C10 + C01)
+    expected = s_h if limit == "long-term" else s_h * (E + G) / E
+    assert np.all(np.isfinite(s))
+    np.testing.assert_allclose(s, expected, rtol=1e-6)
+
+
+def test_calibrate_survives_extreme_data():
+    # stresses of 1e9 MPa, strains to -0.99, rates from 1e-6 to 1e6 per second
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    eps = np.linspace(-0.099, -0.99, 10)
+    truth = dict(C10=1e8, C01=1e7, G1=1e9, tau1=1e-3)
+    curves = [vhfit.Curve(strain=eps, strain_rate=r,
+                          stress=m.stress(truth, strain=eps, strain_rate=r, measure="engineering"))
+              for r in (-1e-6, -1e6)]
+    cal = calibrate(curves, n_prony=1, seed=0)
+    assert np.isfinite(cal.rmsape) and cal.rmsape < 1.0
+    assert all(np.isfinite(v) for v in cal.params.values())
+
+
+# ================================================================ determinism
+def test_full_method_is_bit_identical_across_runs():
+    curves = noisy_curves()
+    kw = dict(n_prony=2, seed=4, method="full", maxiter=25, uncertainty=False)
+    a, b = calibrate(curves, **kw), calibrate(curves, **kw)
+    assert a.params == b.params
+    assert a.history["best"] == b.history["best"] and a.history["mean"] == b.history["mean"]
+
+
+def test_separable_search_is_bit_identical_for_workers_1_and_2():
+    curves = noisy_curves()
+    kw = dict(n_prony=2, seed=4, maxiter=4, popsize=16, uncertainty=False)
+    a, b = calibrate(curves, workers=1, **kw), calibrate(curves, workers=2, **kw)
+    assert a.params == b.params
+    assert a.history["best"] == b.history["best"] and a.history["mean"] == b.history["mean"]
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "calibrate bug: with workers != 1 SciPy switches the paper's 'immediate' updating to "
+    "'deferred', so method='full' follows another trajectory (fix: always 'deferred' for "
+    "the full method, or refuse workers != 1 with 'immediate')"))
+def test_full_method_is_bit_identical_for_workers_1_and_2():
+    curves = noisy_curves()
+    kw = dict(n_prony=2, seed=4, method="full", maxiter=3, popsize=20, polish=False,
+              uncertainty=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        a, b = calibrate(curves, workers=1, **kw), calibrate(curves, workers=2, **kw)
+    assert a.params == b.params
+
+
+def test_full_method_with_deferred_updating_is_bit_identical_for_workers_1_and_2():
+    curves = noisy_curves()
+    kw = dict(n_prony=2, seed=4, method="full", maxiter=3, popsize=20, polish=False,
+              uncertainty=False, de_options={"updating": "deferred"})
+    a, b = calibrate(curves, workers=1, **kw), calibrate(curves, workers=2, **kw)
+    assert a.params == b.params and a.history["best"] == b.history["best"]
+
+
+# ================================================================= durability
+def test_atomic_write_keeps_the_old_file_when_the_write_fails(tmp_path, monkeypatch):
+    target = tmp_path / "results.json"
+    atomic_write(target, '{"old": true}')
+
+    def boom(*a, **k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(os, "replace", boom)
+    with pytest.raises(OSError, match="disk full"):
+        atomic_write(target, '{"new": true}' * 1000)
+    assert json.loads(target.read_text()) == {"old": True}
+    assert [p.name for p in tmp_path.iterdir()] == ["results.json"]  # no temp file left
+
+
+# What the killed child runs; shared with the reference computed in the test process.
+FIT = textwrap.dedent(
+    """
+    import json, warnings
+    import numpy as np
+    import vhfit
+    from vhfit.calibrate import atomic_write
+
+    OPTS = dict(n_prony=2, seed=123, popsize=64, maxiter=MAXITER, tol=0.0, target=0.0,
+                stall=(0.0, 10**9), uncertainty=False)
+
+    def make_curves():
+        m = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+        truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+        rng = np.random.default_rng(11)
+        out = []
+        for r in (-1.0, -10.0, -100.0, -1000.0):
+            eps = np.linspace(-0.05, -0.5, 10)
+            s = m.stress(truth, strain=eps, strain_rate=r, measure="engineering")
+            out.append(vhfit.Curve(strain=eps, stress=s * (1 + rng.uniform(-0.05, 0.05, 10)),
+                                   strain_rate=r))
+        return out
+
+    def summary(cal):
+        return {"params": cal.params, "best": cal.history["best"],
+                "mean": cal.history["mean"], "nit": cal.nit, "stop": cal.stop_reason}
+
+    def fit(ck, out):
+        warnings.simplefilter("ignore")
+        cal = vhfit.calibrate(make_curves(), checkpoint=ck, checkpoint_every=0.0,
+                              resume=True, **OPTS)
+        atomic_write(out, json.dumps(summary(cal)))
+    """
+)
+
+# A zygote: imports vhfit once, then forks a child per request (a fresh interpreter per
+# kill would spend most of the test importing). It only runs numba's sequential kernel
+# before forking, so the children can start numba's (fork-unsafe) thread pool themselves.
+ZYGOTE = textwrap.dedent(
+    """
+    import json, os, sys, traceback
+    exec(open(sys.argv[1]).read())
+    make_curves()  # warm up: load the kernels from numba's cache
+    for line in sys.stdin:
+        cmd = json.loads(line)
+        if cmd["op"] == "fork":
+            pid = os.fork()
+            if pid == 0:
+                try:
+                    fit(cmd["ck"], cmd["out"])
+                    os._exit(0)
+                except BaseException:
+                    with open(cmd["out"] + ".err", "w") as f:
+                        f.write(traceback.format_exc())
+                    os._exit(3)
+            reply = {"pid": pid}
+        else:  # wait (blocking) or poll
+            pid, st = os.waitpid(cmd["pid"], 0 if cmd["op"] == "wait" else os.WNOHANG)
+            reply = {"done": pid != 0, "code": os.waitstatus_to_exitcode(st) if pid else None}
+        print(json.dumps(reply), flush=True)
+    """
+)
+
+
+class Zygote:
+    """Drives the zygote process: fork a fitting child, poll it, kill it, reap it."""
+
+    def __init__(self, tmp_path, fit_file):
+        script = tmp_path / "zygote.py"
+        script.write_text(ZYGOTE)
+        self.p = subprocess.Popen([sys.executable, str(script), str(fit_file)],
+                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+
+    def ask(self, **cmd):
+        self.p.stdin.write(json.dumps(cmd) + "\n")
+        self.p.stdin.flush()
+        line = self.p.stdout.readline()
+        assert line, "the zygote died"
+        return json.loads(line)
+
+    def close(self):
+        self.p.stdin.close()
+        self.p.wait(timeout=30)
+
+
+def read_checkpoint(ck) -> int:
+    """Generations in the checkpoint (0 if there is none); fails on a torn file."""
+    if not os.path.exists(ck):
+        return 0
+    with open(ck) as f:
+        data = json.load(f)  # a truncated or half-written file raises here
+    assert data["format"] == "vhfit-checkpoint-1"
+    assert len(data["population"]) == len(data["energies"]) > 0
+    return len(data["history"]["nit"])
+
+
+def reference(maxiter):
+    ns: dict = {}
+    exec(FIT.replace("MAXITER", str(maxiter)), ns)
+    return ns["summary"](vhfit.calibrate(ns["make_curves"](), **ns["OPTS"]))
+
+
+def _kill_and_resume(tmp_path, kills, maxiter, seed):
+    fit_file = tmp_path / "fit.py"
+    fit_file.write_text(FIT.replace("MAXITER", str(maxiter)))
+    ck, out = str(tmp_path / "checkpoint.json"), str(tmp_path / "result.json")
+    zyg = Zygote(tmp_path, fit_file)
+    rng = random.Random(seed)
+    seen, codes = [], []
+    try:
+        for i in range(kills):
+            gen0 = read_checkpoint(ck)
+            pid = zyg.ask(op="fork", ck=ck, out=out)["pid"]
+            if i % 4 == 0:  # any moment from the start: loading, first generation, ...
+                time.sleep(rng.uniform(0.0, 0.15))
+            else:  # after some progress, at a random phase of a generation or a write
+                deadline = time.monotonic() + 60
+                while read_checkpoint(ck) <= gen0 and time.monotonic() < deadline:
+                    if zyg.ask(op="poll", pid=pid)["done"]:
+                        break
+                    time.sleep(0.002)
+                time.sleep(rng.uniform(0.0, 0.05))
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:  # pragma: no cover - reaped already
+                pass
+            codes.append(zyg.ask(op="wait", pid=pid)["code"])
+            seen.append(read_checkpoint(ck))  # whole and valid after every kill
+            assert not os.path.exists(out + ".err"), open(out + ".err").read()
+        pid = zyg.ask(op="fork", ck=ck, out=out)["pid"]  # the last run goes to the end
+        assert zyg.ask(op="wait", pid=pid)["code"] == 0, open(out + ".err").read()
+    finally:
+        zyg.close()
+    assert seen == sorted(seen)  # progress is never lost
+    with open(out) as f:
+        return json.load(f), seen, codes
+
+
+@posix_only
+def test_sigkill_at_random_moments_then_resume_reaches_the_uninterrupted_constants(tmp_path):
+    maxiter = 120
+    got, seen, codes = _kill_and_resume(tmp_path, kills=20, maxiter=maxiter, seed=20261121)
+    ref = reference(maxiter)
+    assert codes.count(-signal.SIGKILL) == 20  # every run was killed, none finished
+    assert len(set(seen)) > 10  # the kills landed all along the search
+    assert got["params"] == ref["params"]
+    assert got["best"] == ref["best"] and got["mean"] == ref["mean"]
+    assert got["nit"] == ref["nit"] == maxiter
+
+
+@posix_only
+@pytest.mark.slow
+def test_sigkill_of_fresh_interpreters_then_resume(tmp_path):
+    """The same with a new ``python`` per run, killed anywhere (also while importing)."""
+    maxiter = 150
+    fit_file = tmp_path / "fit.py"
+    fit_file.write_text(FIT.replace("MAXITER", str(maxiter)))
+    ck, out = str(tmp_path / "checkpoint.json"), str(tmp_path / "result.json")
+    code = f"exec(open({str(fit_file)!r}).read()); fit({ck!r}, {out!r})"
+    rng = random.Random(7)
+    seen = []
+    for _ in range(20):
+        p = subprocess.Popen([sys.executable, "-c", code])
+        time.sleep(rng.uniform(0.0, 6.0))
+        p.kill()
+        p.wait()
+        seen.append(read_checkpoint(ck))
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=600)
+    ref = reference(maxiter)
+    got = json.loads(open(out).read())
+    assert seen == sorted(seen)
+    assert got["params"] == ref["params"] and got["best"] == ref["best"]
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "calibrate bug: the final checkpoint does not record that the search ended, so a "
+    "resume after it (e.g. SIGKILL after the last checkpoint, before the results were "
+    "written) runs one more generation (fix: save the stop reason in the last "
+    "checkpoint and skip the search on resume)"))
+def test_resume_from_the_final_checkpoint_gives_the_same_result(tmp_path):
+    curves = noisy_curves()
+    kw = dict(n_prony=2, seed=5, uncertainty=False)
+    ref = calibrate(curves, **kw)
+    ck = tmp_path / "ck.json"
+    first = calibrate(curves, checkpoint=ck, checkpoint_every=0.0, resume=True, **kw)
+    assert first.params == ref.params and first.nit == ref.nit
+    again = calibrate(curves, checkpoint=ck, checkpoint_every=0.0, resume=True, **kw)
+    assert again.nit == ref.nit
+    assert again.history["best"] == ref.history["best"]
+    assert again.params == ref.params
+
+
+# ============================================================ resource bounds
+def test_max_time_ends_the_search_cleanly_with_the_best_so_far():
+    curves = noisy_curves()
+    t0 = time.perf_counter()
+    cal = calibrate(curves, n_prony=3, seed=0, popsize=256, tol=0.0, target=0.0,
+                    maxiter=10**6, stall=(0.0, 10**9), max_time=0.5, uncertainty=False)
+    wall = time.perf_counter() - t0
+    assert cal.stop_reason == "max_time"
+    assert np.isfinite(cal.rmsape)
+    assert cal.rmsape <= min(cal.history["best"]) * (1 + 1e-12)
+    assert wall < 0.5 + 15  # one generation, the polish and the report after the deadline
+
+
+def test_a_million_point_curve_is_decimated_for_the_objective_and_kept_whole():
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-2)
+    n = 10**6
+    curves = []
+    for r in (-1.0, -100.0):
+        eps = np.linspace(-0.5 / n, -0.5, n)
+        knots = np.linspace(-0.5 / n, -0.5, 2001)  # the model on a fine grid, interpolated
+        s = m.stress(truth, strain=knots, strain_rate=r, measure="engineering")
+        curves.append(vhfit.Curve(strain=eps, strain_rate=r,
+                                  stress=np.interp(eps, knots[::-1], s[::-1])))
+    tracemalloc.start()
+    try:
+        cal = calibrate(curves, n_prony=1, seed=0)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert all(c.strain.size == n for c in curves)  # the data are kept whole
+    assert all(c.target_stress.size == 10 for c in curves)  # the objective is decimated
+    assert cal.rmsape < 1e-3
+    assert peak < 200e6  # bytes allocated by the calibration itself, at most
+
+
+def test_a_population_of_ten_thousand_is_evaluated_in_bounded_memory():
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    curves = noisy_curves()
+    b = m.batch(curves)
+    rng = np.random.default_rng(0)
+    P = 10_000
+    X = np.column_stack([rng.uniform(0, 1, (P, 2))] + [
+        np.column_stack([rng.uniform(0, 5, P), 10 ** rng.uniform(-5, 2, P)]) for _ in range(3)])
+    tracemalloc.start()
+    try:
+        S = b(X)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert S.shape == (P, 40) and np.all(np.isfinite(S))
+    # the working arrays are O(P x samples): about 40 MB here, never a P x P object
+    assert peak < 50 * P * b.sample_stretch.size * 8 / 40 + 50e6
