@@ -9,7 +9,7 @@ The public API (SPEC §7)::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import export, hyperelastic, optimize, viscoelastic
+from vhfit import export, hyperelastic, viscoelastic
 from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, read_csv
 from vhfit.history import History
@@ -17,6 +17,15 @@ from vhfit.model import Batch, ViscoHyperelastic
 from vhfit.objective import Objective, per_curve_rmsape, rmsape
 
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str):
+    # the optimizer pulls in scipy.optimize (~0.3 s): load it when first used
+    if name == "optimize":
+        import importlib
+
+        return importlib.import_module("vhfit.optimize")
+    raise AttributeError(f"module 'vhfit' has no attribute {name!r}")
 
 __all__ = [
     "Batch",

@@ -28,8 +28,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize as _sopt
-from scipy import stats as _stats
 
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
@@ -317,7 +315,7 @@ def _save_checkpoint(path, key, snap: dict) -> None:
     atomic_write(path, json.dumps({**snap, "key": key}, default=_json_default))
 
 
-def _load_checkpoint(path, key, solver, history) -> tuple[int, float]:
+def _load_checkpoint(path, key, solver, history) -> tuple[int, float, str | None]:
     try:
         with open(path) as f:
             data = json.load(f)
@@ -339,7 +337,7 @@ def _load_checkpoint(path, key, solver, history) -> tuple[int, float]:
     solver._random_population_index = np.array(data["index"], dtype=np.int64)
     for k in history:
         history[k][:] = data["history"][k]
-    return len(history["nit"]), float(data["elapsed"])
+    return len(history["nit"]), float(data["elapsed"]), data.get("done")
 
 
 def _json_default(o):
@@ -417,17 +415,19 @@ class _Problem:
         P, N = tau.shape
         amps = np.zeros((P, 1 + N))
         err = np.full(P, np.inf)
+        from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
+
         ys = self.y * self.scale
         kappa = self.g_inf_min / (1.0 - self.g_inf_min) if self.g_inf_min > 0 else 0.0
         for p in range(P):
             A = np.column_stack([base[p]] + [H[p, i] for i in range(N)]) * self.scale[:, None]
             if not np.all(np.isfinite(A)):
                 continue
-            a, rn = _sopt.nnls(A, ys)
+            a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
                 # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
                 Ak = A[:, 1:] + kappa * A[:, :1]
-                g, rn = _sopt.nnls(Ak, ys)
+                g, rn = nnls(Ak, ys)
                 a = np.concatenate([[kappa * g.sum()], g])
             amps[p] = a
             err[p] = rn
@@ -601,7 +601,9 @@ def _polish(prob: _Problem, x0: np.ndarray, max_nfev: int = 200):
         return x0, e0, counter["n"]
     try:
         with np.errstate(all="ignore"):
-            res = _sopt.least_squares(
+            from scipy.optimize import least_squares
+
+            res = least_squares(
                 fun, z0_full[free], jac=jac, bounds=(lo[free], hi[free]), method="trf",
                 x_scale="jac", max_nfev=max_nfev, xtol=1e-15, ftol=1e-15, gtol=1e-15,
             )
@@ -647,7 +649,9 @@ def _confidence(prob: _Problem, x: np.ndarray, level: float = 0.95):
     tiny = sv <= sv.max() * 1e-10 if sv.size else np.array([], bool)
     inv = np.where(tiny, 0.0, 1.0 / np.where(tiny, 1.0, sv) ** 2)
     cov = (Vt.T * inv) @ Vt * s2
-    tq = float(_stats.t.ppf(0.5 + level / 2, dof))
+    from scipy.stats import t as student_t
+
+    tq = float(student_t.ppf(0.5 + level / 2, dof))
     for k, name in enumerate(model.param_names):
         half = tq * math.sqrt(max(cov[k, k], 0.0))
         # a parameter along a (near-)null direction of J cannot be identified
@@ -956,12 +960,18 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         if method == "separable":
             opts = dict(strategy="best1bin", mutation=(0.5, 1.0), recombination=0.9,
                         init="sobol", updating="deferred")
-        else:  # the paper's DE: rand/1/bin, F = 0.8, CR = 0.7, immediate updating
+        else:  # the paper's DE: rand/1/bin, F = 0.8, CR = 0.7, NP = 60; each generation
+            # is evaluated as one batch (deferred updating) so that workers = 1 and 2 follow
+            # the same trajectory; de_options={"updating": "immediate"} is the paper's exact
+            # one-at-a-time variant
             opts = dict(strategy="rand1bin", mutation=0.8, recombination=0.7,
-                        init="latinhypercube", updating="immediate")
+                        init="latinhypercube", updating="deferred")
         opts.update(de_options or {})
-        if workers != 1:  # parallel evaluation needs whole generations: deferred updating
-            opts["updating"] = "deferred"
+        if workers != 1 and opts["updating"] != "deferred":
+            raise ValueError(
+                "updating='immediate' evaluates one trial at a time and cannot use workers: "
+                "use workers=1 or deferred updating"
+            )
         # SciPy sizes the population as popsize * dim
         mult = max(1, int(math.ceil(npop / dim)))
         vec = opts["updating"] == "deferred"
@@ -971,21 +981,26 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
             vectorized=vec, **opts,
         ) as solver:
             solver_ref["s"] = solver
+            finished = None
             if resume and ckpt is not None and os.path.exists(ckpt):
-                done, elapsed = _load_checkpoint(ckpt, key, solver, history)
+                done, elapsed, finished = _load_checkpoint(ckpt, key, solver, history)
                 solver.maxiter = max(cap - done, 0)
                 t0 -= elapsed - (time.perf_counter() - t0)
             try:
-                res = solver.solve()
-                z, nit = res.x, res.nit
-                nit = len(history["nit"])
-                stop = state["stop"] or ("maxiter" if nit >= cap else res.message)
+                if finished:  # the search had ended before the run was cut: don't extend it
+                    z, stop = solver.x, finished
+                else:
+                    res = solver.solve()
+                    z = res.x
+                    stop = state["stop"] or (
+                        "maxiter" if len(history["nit"]) >= cap else res.message)
             except KeyboardInterrupt:
                 stop = "interrupted"
                 z = state["best_x"] if state["best_x"] is not None else solver.x
-                nit = len(history["nit"])
+            nit = len(history["nit"])
             if ckpt is not None and state.get("snap") is not None:
-                _save_checkpoint(ckpt, key, state["snap"])
+                snap = state["snap"] if stop == "interrupted" else {**state["snap"], "done": stop}
+                _save_checkpoint(ckpt, key, snap)
         nfev = max(prob.nfev, int(getattr(solver, "_nfev", 0)))
     x = prob.sep_to_params(np.asarray(z)) if method == "separable" else \
         prob.full_to_params(np.asarray(z), prob.hm.n_params)
