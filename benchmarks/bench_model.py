@@ -437,7 +437,10 @@ def main(argv=None):
     if lo_found is not None:
         ratio = t_uni / t_vh_r
         print(f"  (uniform trapezoid, restricted tau range: {ratio:.0f}x)")
-    print(f"  cold start <= {TARGET_COLD_S:g} s: {wall:.2f} s {yes(wall <= TARGET_COLD_S)}")
+    cold = t_import + t_first  # the target: import and first call (cache warm)
+    print(f"  cold start (import + first call) <= {TARGET_COLD_S:g} s: {cold:.2f} s "
+          f"{yes(cold <= TARGET_COLD_S)} (whole interpreter incl. start-up and exit: "
+          f"{wall:.2f} s)")
 
 
 if __name__ == "__main__":
