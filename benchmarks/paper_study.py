@@ -447,7 +447,7 @@ def fig_strategies(R, path):
             ax.scatter([r["wall"] for r in rs], [max(r["rmsape"], FLOOR) for r in rs], s=14,
                        alpha=0.7, color=COLORS["default"], marker="x", label="vhfit default")
         ax.set(xscale="log", yscale="log", xlabel="wall time (s)", title=title)
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     axes[0].set_ylabel(f"final RMSAPE (%) (values < {FLOOR:g} drawn at {FLOOR:g})")
     fig.suptitle("Final error against wall time, 5 random materials × N = 1..5 × seeds "
@@ -476,7 +476,7 @@ def fig_prony(R, path):
             ax.errorbar(x, y, yerr=[np.array(y) - lo, np.array(hi) - y], marker="o", capsize=3,
                         color=COLORS[st], label="vhfit default" if st == "default" else st)
         ax.set(yscale="log", xlabel="number of Prony terms N", title=title, xticks=ns)
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     axes[0].set_ylabel("final RMSAPE (%): median and quartiles")
     fig.suptitle("Final error against N (cf. paper Fig. 7); the materials have 3 true terms",
@@ -504,7 +504,7 @@ def fig_population(R, path_hist, path_final):
             b = [max(p[2], FLOOR) for p in h] + [max(rs[0]["rmsape"], FLOOR)]
             ax.step(t, b, where="post", color=cmap(i / max(1, len(nps) - 1)), label=f"NP {npop}")
         ax.set(xscale="log", yscale="log", xlabel="wall time (s)", title=title)
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     axes[0].set_ylabel("best RMSAPE (%)")
     fig.suptitle("Best error against time for each population size (cf. paper Fig. 8); "
@@ -524,7 +524,7 @@ def fig_population(R, path_hist, path_final):
              for npop in nps]
         ax.plot(nps, y, color="k", lw=2.5, label="median of all")
         ax.set(yscale="log", xlabel="population size NP", title=title)
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axes[0].set_ylabel("final RMSAPE (%), median over seeds")
     fig.suptitle("Final error against population size (cf. paper Fig. 9)", fontsize=10)
@@ -552,7 +552,7 @@ def fig_sebs_gelatin(R, path):
             ax.axhline(PAPER["gelatin"]["rmsape"], color="gray", ls="--",
                        label="paper on measured gelatin (19.69 %)")
         ax.set(yscale="log", xlabel="number of Prony terms N", title=case + " stand-in")
-        ax.grid(alpha=0.3, which="both")
+        ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axes[0].set_ylabel("final RMSAPE (%), median over seeds")
     fig.tight_layout()
@@ -829,6 +829,10 @@ def section_item1(R, meta, figs):
                  "vhfit RMSAPE % (same bounds)", "vhfit wall s"], rows_c)
     cm = {st: med([r["rmsape"] for r in cv[st]]) for st in STRATEGIES}
     cw = {st: med([r["wall"] for r in cv[st]]) for st in STRATEGIES}
+    t1 = {st: [time_to(r, lvl) for r in cv[st]] for st in STRATEGIES}
+    t1p = {st: f"{sum(np.isfinite(v))}/{len(v)} runs, median {fmt(float(np.median(v)), 2)} s"
+           for st, v in t1.items()}  # median with inf for runs that never got there
+    speed = float(np.median(t1["free"]) / np.median(t1["semifree"]))
 
     # claims
     pm, om = _strategy_medians(R, "paper"), _strategy_medians(R, "vhfit")
@@ -868,10 +872,11 @@ def section_item1(R, meta, figs):
          + (" (fixed has only the moduli to search)" if min(cw, key=cw.get) == "fixed" else
             f" (fastest: {min(cw, key=cw.get)})")],
         ["semifree converges 10-100× faster than free (Discussion)",
-         f"to its criteria (1c): free/semifree wall = {fmt(cw['free'] / cw['semifree'], 3)}",
-         "", yes(cw["free"] / cw["semifree"] >= 10)
-         + (f" (×{fmt(cw['free'] / cw['semifree'], 2)}, not 10×)"
-            if 1.2 < cw["free"] / cw["semifree"] < 10 else "")],
+         f"to its criteria (1c): free/semifree wall = {fmt(cw['free'] / cw['semifree'], 3)}; "
+         f"time to reach {lvl:g} %: free {t1p['free']}, semifree {t1p['semifree']}; final "
+         f"error free/semifree = {fmt(cm['free'] / cm['semifree'], 3)}",
+         "", "**partly reproduced**" + f" (×{fmt(speed, 2)} sooner to {lvl:g} %, not 10×)"
+         if 1.2 < speed < 10 else yes(speed >= 10)],
         ["free and semifree give the same error at N = 1 (Fig. 7)",
          f"free {fmt(n1['paper'][0])} %, semifree {fmt(n1['paper'][1])} %",
          f"free {fmt(n1['vhfit'][0])} %, semifree {fmt(n1['vhfit'][1])} %",
@@ -973,6 +978,8 @@ def section_item2(R, meta, figs):
     t2 = table(["material", "paper's DE: NP from which error is within 2× of its best",
                 "its best median %", "vhfit default: same", "its best median %"], per)
     pl_p, pl_o = _plateau(nps, pmed), _plateau(nps, omed)
+    hard = max(per, key=lambda r: r[1])
+    easy = min(per, key=lambda r: r[1])
     txt = f"""\
 ## 2. Population size (paper Figs. 8-9)
 
@@ -996,9 +1003,15 @@ needs at least 60": with the paper's DE here the median error over all materials
 NP = {nps[int(np.argmin(pmed))]}). Under a fixed generation cap a larger population gets
 fewer generations' worth of progress per evaluation, so this measures the paper's DE at
 equal generations, as the paper's Fig. 8 does at equal time; the paper ran each NP to its
-stopping criteria. With vhfit the population hardly matters: from NP = **{pl_o}** the
-median is within 2× of its best ({fmt(min(omed))} %), because DE only searches the
-{3 + 1} nonlinear parameters (shape and three log τ) and the moduli are solved exactly.
+stopping criteria. Per material, the paper's DE needs the largest population on
+{hard[0]} (NP = {hard[1]}) and the smallest on {easy[0]} (NP = {easy[1]}); the paper named
+Random_4 as the hardest (60) and Random_1 as the easiest (20). Wall times in this table
+also reflect the machine's load at the moment each run ran (runs are scheduled longest
+first), so compare generations and errors. With vhfit the population hardly matters:
+from NP = **{pl_o}** the median is within 2× of its best ({fmt(min(omed))} %), because DE
+only searches the 4 nonlinear parameters (shape and three log τ) and the moduli are
+solved exactly — the smallest populations (8 and 16 after rounding) need more generations
+but not more time.
 """
     return txt, dict(pl_p=pl_p, pl_o=pl_o, pmed=pmed, omed=omed, nps=nps)
 
@@ -1070,6 +1083,16 @@ def section_item3(R, meta):
               f"{fmt(pspread, 2)} %): it stops short of the optimum vhfit finds, consistent "
               "with the paper's explanation that its noisy runs stop early (its best-mean "
               "gap criterion ends them).")
+    allfit = [r["rmsape"] for r in otr[:1] + real]
+    allfloor = [r["floor"] for r in otr[:1] + real]
+    if allfit:
+        lo_f, hi_f = min(allfit), max(allfit)
+        r2 += (f" Over {len(allfit)} noise realisations the best fits span {fmt(lo_f, 3)}–"
+               f"{fmt(hi_f, 3)} % (noise floors {fmt(min(allfloor), 3)}–"
+               f"{fmt(max(allfloor), 3)} %)"
+               + (", a range that contains the paper's 3.117–3.120 %: its Table 4 is what the "
+                  "global optimum of a ±5 %-noisy Random_3 looks like."
+                  if lo_f <= 3.12 <= hi_f else "."))
     txt = f"""\
 ## 3. Noise (paper Table 4)
 
@@ -1112,15 +1135,17 @@ def _param_rows(truth, runs, paper_runs):
 
 def section_item4(R, meta, figs):
     rows = []
-    semi_better = {}
+    semi_better, compared = {}, {}
     for case in ("SEBS", "gelatin"):
         ns = sorted({r["n"] for r in select(R, item=4, case=case, method="default")})
         semi_better[case] = 0
         for n in ns:
             d = select(R, item=4, case=case, method="default", n=n)
             s = select(R, item=4, case=case, method="vhfit", n=n)
-            if med([r["rmsape"] for r in s]) < med([r["rmsape"] for r in d]) * 0.99:
-                semi_better[case] += 1
+            es, ed = med([r["rmsape"] for r in s]), med([r["rmsape"] for r in d])
+            if max(es, ed) > 1e-3:  # below 1e-3 % both are exact fits: no ranking
+                semi_better[case] = semi_better.get(case, 0) + (es < 0.99 * ed)
+                compared[case] = compared.get(case, 0) + 1
             rows.append([f"{case}, N = {n}", spread([r["rmsape"] for r in d]),
                          fmt(med([r["wall"] for r in d]), 2), fmt(med([r["n_eff"] for r in d]), 2),
                          spread([r["rmsape"] for r in s]), fmt(med([r["wall"] for r in s]), 2),
@@ -1169,11 +1194,12 @@ the paper then pruned to 2), up to {meta['args']['long_gens']} generations.
   zero. On the stand-ins (which have 4 and 2 true terms) the error falls to rounding level
   from the true N on, and vhfit prunes the surplus terms by itself: gelatin with N = 5
   keeps a median of {fmt(med([r['n_eff'] for r in gel5]), 2)} terms.
-- The paper found semifree better than free "for all Prony series numbers" on gelatin;
-  with vhfit, semifree beats free at {semi_better['gelatin']} of 5 N on the gelatin
-  stand-in and {semi_better['SEBS']} of 5 on SEBS — with an optimizer that solves the
-  moduli exactly the unconstrained (free) search is at least as good, up to the
-  optimizer's own convergence.
+- The paper found semifree better than free "for all Prony series numbers" on gelatin.
+  With vhfit, counting only the N where either strategy leaves more than 1e-3 % (below
+  that both are exact fits), semifree beats free at {semi_better.get('gelatin', 0)} of
+  {compared.get('gelatin', 0)} N on the gelatin stand-in and {semi_better.get('SEBS', 0)}
+  of {compared.get('SEBS', 0)} on SEBS: with an optimizer that solves the moduli exactly,
+  the unconstrained (free) search is at least as good.
 - {"Both published τ1 sit exactly on the lower bound of Eq. 22" if edge else
    "The published τ1 are near the lower bound of Eq. 22"} (SEBS: log10 τ1 = {t1s['SEBS']:.2f},
   bound {lows['SEBS']:.2f}; gelatin: {t1s['gelatin']:.2f}, bound {lows['gelatin']:.2f}):
@@ -1329,25 +1355,33 @@ def section_summary(R, meta, s3):
 
 
 def section_scorecard(cells1a, cells1b, cells_o):
-    groups = [("1: strategies × N, vhfit on the same τ bounds", cells1a),
-              ("1: strategies × N, vhfit default (free τ)", cells1b)]
+    groups = [("1a", "1: strategies × N, vhfit on the same τ bounds", cells1a),
+              ("1b", "1: strategies × N, vhfit default (free τ)", cells1b)]
     for item, name in ((2, "2: population size (vhfit default, popsize = NP)"),
                        (3, "3: noise and the standard case"), (4, "4: SEBS, gelatin stand-ins"),
                        (5, "5: gelatin, reported stiffening")):
-        groups.append((name, [c for c in cells_o if c["item"] == item]))
+        groups.append((str(item), name, [c for c in cells_o if c["item"] == item]))
     rows = []
     nonwin = []
-    for name, cs in groups:
+    for short, name, cs in groups:
         c = _count(cs)
-        rows.append([name, len(cs), c["win"], c["win (slower)"], c["tie"] + c["tie (slower)"],
-                     c["loss"]])
-        nonwin += [(name, x) for x in cs if x["verdict"] != "win"]
+        rows.append([f"{short} — {name.split(': ', 1)[1]}", len(cs), c["win"],
+                     c["win (slower)"], c["tie"] + c["tie (slower)"], c["loss"]])
+        nonwin += [(short, x) for x in cs if x["verdict"] != "win"]
     t = table(["item", "cells", "wins", "wins, but later than the paper's DE stopped", "ties",
                "losses"], rows)
+    t += ("\n\n1a: vhfit with the same τ strategy and bounds as the paper's DE in each cell; "
+          "1b: vhfit's default (free τ) against the paper's DE with each strategy.")
     why = []
     for name, x in nonwin:
         if x["verdict"].startswith("tie") and x["oe"] < 1e-6:
             reason = "both exact to rounding"
+        elif x["verdict"].startswith("tie") and ("fixed" in x["label"]
+                                                 or "N = 1," in x["label"]):
+            reason = ("the same optimum: with one term or fixed τ the search is small "
+                      "and the paper's DE converges within its budget too")
+        elif x["verdict"].startswith("tie") and "noise" in x["label"]:
+            reason = "both at the optimum of the noisy data, below the noise floor"
         elif x["verdict"].startswith("tie"):
             reason = "the same optimum (within 1 %)"
         elif x["verdict"] == "win (slower)":
@@ -1355,7 +1389,7 @@ def section_scorecard(cells1a, cells1b, cells_o):
                       "below its error")
         else:
             reason = "the paper's DE ends lower"
-        why.append([name.split(":")[0], x["label"], fmt(x["pe"]), fmt(x["pw"], 2), fmt(x["oe"]),
+        why.append([name, x["label"], fmt(x["pe"]), fmt(x["pw"], 2), fmt(x["oe"]),
                     fmt(x["ow"], 2), fmt(x["tt"], 2), x["verdict"], reason])
     t2 = table(["item", "cell", "paper's DE %", "its wall s", "vhfit %", "vhfit wall s",
                 "vhfit s to paper's error", "verdict", "why"], why,
@@ -1517,7 +1551,7 @@ Every cell that is not a plain win:
 {fail_txt}
 ## Reproduce
 
-    {meta['command']}
+    python benchmarks/paper_study.py
 
 writes this page, `docs/paper-study-summary.md` (the README table) and
 `docs/figures/paper_study_*.png`; `--quick` runs a one-minute subset into a temporary

@@ -319,7 +319,7 @@ def test_fit_writes_everything(noisy, tmp_path, monkeypatch, capsys):
 # ============================================ Ctrl-C and --resume (real script)
 @pytest.mark.skipif(os.name == "nt", reason="POSIX signals")
 def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy, tmp_path):
-    args = [*noisy, "--prony", "2", "--method", "full", "--maxiter", "80", "--target", "0",
+    args = [*noisy, "--prony", "2", "--method", "full", "--maxiter", "600", "--target", "0",
             "--checkpoint-every", "0.2", "--no-plot", "-q"]
     # the reference: uninterrupted, in-process (the same code path)
     assert cli.main(["fit", *map(str, args), "--out", str(tmp_path / "ref")]) == 0
@@ -343,7 +343,7 @@ def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy,
     assert "--resume" in stderr and "interrupted" in stderr
     res = json.loads((out / "results.json").read_text())
     assert res["status"] == "interrupted" and res["interrupted"] is True
-    assert res["stop_reason"] == "interrupted" and 0 < res["nit"] < 80
+    assert res["stop_reason"] == "interrupted" and 0 < res["nit"] < 600
     assert "INTERRUPTED" in (out / "summary.txt").read_text()
     for f in ("fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac"):
         assert (out / f).is_file()

@@ -16,6 +16,7 @@ import sys
 import textwrap
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -111,6 +112,15 @@ def test_serial_run_yields_in_input_order_and_isolates_failures(serial):
         assert (r.calibration is None) == (not r.ok)
         assert r.wall_time >= 0
         assert r.name in repr(r)
+
+
+def test_warnings_of_a_job_are_collected_in_its_result():
+    c = curves()
+    [r] = calibrate_many([dict(curves=c, n_prony=3, seed=0, uncertainty=False)])
+    assert r.ok
+    assert any("effective N" in w and w.startswith("CalibrationWarning") for w in r.warnings)
+    assert all(w.split(": ", 1)[1] in " ".join(r.warnings) for w in
+               ["CalibrationWarning: " + m for m in r.calibration.warnings])
 
 
 def test_serial_run_is_lazy():
@@ -294,3 +304,12 @@ def test_local_dask_cluster_gives_identical_constants(serial):
         assert same(streamed[name], r)
     assert [r.index for r in mapped] == [0, 1, 2]
     assert all(same(r, serial[r.name]) for r in mapped)
+
+
+def test_the_dask_example_runs_on_a_local_cluster(tmp_path):
+    pytest.importorskip("distributed")
+    script = Path(__file__).resolve().parents[1] / "examples" / "dask_cluster.py"
+    proc = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "identical constants in this process and on the Dask cluster: True" in proc.stdout

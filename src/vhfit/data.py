@@ -148,6 +148,12 @@ class _Where:
 
     def array(self, what: str, values: Any, n: int | None = None) -> np.ndarray:
         try:
+            complex_ = np.iscomplexobj(values)
+        except (TypeError, ValueError):
+            complex_ = False
+        if complex_:  # numpy would drop the imaginary part with only a warning
+            raise DataError(f"{self()}: {what} holds complex numbers: give real values")
+        try:
             arr = np.asarray(values, dtype=np.float64)
         except (TypeError, ValueError) as exc:
             raise DataError(
@@ -369,7 +375,8 @@ class Curve:
         try:
             weight = float(weight)
         except (TypeError, ValueError):
-            raise DataError(f"{where()}: weight={weight!r} is not a number") from None
+            raise DataError(f"{where()}: weight={weight!r} is not a number: give a number >= 0"
+                            ) from None
         if not (np.isfinite(weight) and weight >= 0):
             raise DataError(f"{where()}: weight={weight!r}: give a finite weight >= 0")
         rate = None if strain_rate is None else _parse_rate_value(strain_rate, where)
@@ -1387,7 +1394,8 @@ def _resolve_columns(
     stress = best(("stress",), "stress", prefer_measure=measure)
     time = best(("time",), "time")
     rate = best(("rate",), "strain rate")
-    header_list = ", ".join(map(repr, names))
+    header_list = ", ".join(map(repr, names[:12])) + (
+        f" and {len(names) - 12} more" if len(names) > 12 else "")
     if deform is None:
         raise DataError(
             f"{src}: no strain or stretch column among {header_list}: name one 'strain' "
@@ -1491,10 +1499,15 @@ class _Table:
                 return full if rows is None else full[rows]
         col = self.column(j)
         sub = col if rows is None else col[rows]
+        if sub.dtype.kind == "c":
+            raise DataError(f"{self.source}, column {self.names[j]!r}: holds complex numbers: "
+                            "give real values")
         if sub.dtype.kind in "iufb":
             arr = sub.astype(np.float64)
         else:
             try:
+                if any(isinstance(v, str) and not _plain(v) for v in sub):
+                    raise ValueError  # float() would take '1_000' and non-ASCII digits
                 arr = np.asarray(sub, dtype=np.float64)
             except (TypeError, ValueError):
                 arr = self._slow_floats(j, sub, rows, empty)
@@ -1515,11 +1528,13 @@ class _Table:
         for k, v in enumerate(sub):
             s = "" if v is None else str(v).strip().strip("\"'").strip()
             try:
+                if not _plain(s):
+                    raise ValueError(s)
                 out[k] = float(s)
                 continue
             except ValueError:
                 pass
-            if s.count(",") == 1 and "." not in s:
+            if s.count(",") == 1 and "." not in s and _plain(s):
                 try:  # decimal comma
                     out[k] = float(s.replace(",", "."))
                     continue
@@ -1544,6 +1559,9 @@ class _Table:
         return np.array([str(v).strip() for v in self.column(j)], dtype=object)
 
 
+#: Spreadsheet error cells (#DIV/0!, #N/A, ...) start a data row with '#': not a comment.
+_EXCEL_ERROR = re.compile(r"#(DIV/0!|N/A|VALUE!|REF!|NAME\?|NUM!|NULL!|GETTING_DATA)", re.I)
+
 _META_RE = re.compile(r"^#+\s*(?P<key>[A-Za-z_][\w \-]*?)\s*[:=]\s*(?P<val>.*?)\s*$")
 
 
@@ -1565,7 +1583,11 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
             f"{src}: is a spreadsheet (xlsx/xls), not a CSV file: save it as CSV first"
         )
     if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        return raw.decode("utf-16"), ""
+        try:
+            return raw.decode("utf-16"), ""
+        except UnicodeDecodeError as exc:
+            raise DataError(f"{src}: is not valid UTF-16 text ({exc.reason}): the file looks "
+                            "truncated or damaged; save it again as CSV") from None
     if raw.startswith(codecs.BOM_UTF8):
         raw = raw[3:]
     head = raw[:4096]
@@ -1579,6 +1601,11 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
         return raw.decode("utf-8"), ""
     except UnicodeDecodeError:
         return raw.decode("latin-1"), _LATIN1_NOTE  # never fails; numbers are ASCII anyway
+
+
+def _plain(s: str) -> bool:
+    """Python's float() also takes '1_000' and non-ASCII digits: a CSV number does not."""
+    return "_" not in s and s.isascii()
 
 
 def _is_number(s: str) -> bool:
@@ -1644,7 +1671,7 @@ def _read_table(
         data, numbers = [], []
         for no, line in enumerate(rest, header_no + 1):
             s = line.strip()
-            if s and not s.startswith("#"):
+            if s and (not s.startswith("#") or _EXCEL_ERROR.match(s)):
                 data.append(line)
                 numbers.append(no)
     delim = forced or next((d for d in ("\t", ";", ",", "|") if d in header), None)
@@ -1680,7 +1707,8 @@ def _read_table(
             "strain and stress columns by ',', ';' or tabs"
         )
     if not data:
-        raise DataError(f"{src}: has a header but no data rows: the curve is empty")
+        raise DataError(f"{src}: has a header but no data rows: the curve is empty; add the "
+                        "data rows under the header (one row per sample)")
     nh = len(head)
     fast = (delim is not None and '"' not in text and "'" not in text
             and set(map(operator.methodcaller("count", delim), data)) == {nh - 1})
@@ -1707,7 +1735,11 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
         if hasattr(data, "columns"):
             arr_names = [str(c) for c in list(data.columns)]
     else:
-        arr = np.asarray(data)
+        try:
+            arr = np.asarray(data)
+        except ValueError:
+            raise DataError(f"{src}: the rows have different numbers of values: give every row "
+                            "the same columns (a value for each)") from None
         if arr.dtype.names:
             head = list(arr.dtype.names)
             return _Table(head if names is None else list(names),
@@ -1727,7 +1759,8 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
             raise DataError(f"{src}: {arr.shape[1]} unnamed columns: name them with "
                             "names=['time_s', 'strain', 'stress_MPa', ...]")
     if len(head) != arr.shape[1]:
-        raise DataError(f"{src}: {len(head)} names for {arr.shape[1]} columns")
+        raise DataError(f"{src}: {len(head)} names for {arr.shape[1]} columns: give one name per "
+                        "column")
     return _Table([str(h) for h in head], [arr[:, j] for j in range(arr.shape[1])],
                   _Labels(np.arange(arr.shape[0]), "row"), src, {})
 

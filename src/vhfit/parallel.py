@@ -17,10 +17,12 @@ options; only the wall time differs).
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import multiprocessing
 import os
 import time
 import traceback as _tb
+import warnings as _warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -79,6 +81,13 @@ class JobResult:
         Seconds the job ran (in its worker), or until its failure was known.
     traceback : str or None
         The full traceback of a failure inside the job, for debugging.
+    cpu_time : float
+        CPU seconds of the job's process while it ran (all its threads; includes
+        anything else that process did meanwhile, e.g. other threads' jobs).
+    warnings : list of str
+        Warnings raised while the job ran (``"Category: message"``, each once),
+        collected here rather than printed by the worker. The calibration's own
+        findings are also in ``calibration.warnings``.
     """
 
     name: str
@@ -87,6 +96,8 @@ class JobResult:
     error: str | None = None
     wall_time: float = 0.0
     traceback: str | None = None
+    warnings: list = field(default_factory=list)
+    cpu_time: float = 0.0
 
     @property
     def ok(self) -> bool:
@@ -136,15 +147,18 @@ def _is_path(x: Any) -> bool:
     return isinstance(x, (str, os.PathLike))
 
 
-def _run_task(task: tuple, threads: int | None = None) -> JobResult:
+def _run_task(task: tuple, threads: int | None = None, capture: bool = True) -> JobResult:
     """Run one job where it lands (a worker process, a thread, here) and never raise.
 
     ``threads`` caps numba's threads for the job (so that W workers × T threads do
     not oversubscribe the cores); the previous setting is restored afterwards.
+    ``capture`` collects the job's warnings into its result (not thread-safe: off in
+    thread pools, where warnings go their usual way).
     """
     index, name, curves, kwargs = task
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     old = None
+    caught: list = []
     try:
         if threads is not None:
             import numba
@@ -153,17 +167,22 @@ def _run_task(task: tuple, threads: int | None = None) -> JobResult:
             numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
         from vhfit.calibrate import calibrate
 
-        if _is_path(curves) or (
-            isinstance(curves, Sequence) and curves and all(_is_path(c) for c in curves)
-        ):
-            from vhfit.data import read_csv
+        with _warnings.catch_warnings(record=True) if capture else _no_capture() as caught:
+            if capture:
+                _warnings.simplefilter("always")
+            if _is_path(curves) or (
+                isinstance(curves, Sequence) and curves and all(_is_path(c) for c in curves)
+            ):
+                from vhfit.data import read_csv
 
-            curves = read_csv(curves)
-        cal = calibrate(curves, **kwargs)
-        return JobResult(name, index, cal, None, time.perf_counter() - t0)
+                curves = read_csv(curves)
+            cal = calibrate(curves, **kwargs)
+        return JobResult(name, index, cal, None, time.perf_counter() - t0,
+                         warnings=_messages(caught), cpu_time=time.process_time() - c0)
     except Exception as exc:  # a failing job is reported, never propagated
         return JobResult(name, index, None, _describe(exc), time.perf_counter() - t0,
-                         _tb.format_exc())
+                         _tb.format_exc(), warnings=_messages(caught),
+                         cpu_time=time.process_time() - c0)
     finally:
         if old is not None:
             import numba
@@ -171,9 +190,29 @@ def _run_task(task: tuple, threads: int | None = None) -> JobResult:
             numba.set_num_threads(old)
 
 
-def _run_one_thread(task: tuple) -> JobResult:
-    """:func:`_run_task` with one numba thread (what pools and map-likes run)."""
-    return _run_task(task, 1)
+def _messages(caught) -> list[str]:
+    out: list[str] = []
+    for w in caught or ():
+        text = f"{w.category.__name__}: {' '.join(str(w.message).split())}"
+        if text not in out:
+            out.append(text)
+    return out
+
+
+@contextlib.contextmanager
+def _no_capture():
+    yield []
+
+
+@dataclass(frozen=True)
+class _Runner:
+    """The picklable function sent to executors: :func:`_run_task` with its settings."""
+
+    threads: int | None = 1
+    capture: bool = True
+
+    def __call__(self, task: tuple) -> JobResult:
+        return _run_task(task, self.threads, self.capture)
 
 
 def _describe(exc: BaseException) -> str:
@@ -213,7 +252,8 @@ def calibrate_many(
           (with ``max_workers`` > 1: a process pool of that size);
         * an int ``n`` or ``"process"`` — a process pool of ``n`` (or ``max_workers``,
           default the number of CPUs) workers, created and shut down here;
-        * ``"thread"`` — a thread pool (numba releases the GIL in its kernels);
+        * ``"thread"`` — a thread pool in this process (the GIL limits the speed-up;
+          warnings then are not collected per job);
         * any :class:`concurrent.futures.Executor` — e.g. your own
           ``ProcessPoolExecutor`` or a Dask ``distributed.Client(...).get_executor()``;
           jobs are submitted to it and results come back as they complete;
@@ -329,35 +369,27 @@ def _generate(jobs, executor, max_workers, seed, threads, max_pending, mp_contex
             bad.append(JobResult(str(name or f"job {i}"), i, None, _describe(exc),
                                  time.perf_counter() - t0))
     yield from bad
+    threaded = executor == "thread" or isinstance(executor, cf.ThreadPoolExecutor)
+    fn = _Runner(threads, capture=not threaded)
     if executor is None:
         for task in tasks:
             yield _run_task(task, None)
     elif isinstance(executor, str):
         n = max_workers or os.cpu_count() or 1
-        yield from _own_pool(tasks, executor, n, threads, max_pending or 2 * n, mp_context,
+        yield from _own_pool(tasks, executor, n, fn, max_pending or 2 * n, mp_context,
                              initializer, initargs)
     elif isinstance(executor, cf.Executor):
-        yield from _submit_all(executor, tasks, threads, max_pending)
+        yield from _submit_all(executor, tasks, fn, max_pending)
     else:
-        yield from _map_all(executor, tasks, threads)
+        yield from _map_all(executor, tasks, fn)
 
 
-def _runner(threads: int | None) -> Callable[[tuple], JobResult]:
-    if threads == 1:
-        return _run_one_thread
-    if threads is None:
-        return _run_task
-    import functools
-
-    return functools.partial(_run_task, threads=threads)
-
-
-def _map_all(mapper: Callable, tasks: list[tuple], threads) -> Iterator[JobResult]:
+def _map_all(mapper: Callable, tasks: list[tuple], fn: _Runner) -> Iterator[JobResult]:
     """A map-like callable: results in input order; a broken map fails the rest."""
     t0 = time.perf_counter()
     done = 0
     try:
-        for res in mapper(_runner(threads), tasks):
+        for res in mapper(fn, tasks):
             done += 1
             yield res
     except Exception as exc:  # the map itself broke (worker lost, cluster gone, ...)
@@ -366,14 +398,13 @@ def _map_all(mapper: Callable, tasks: list[tuple], threads) -> Iterator[JobResul
             yield _failed(task, msg, t0)
 
 
-def _submit_all(ex: cf.Executor, tasks: list[tuple], threads, max_pending,
+def _submit_all(ex: cf.Executor, tasks: list[tuple], fn: _Runner, max_pending,
                 on_broken: Callable | None = None) -> Iterator[JobResult]:
     """Submit to an executor (at most ``max_pending`` in flight); yield as completed.
 
     ``on_broken(running, waiting)`` is called with the tasks left when the executor
     breaks; without it they are reported as failed.
     """
-    fn = _runner(threads)
     todo = list(reversed(tasks))
     inflight: dict[cf.Future, tuple] = {}
     t0 = time.perf_counter()
@@ -442,7 +473,7 @@ def _shutdown(pool: cf.Executor, abandon: bool) -> None:
     pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _own_pool(tasks, kind, n, threads, max_pending, mp_context, initializer,
+def _own_pool(tasks, kind, n, fn, max_pending, mp_context, initializer,
               initargs) -> Iterator[JobResult]:
     """A pool created here; rebuilt when a worker dies, the culprit found by isolation."""
     pending = list(tasks)
@@ -456,7 +487,7 @@ def _own_pool(tasks, kind, n, threads, max_pending, mp_context, initializer,
 
         clean = False
         try:
-            yield from _submit_all(pool, pending, threads, max_pending, on_broken)
+            yield from _submit_all(pool, pending, fn, max_pending, on_broken)
             clean = True
         finally:
             _shutdown(pool, abandon=not clean or bool(box))
@@ -464,12 +495,12 @@ def _own_pool(tasks, kind, n, threads, max_pending, mp_context, initializer,
         if box:
             # a worker died: re-run the jobs that were in flight one at a time, each in
             # a fresh single-worker pool, so the one that kills its worker is named
-            yield from _isolated(box["suspects"], kind, threads, mp_context, initializer,
+            yield from _isolated(box["suspects"], kind, fn, mp_context, initializer,
                                  initargs)
             pending = box["waiting"]
 
 
-def _isolated(tasks, kind, threads, mp_context, initializer, initargs) -> Iterator[JobResult]:
+def _isolated(tasks, kind, fn, mp_context, initializer, initargs) -> Iterator[JobResult]:
     """Run ``tasks`` one at a time in a single-worker pool, rebuilt after each death."""
     pool = None
     clean = False
@@ -479,7 +510,7 @@ def _isolated(tasks, kind, threads, mp_context, initializer, initargs) -> Iterat
                 pool = _make_pool(kind, 1, mp_context, initializer, initargs)
             t0 = time.perf_counter()
             try:
-                yield pool.submit(_runner(threads), task).result()
+                yield pool.submit(fn, task).result()
             except cf.process.BrokenProcessPool:
                 yield _failed(task, "WorkerDied: the worker process running this job died "
                               "(killed by a signal, out of memory, or a crash in compiled "
