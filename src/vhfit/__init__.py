@@ -15,6 +15,7 @@ from vhfit.data import Curve, DataError, DataWarning, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 from vhfit.objective import Objective, per_curve_rmsape, rmsape
+from vhfit.parallel import Job, JobResult, calibrate_many
 
 __version__ = "0.1.0"
 
@@ -35,9 +36,12 @@ __all__ = [
     "DataError",
     "DataWarning",
     "History",
+    "Job",
+    "JobResult",
     "Objective",
     "ViscoHyperelastic",
     "calibrate",
+    "calibrate_many",
     "export",
     "hyperelastic",
     "optimize",

@@ -357,7 +357,13 @@ class Curve:
         rows: Sequence[Any] | None = None,
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
-        name = "curve" if name is None else str(name)
+        if name is None:  # name an unnamed curve by its rate, as reports list curves
+            try:
+                r = float(strain_rate)  # type: ignore[arg-type]
+                name = f"{r:g} 1/s" if np.isfinite(r) else "curve"
+            except (TypeError, ValueError):
+                name = "curve"
+        name = str(name)
         src = None if source is None else str(source)
         where = _Where(name, src, rows)
         eps = where.array("strain", strain)
@@ -1506,7 +1512,7 @@ class _Table:
             arr = sub.astype(np.float64)
         else:
             try:
-                if any(isinstance(v, str) and not _plain(v) for v in sub):
+                if any(isinstance(v, str) and not _plain_number(v) for v in sub):
                     raise ValueError  # float() would take '1_000' and non-ASCII digits
                 arr = np.asarray(sub, dtype=np.float64)
             except (TypeError, ValueError):
@@ -1528,13 +1534,13 @@ class _Table:
         for k, v in enumerate(sub):
             s = "" if v is None else str(v).strip().strip("\"'").strip()
             try:
-                if not _plain(s):
+                if not _plain_number(s):
                     raise ValueError(s)
                 out[k] = float(s)
                 continue
             except ValueError:
                 pass
-            if s.count(",") == 1 and "." not in s and _plain(s):
+            if s.count(",") == 1 and "." not in s and _plain_number(s):
                 try:  # decimal comma
                     out[k] = float(s.replace(",", "."))
                     continue
@@ -1603,7 +1609,7 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
         return raw.decode("latin-1"), _LATIN1_NOTE  # never fails; numbers are ASCII anyway
 
 
-def _plain(s: str) -> bool:
+def _plain_number(s: str) -> bool:
     """Python's float() also takes '1_000' and non-ASCII digits: a CSV number does not."""
     return "_" not in s and s.isascii()
 
