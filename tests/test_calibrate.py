@@ -321,3 +321,20 @@ def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypat
     assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
     res = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck, resume=True)
     assert res.params == ref.params
+
+
+def test_curves_may_be_csv_paths_and_junk_is_named(tmp_path):
+    eps = np.linspace(-0.05, -0.5, 10)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    truth = dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01)
+    paths = []
+    for r in (-1.0, -100.0):
+        s = m.stress(truth, strain=eps, strain_rate=r, measure="engineering")
+        p = tmp_path / f"r{-r:g}.csv"
+        p.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
+                     + "".join(f"{float(e)!r},{float(v)!r}\n" for e, v in zip(eps, s)))
+        paths.append(p)
+    cal = calibrate(paths, n_prony=1, seed=0, uncertainty=False)
+    assert cal.rmsape < 1e-3
+    with pytest.raises(ValueError, match=r"curves\[1\] is a int"):
+        calibrate([synthetic(truth, (-1.0,))[0], 3], n_prony=1)

@@ -47,6 +47,34 @@ class CalibrationWarning(UserWarning):
 
 
 # ----------------------------------------------------------------------- helpers
+def _as_curves(curves) -> list:
+    """A list of curves from Curve objects, file paths (read with read_csv), or a mix."""
+    if hasattr(curves, "history") or isinstance(curves, (str, os.PathLike)):
+        curves = [curves]
+    try:
+        items = list(curves)
+    except TypeError:
+        raise ValueError(
+            f"curves must be Curve objects or CSV paths, got {type(curves).__name__}"
+        ) from None
+    out = []
+    for i, c in enumerate(items):
+        if isinstance(c, (str, os.PathLike)):
+            from vhfit.data import read_csv
+
+            out += read_csv(c)
+        elif hasattr(c, "history") and hasattr(c, "target_stress"):
+            out.append(c)
+        else:
+            raise ValueError(
+                f"curves[{i}] is a {type(c).__name__}: give vhfit.Curve objects "
+                "(vhfit.Curve(strain=..., stress=..., strain_rate=...)) or CSV paths"
+            )
+    if not out:
+        raise ValueError("calibrate needs at least one curve")
+    return out
+
+
 def _rates(curves) -> np.ndarray:
     r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in curves])
     if not np.all(np.isfinite(r) & (r > 0)):
@@ -730,9 +758,10 @@ def calibrate(
 
     Parameters
     ----------
-    curves : sequence of Curve
+    curves : Curve, path, or sequence of them
         Measured curves (``.history``, ``.target_stress``, ``.measure``, ``.strain_rate``,
-        optional ``.weight`` and ``.name``); see :class:`vhfit.Curve`.
+        optional ``.weight`` and ``.name``; see :class:`vhfit.Curve`), or CSV files read
+        with :func:`vhfit.read_csv`.
     hyperelastic : str
         Registered hyperelastic model name.
     n_prony : int or "auto"
@@ -809,9 +838,7 @@ def calibrate(
     True
     """
     t0 = time.perf_counter()
-    curves = list(curves)
-    if not curves:
-        raise ValueError("calibrate needs at least one curve")
+    curves = _as_curves(curves)
     if method not in ("separable", "full"):
         raise ValueError(f"method = {method!r}; choose 'separable' or 'full'")
     if not 0 <= g_inf_min < 1:
