@@ -338,3 +338,14 @@ def test_curves_may_be_csv_paths_and_junk_is_named(tmp_path):
     assert cal.rmsape < 1e-3
     with pytest.raises(ValueError, match=r"curves\[1\] is a int"):
         calibrate([synthetic(truth, (-1.0,))[0], 3], n_prony=1)
+
+
+def test_rate_stiffening_beyond_the_model_is_named():
+    # stress x3 when the rate only doubles: no Prony series with G_i >= 0 can do it
+    eps = np.linspace(-0.05, -0.5, 10)
+    slow = vhfit.Curve(strain=eps, stress=eps, strain_rate=-1000.0, name="slow")
+    fast = vhfit.Curve(strain=eps, stress=3 * eps, strain_rate=-2000.0, name="fast")
+    cal = calibrate([slow, fast], n_prony=2, seed=0, uncertainty=False)
+    assert any("'slow'" in w and "'fast'" in w for w in cal.warnings)
+    fine = calibrate(synthetic(SEBS, SEBS_RATES), n_prony=4, seed=0, uncertainty=False)
+    assert not any("rate rises" in w for w in fine.warnings)

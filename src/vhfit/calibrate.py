@@ -753,6 +753,7 @@ def calibrate(
     checkpoint=None,
     checkpoint_every: float = 5.0,
     resume: bool = False,
+    check_rates: bool = True,
 ) -> Calibration:
     """Calibrate a hyperelastic law + Prony series to curves at several strain rates.
 
@@ -820,6 +821,10 @@ def calibrate(
         Seconds between checkpoints.
     resume : bool
         Continue from ``checkpoint`` if it exists (it must belong to the same fit).
+    check_rates : bool
+        Warn, naming the curves, when the data's rise of stress with strain rate exceeds
+        what the model can represent (:func:`vhfit.diagnostics.rate_sensitivity`; the
+        paper's gelatin argument).
 
     Returns
     -------
@@ -852,11 +857,23 @@ def calibrate(
         rtol=rtol, de_options=de_options, prune_tol=prune_tol,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
     )
+    if isinstance(n_prony, str) and n_prony != "auto":
+        raise ValueError(f"n_prony = {n_prony!r}: give a whole number or 'auto'")
+    rate_msgs: list[str] = []
+    if check_rates:
+        from vhfit.diagnostics import rate_sensitivity
+
+        n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
+        rate_msgs = rate_sensitivity(curves, hyperelastic, n_check)
     if isinstance(n_prony, str):
-        if n_prony != "auto":
-            raise ValueError(f"n_prony = {n_prony!r}: give a whole number or 'auto'")
-        return _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)
-    return _calibrate_n(curves, hyperelastic, int(n_prony), max_time=max_time, t0=t0, **common)
+        cal = _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)
+    else:
+        cal = _calibrate_n(curves, hyperelastic, int(n_prony), max_time=max_time, t0=t0,
+                           **common)
+    for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
+        warnings.warn(m, CalibrationWarning, stacklevel=2)
+    cal.warnings[:0] = rate_msgs
+    return cal
 
 
 def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common):
