@@ -1400,7 +1400,7 @@ def _resolve_columns(
     stress = best(("stress",), "stress", prefer_measure=measure)
     time = best(("time",), "time")
     rate = best(("rate",), "strain rate")
-    header_list = ", ".join(map(repr, names[:12])) + (
+    header_list = ", ".join(map(_short, names[:12])) + (
         f" and {len(names) - 12} more" if len(names) > 12 else "")
     if deform is None:
         raise DataError(
@@ -1523,7 +1523,7 @@ class _Table:
             i = k if rows is None else int(rows[k])
             raise DataError(
                 f"{self.source}, {self.label(i)}, column {self.names[j]!r}: value "
-                f"{str(sub[k]).strip()!r} is not a finite number: repair or delete that row"
+                f"{_short(str(sub[k]).strip())} is not a finite number: repair or delete that row"
             )
         return arr
 
@@ -1550,7 +1550,7 @@ class _Table:
             if s == "" and empty:
                 raise DataError(f"{self.source}, {self.label(i)}, column {self.names[j]!r}: "
                                 f"{empty}")
-            what = "is empty" if s == "" else f"{s!r} is not a number"
+            what = "is empty" if s == "" else f"{_short(s)} is not a number"
             if s == "":
                 fix = "fill it in or delete the row"
             elif re.search(r"\d", s):
@@ -1607,6 +1607,12 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
         return raw.decode("utf-8"), ""
     except UnicodeDecodeError:
         return raw.decode("latin-1"), _LATIN1_NOTE  # never fails; numbers are ASCII anyway
+
+
+def _short(name: str, width: int = 40) -> str:
+    """repr of a column name for a message, cut to ``width`` characters."""
+    r = repr(name)
+    return r if len(r) <= width else r[: width - 4] + "...'"
 
 
 def _plain_number(s: str) -> bool:
@@ -1709,7 +1715,7 @@ def _read_table(
         head = [str(n) for n in names]
     if len(head) < 2:
         raise DataError(
-            f"{src}, line {header_no}: the header has one column ({head[0]!r}): separate the "
+            f"{src}, line {header_no}: the header has one column ({_short(head[0])}): separate the "
             "strain and stress columns by ',', ';' or tabs"
         )
     if not data:
@@ -1781,7 +1787,8 @@ _META_KEYS = {
 
 
 def _meta_rate(val: str, src: str) -> float:
-    m = re.fullmatch(r"\s*([+-]?[\d.]+(?:[eE][+-]?\d+)?)\s*(.*?)\s*", val.replace(",", "."))
+    m = re.fullmatch(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*",
+                     val.replace(",", "."))
     f = None if m is None else _unit_factor("rate", m.group(2))
     if m is None or f is None:
         raise DataError(f"{src}: '# strain_rate: {val}' is not a rate: write e.g. "

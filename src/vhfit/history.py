@@ -207,9 +207,9 @@ class History:
             if dl > 0:
                 lam = lb[k] * np.exp(np.log(lb[k + 1] / lb[k]) * frac)
                 tt = tb[k] + (lam - lb[k]) / (lb[k + 1] - lb[k]) * (tb[k + 1] - tb[k])
-                tt[-1] = tb[k + 1]
             else:
                 tt = tb[k] + frac * (tb[k + 1] - tb[k])
+            tt[-1] = tb[k + 1]  # exactly the breakpoint: rounding may land just below it
             nodes.append(tt)
         base = np.concatenate(nodes)
         out = self.out_time

@@ -20,6 +20,8 @@ import concurrent.futures as cf
 import contextlib
 import multiprocessing
 import os
+import sys
+import threading
 import time
 import traceback as _tb
 import warnings as _warnings
@@ -32,9 +34,10 @@ import numpy as np
 __all__ = ["Job", "JobResult", "calibrate_many"]
 
 #: Start method of the process pools that :func:`calibrate_many` creates itself.
-#: "spawn" starts every worker as a fresh interpreter: numba's default (workqueue)
-#: threading layer is not fork-safe once the parent has run a parallel kernel.
-DEFAULT_START_METHOD = "spawn"
+#: "auto": "fork" where it is safe — Linux, one Python thread, and numba's threading
+#: layer not started (its OpenMP layer aborts a child forked after it has run) — so the
+#: workers inherit the imported, compiled kernels; "spawn" (fresh interpreters) otherwise.
+DEFAULT_START_METHOD = "auto"
 
 
 @dataclass
@@ -274,10 +277,11 @@ def calibrate_many(
         Most jobs submitted to an executor and not yet finished (the rest wait here),
         which bounds the memory of very long job lists. Default: 2 × the workers for
         pools created here, unbounded for a given executor.
-    mp_context : str or multiprocessing context, default "spawn"
-        Start method of process pools created here. "spawn" is safe with numba's
-        threads; "fork" starts faster but is unsafe once this process has run a
-        parallel numba kernel.
+    mp_context : "auto", "spawn", "fork", "forkserver" or a multiprocessing context
+        Start method of process pools created here. "auto" (default) forks where that
+        is safe (Linux, a single Python thread, numba's thread pool not yet started in
+        this process) — workers then start at once with vhfit loaded — and spawns
+        otherwise. "fork" is unsafe once this process has run numba's parallel kernel.
     initializer, initargs
         Run in every worker of a process pool created here before its first job (e.g.
         to import a module that registers your own hyperelastic law).
@@ -461,8 +465,27 @@ def _died(fut: cf.Future) -> bool:
 def _make_pool(kind: str, n: int, mp_context, initializer, initargs) -> cf.Executor:
     if kind == "thread":
         return cf.ThreadPoolExecutor(n, initializer=initializer, initargs=initargs)
-    ctx = multiprocessing.get_context(mp_context) if isinstance(mp_context, str) else mp_context
+    ctx = _context(mp_context)
     return cf.ProcessPoolExecutor(n, mp_context=ctx, initializer=initializer, initargs=initargs)
+
+
+def _fork_is_safe() -> bool:
+    """Fork only a single-threaded Linux process whose numba thread pool never started."""
+    if not sys.platform.startswith("linux") or threading.active_count() > 1:
+        return False
+    try:
+        from numba.np.ufunc import parallel as _nb_parallel
+    except ImportError:  # pragma: no cover - numba is a dependency
+        return False
+    return getattr(_nb_parallel, "_is_initialized", True) is False
+
+
+def _context(mp_context):
+    if not isinstance(mp_context, str):
+        return mp_context
+    if mp_context == "auto":
+        mp_context = "fork" if _fork_is_safe() else "spawn"
+    return multiprocessing.get_context(mp_context)
 
 
 def _shutdown(pool: cf.Executor, abandon: bool) -> None:
