@@ -98,16 +98,17 @@ def main() -> None:
     print(f"{'run':<44}{'wall s':>9}{'sum job s':>12}{'sum cpu s':>12}{'max job s':>10}"
           f"{'failed':>8}")
     serial, _, t_serial = run("serial, in process (numba default threads)", jobs)
-    old = numba.get_num_threads()
-    numba.set_num_threads(1)
-    serial1, _, t_serial1 = run("serial, in process (1 numba thread)", jobs)
-    numba.set_num_threads(old)
     from vhfit.parallel import _context
 
     start = _context("auto").get_start_method()
     pool, t_pool, _ = run(f"process pool, {args.workers} workers ({start})", jobs, args.workers)
     _, t_spawn, _ = run(f"process pool, {args.workers} workers (spawn)", jobs, args.workers,
                         mp_context="spawn")
+    # last: set_num_threads starts numba's thread pool, after which pools must spawn
+    old = numba.get_num_threads()
+    numba.set_num_threads(1)
+    serial1, _, t_serial1 = run("serial, in process (1 numba thread)", jobs)
+    numba.set_num_threads(old)
     ref = constants(serial)
     same = constants(pool) == ref and constants(serial1) == ref
     print(f"\nT (sum of single-job times, default threads) = {t_serial:.1f} s; "
