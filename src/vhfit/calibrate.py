@@ -687,7 +687,8 @@ def _confidence(prob: _Problem, x: np.ndarray, level: float = 0.95):
         if weak:
             unident.append(name)
         if k >= nh and (k - nh) % 2 == 1:
-            out[name] = (10 ** (z[k] - half), 10 ** (z[k] + half))
+            with np.errstate(over="ignore"):  # an unidentifiable τ: an interval to inf
+                out[name] = (10 ** (z[k] - half), 10 ** (z[k] + half))
         else:
             out[name] = (x[k] - half, x[k] + half)
     return out, unident

@@ -353,8 +353,9 @@ class Batch:
         hyper, G, tau = self.model.split(X)
         s_hat, ok = self._s_hat(hyper)
         ok &= np.all((G >= 0) & (tau > 0), axis=1)
-        E_inf = 3.0 * self.model.hyperelastic.initial_shear_modulus(hyper)
-        sig = E_inf[:, None] * s_hat[:, self._gather_sample]
+        with np.errstate(all="ignore"):  # invalid individuals become +inf below
+            E_inf = 3.0 * self.model.hyperelastic.initial_shear_modulus(hyper)
+            sig = E_inf[:, None] * s_hat[:, self._gather_sample]
         if self.model.n_prony:
             ov = _kernels.overstress(
                 s_hat, self.sample_stretch, self.step, self.sample_off, self.step_off,
