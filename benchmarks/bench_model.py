@@ -303,7 +303,7 @@ def main(argv=None):
 
     # kernel-only timings, both code paths (the Batch picks one by population size)
     hyper, G, tau = model.split(X)
-    s_hat, _ = b._s_hat(hyper)
+    s_hat, _, _ = b._s_hat(hyper)
     kargs = (s_hat, b.sample_stretch, b.step, b.sample_off, b.step_off,
              np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV)
     par = getattr(_kernels, "_overstress_par", None)

@@ -86,24 +86,11 @@ def _rates(curves) -> np.ndarray:
 
 
 def _tau_bounds(rates, n, strategy, below, above) -> np.ndarray:
-    try:
-        from vhfit.optimize import tau_bounds
-    except ImportError:  # optimizer package not importable: Eq. 22 by hand
-        tau_bounds = None
-    if tau_bounds is not None:
-        b = tau_bounds(rates, n, strategy=strategy, decades_above=above, decades_below=below)
-        return np.asarray(getattr(b, "bounds", b), dtype=np.float64).reshape(n, 2)
-    a = math.log10(1 / max(rates)) - below
-    z = math.log10(1 / min(rates)) + above
-    if strategy == "free":
-        return np.tile([a, z], (n, 1))
-    edges = np.linspace(a, z, n + 1)
-    if strategy == "semifree":
-        return np.column_stack([edges[:-1], edges[1:]])
-    if strategy == "fixed":
-        v = a + (z - a) * np.arange(1, n + 1) / (n + 1)
-        return np.column_stack([v, v])
-    raise ValueError(f"unknown tau_strategy {strategy!r}")
+    """Per-term log10 τ bounds (Eq. 22 and the strategy) from vhfit.optimize.tau_bounds."""
+    from vhfit.optimize import tau_bounds  # lazy: the optimizer imports scipy.optimize
+
+    b = tau_bounds(rates, n, strategy=strategy, decades_above=above, decades_below=below)
+    return np.asarray(getattr(b, "bounds", b), dtype=np.float64).reshape(n, 2)
 
 
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
@@ -509,11 +496,10 @@ class _Problem:
 
     # ---- full: x = [hyper constants, (G_i, log10 τ_i)...]
     def full_bounds(self) -> list[tuple[float, float]]:
-        hm, b = self.hm, [self.bounds[n] for n in self.hm.param_names]
+        b = [self.bounds[n] for n in self.hm.param_names]
         for i in range(self.model.n_prony):
             b.append(self.bounds[f"G{i + 1}"])
             b.append(tuple(self.tau_b[i]))
-        del hm
         return b
 
     @staticmethod

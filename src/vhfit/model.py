@@ -315,7 +315,7 @@ class Batch:
         hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))
         tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
         P, N = tau.shape
-        s_hat, ok = self._s_hat(hyper)
+        s_hat, ok, _ = self._s_hat(hyper)
         eye = np.ones((P * N, 1))
         ov = _kernels.overstress(
             np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
@@ -327,7 +327,7 @@ class Batch:
         h[~ok] = np.inf
         return self._measure(base), self._measure(h)
 
-    def _s_hat(self, hyper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _s_hat(self, hyper: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         hm = self.model.hyperelastic
         with np.errstate(all="ignore"):
             E_inf = 3.0 * hm.initial_shear_modulus(hyper)
@@ -335,7 +335,7 @@ class Batch:
             s_hat = sig_h / E_inf[:, None]
         ok = (E_inf > 0) & np.all(np.isfinite(s_hat), axis=1)
         s_hat[~ok] = 0.0
-        return s_hat, ok
+        return s_hat, ok, E_inf
 
     def _measure(self, s: np.ndarray) -> np.ndarray:
         if self._eng.any():
@@ -351,10 +351,9 @@ class Batch:
                 f"{self.model.param_names}"
             )
         hyper, G, tau = self.model.split(X)
-        s_hat, ok = self._s_hat(hyper)
+        s_hat, ok, E_inf = self._s_hat(hyper)
         ok &= np.all((G >= 0) & (tau > 0), axis=1)
         with np.errstate(all="ignore"):  # invalid individuals become +inf below
-            E_inf = 3.0 * self.model.hyperelastic.initial_shear_modulus(hyper)
             sig = E_inf[:, None] * s_hat[:, self._gather_sample]
         if self.model.n_prony:
             ov = _kernels.overstress(
