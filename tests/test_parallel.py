@@ -250,10 +250,40 @@ def test_auto_start_method_forks_only_a_single_threaded_process():
     t.start()
     try:
         assert not _fork_is_safe()  # another thread might hold a lock across the fork
-        assert _context("auto").get_start_method() == "spawn"
+        expected = "forkserver" if sys.platform.startswith("linux") else "spawn"
+        assert _context("auto").get_start_method() == expected
     finally:
         done.set()
         t.join()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork server: Linux path")
+def test_forkserver_pool_gives_the_serial_constants(serial):
+    res = {r.name: r for r in calibrate_many(small_jobs(), 2, mp_context="forkserver")}
+    assert all(r.ok for r in res.values())
+    assert all(same(r, serial[r.name]) for r in res.values())
+
+
+def test_calibration_keeps_numba_thread_pool_unstarted_so_pools_can_fork():
+    # a fresh interpreter: this one may have run the threaded kernel in other tests
+    code = textwrap.dedent(f"""
+        import warnings; warnings.simplefilter("ignore")
+        import numpy as np, vhfit
+        from numba.np.ufunc import parallel as p
+        from vhfit.parallel import _context
+        m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+        eps = np.linspace(-0.05, -0.5, 10)
+        curves = [vhfit.Curve(strain=eps, strain_rate=r, name=str(r),
+                              stress=m.stress({TRUTH!r}, strain=eps, strain_rate=r))
+                  for r in {RATES!r}]
+        vhfit.calibrate(curves, n_prony=1, seed=0)
+        print(p._is_initialized, _context("auto").get_start_method())
+    """)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    expected = "fork" if sys.platform.startswith("linux") else "spawn"
+    assert out.stdout.split() == ["False", expected]
 
 
 def test_closing_the_stream_early_stops_the_workers():

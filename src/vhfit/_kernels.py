@@ -139,7 +139,7 @@ def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D):
 PARALLEL_MIN_JOBS = 4096
 
 
-def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
+def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
     """Σ_i G_i h_i at every node of every curve, for every parameter set.
 
     Parameters
@@ -151,11 +151,16 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D):
     h : (K,) step lengths in s; curve c owns steps ``step_off[c] : step_off[c+1]``.
     G, tau : (P, N) Prony moduli and relaxation times.
     D : (4, 5) Lobatto values -> derivative coefficients (``DERIV``).
+    parallel : bool or None
+        Use the threaded kernel; None: when there are at least ``PARALLEL_MIN_JOBS``
+        (parameter set, curve) jobs. False keeps numba's thread pool unstarted (merely
+        loading the threaded kernel starts it), so the process can still fork safely.
 
     Returns
     -------
     (P, K + C) overstress at the nodes; curve c owns nodes from ``step_off[c] + c``.
     """
-    jobs = s_hat.shape[0] * (sample_off.shape[0] - 1)
-    f = _overstress_par if jobs >= PARALLEL_MIN_JOBS else _overstress_seq
+    if parallel is None:
+        parallel = s_hat.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
+    f = _overstress_par if parallel else _overstress_seq
     return f(s_hat, lam, h, sample_off, step_off, G, tau, D)

@@ -303,14 +303,16 @@ class Batch:
         )
         self.n_points = int(bounds[-1])
 
-    def shape_columns(self, hyper, tau) -> tuple[np.ndarray, np.ndarray]:
+    def shape_columns(self, hyper, tau, *, parallel: bool | None = None
+                      ) -> tuple[np.ndarray, np.ndarray]:
         """Stress per unit modulus: the long-term shape and each Prony branch.
 
         For hyperelastic constants ``hyper`` (P, n_h) and relaxation times ``tau``
         (P, N), returns (``s_hat``, ``h``) with shapes (P, n_points) and
         (P, N, n_points) such that the stress is ``E∞ s_hat + Σ_i G_i h[:, i]``
         (in each curve's measure). For fixed shape and τ the model is linear in
-        (E∞, G_i): the basis of the separable calibration (SPEC §4).
+        (E∞, G_i): the basis of the separable calibration (SPEC §4). ``parallel``
+        chooses numba's threaded kernel (None: by problem size).
         """
         hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))
         tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
@@ -319,7 +321,7 @@ class Batch:
         eye = np.ones((P * N, 1))
         ov = _kernels.overstress(
             np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
-            self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV,
+            self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV, parallel,
         )
         h = ov[:, self._gather_node].reshape(P, N, self.n_points)
         base = s_hat[:, self._gather_sample]

@@ -36,7 +36,8 @@ __all__ = ["Job", "JobResult", "calibrate_many"]
 #: Start method of the process pools that :func:`calibrate_many` creates itself.
 #: "auto": "fork" where it is safe — Linux, one Python thread, and numba's threading
 #: layer not started (its OpenMP layer aborts a child forked after it has run) — so the
-#: workers inherit the imported, compiled kernels; "spawn" (fresh interpreters) otherwise.
+#: workers inherit the imported, compiled kernels; else on Linux a fork server that has
+#: imported and warmed vhfit; "spawn" (fresh interpreters) elsewhere.
 DEFAULT_START_METHOD = "auto"
 
 
@@ -280,8 +281,10 @@ def calibrate_many(
     mp_context : "auto", "spawn", "fork", "forkserver" or a multiprocessing context
         Start method of process pools created here. "auto" (default) forks where that
         is safe (Linux, a single Python thread, numba's thread pool not yet started in
-        this process) — workers then start at once with vhfit loaded — and spawns
-        otherwise. "fork" is unsafe once this process has run numba's parallel kernel.
+        this process) — workers then start at once with vhfit loaded; otherwise, on
+        Linux, it uses a fork server that has imported and warmed vhfit once per
+        session (e.g. in Jupyter, which runs threads), and elsewhere it spawns.
+        "fork" is unsafe once this process has run numba's parallel kernel.
     initializer, initargs
         Run in every worker of a process pool created here before its first job (e.g.
         to import a module that registers your own hyperelastic law).
@@ -480,12 +483,43 @@ def _fork_is_safe() -> bool:
     return getattr(_nb_parallel, "_is_initialized", True) is False
 
 
+#: Modules the fork server imports once; its children then start with vhfit loaded.
+_PRELOAD = "vhfit._warm"
+
+
 def _context(mp_context):
     if not isinstance(mp_context, str):
         return mp_context
     if mp_context == "auto":
-        mp_context = "fork" if _fork_is_safe() else "spawn"
-    return multiprocessing.get_context(mp_context)
+        if _fork_is_safe():
+            mp_context = "fork"
+        elif "forkserver" in multiprocessing.get_all_start_methods() and sys.platform.startswith(
+            "linux"
+        ):
+            mp_context = "forkserver"
+        else:
+            mp_context = "spawn"
+    ctx = multiprocessing.get_context(mp_context)
+    if mp_context == "forkserver":
+        _preload_vhfit(ctx)
+    return ctx
+
+
+def _preload_vhfit(ctx) -> None:
+    """Have the (single, per-session) fork server import and warm vhfit before it starts.
+
+    The server is a fresh single-threaded interpreter, so forking from it is safe
+    whatever this process runs; it is started once and reused by later pools. A
+    server already running keeps its preload list.
+    """
+    from multiprocessing import forkserver
+
+    server = getattr(forkserver, "_forkserver", None)
+    if server is None or getattr(server, "_forkserver_pid", None) is not None:
+        return
+    have = list(getattr(server, "_preload_modules", None) or [])
+    if _PRELOAD not in have:
+        ctx.set_forkserver_preload(have + [_PRELOAD])
 
 
 def _shutdown(pool: cf.Executor, abandon: bool) -> None:
