@@ -12,10 +12,12 @@ from hypothesis import strategies as st
 
 from vhfit.data import (
     DEFAULT_N_POINTS,
+    MAX_BREAKPOINTS,
     PATH_RTOL,
     Curve,
     DataError,
     DataWarning,
+    _simplify_idx,
     _simplify_path,
     curves_from_arrays,
     engineering_to_true,
@@ -338,6 +340,36 @@ def test_a_million_samples_give_a_short_history():
     np.testing.assert_allclose(h.stretch_at(t) - 1, eps, atol=PATH_RTOL * 1.0 + 1e-12)
     assert c.n_segments == 2 and c.n_points == 20
     assert float(c.target_strain[9]) == pytest.approx(1.0, abs=1e-5)  # the turning point
+
+
+def test_a_noisy_long_signal_is_capped_with_a_warning():
+    n = 200_000
+    t = np.linspace(0.0, 200.0, n)
+    clean = np.where(t < 100, 0.01 * t, 2.0 - 0.01 * t)
+    eps = clean + 1e-3 * np.random.default_rng(0).standard_normal(n)  # 0.1 % of range
+    c = Curve(eps, 2.0 * clean, time=t)
+    with pytest.warns(DataWarning, match=r"more than 2000 breakpoints.*smooth or decimate"):
+        h = c.history
+    assert 2 <= h.time.size <= MAX_BREAKPOINTS + 1  # + the rest point at t = 0
+    # the simplified path still follows the signal to within a few noise amplitudes
+    assert np.max(np.abs(h.stretch_at(t) - 1 - eps)) < 8e-3
+    assert np.max(np.abs(h.stretch_at(t) - 1 - clean)) < 8e-3
+
+
+@given(
+    st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=300),
+    st.floats(1e-4, 0.2),
+    st.integers(2, 60),
+)
+def test_path_simplification_limit(values, tol, limit):
+    e = np.cumsum(values)
+    t = np.arange(e.size, dtype=float)
+    full = _simplify_idx(t, e, tol)
+    capped = _simplify_idx(t, e, tol, limit=limit)
+    if full.size <= limit:
+        np.testing.assert_array_equal(capped, full)
+    else:
+        assert capped is None
 
 
 @given(

@@ -127,7 +127,8 @@ def test_extreme_parameters_give_finite_stress_or_inf_never_nan(case):
     if m.hyperelastic.name in ("mooney_rivlin", "neo_hooke", "yeoh"):
         # invariant laws with non-negative moduli and E_inf > 0 are defined on every
         # history: an extreme but valid individual must come out finite
-        E = 3 * m.hyperelastic.initial_shear_modulus(np.nan_to_num(hyper, nan=-1))
+        with np.errstate(over="ignore"):  # nan_to_num maps inf to 1.8e308
+            E = 3 * m.hyperelastic.initial_shear_modulus(np.nan_to_num(hyper, nan=-1))
         valid = ~plainly_bad & np.all(hyper >= 0, axis=1) & (E > 0)
         assert not rows_inf[valid].any()
 
@@ -219,6 +220,34 @@ def test_atomic_write_keeps_the_old_file_when_the_write_fails(tmp_path, monkeypa
         atomic_write(target, '{"new": true}' * 1000)
     assert json.loads(target.read_text()) == {"old": True}
     assert [p.name for p in tmp_path.iterdir()] == ["results.json"]  # no temp file left
+
+
+def test_atomic_write_removes_orphans_of_dead_writers_only(tmp_path):
+    target = tmp_path / "results.json"
+    dead = tmp_path / ".results.json.999999999.tmp-abc.part"  # above any Linux pid_max
+    mine = tmp_path / f".results.json.{os.getpid()}.tmp-xyz.part"
+    other = tmp_path / ".other.json.999999999.tmp-abc.part"
+    for p in (dead, mine, other):
+        p.write_text("partial")
+    atomic_write(target, "{}")
+    assert target.read_text() == "{}"
+    names = {p.name for p in tmp_path.iterdir()}
+    assert dead.name not in names or os.name == "nt"
+    assert {mine.name, other.name} <= names
+
+
+@pytest.mark.skipif(os.name == "nt", reason="POSIX permission bits")
+def test_atomic_write_permissions(tmp_path):
+    new = tmp_path / "new.json"
+    atomic_write(new, "{}")
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert new.stat().st_mode & 0o777 == 0o666 & ~umask
+    old = tmp_path / "old.json"
+    old.write_text("x")
+    old.chmod(0o600)
+    atomic_write(old, "{}")
+    assert old.stat().st_mode & 0o777 == 0o600
 
 
 # What the killed child runs; shared with the reference computed in the test process.

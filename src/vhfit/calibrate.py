@@ -285,10 +285,24 @@ class Calibration:
 
 
 def atomic_write(path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file and a rename: never a torn file."""
+    """Write ``text`` to ``path`` via a temporary file and a rename: never a torn file.
+
+    The data and then the directory entry are flushed to disk, so after a crash or a
+    power cut the file holds either the old or the new text. Temporary files left by
+    writers that were killed (``.<name>.<pid>.tmp-*.part``, their process gone) are
+    removed. A new file gets the usual permissions (umask), a replaced one keeps its own.
+    """
+    path = os.fspath(path)
     d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-", suffix=".part")
+    base = os.path.basename(path)
+    _remove_orphans(d, base)
+    fd, tmp = tempfile.mkstemp(dir=d, prefix=f".{base}.{os.getpid()}.tmp-", suffix=".part")
     try:
+        try:
+            mode = os.stat(path).st_mode & 0o7777
+        except OSError:
+            mode = 0o666 & ~_umask()
+        os.chmod(tmp, mode)
         with os.fdopen(fd, "w") as f:
             f.write(text)
             f.flush()
@@ -298,6 +312,57 @@ def atomic_write(path, text: str) -> None:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
+    _fsync_dir(d)
+
+
+def _umask() -> int:
+    if "umask" not in _UMASK:  # reading it means setting it: do it once
+        old = os.umask(0o022)
+        os.umask(old)
+        _UMASK["umask"] = old
+    return _UMASK["umask"]
+
+
+_UMASK: dict[str, int] = {}
+
+
+def _fsync_dir(d: str) -> None:
+    try:
+        fd = os.open(d, os.O_RDONLY)
+    except OSError:  # e.g. Windows: directories cannot be opened
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _remove_orphans(d: str, base: str) -> None:
+    """Delete ``.<base>.<pid>.tmp-*.part`` files whose writing process no longer exists."""
+    prefix = f".{base}."
+    try:
+        names = [n for n in os.listdir(d) if n.startswith(prefix) and n.endswith(".part")]
+    except OSError:
+        return
+    for name in names:
+        pid = name[len(prefix):].split(".", 1)[0]
+        if pid.isdigit() and not _alive(int(pid)):
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.join(d, name))
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid() or os.name == "nt":  # Windows' os.kill would terminate it
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True  # exists (another user's) or cannot tell: leave its file alone
+    return True
 
 
 # ------------------------------------------------------------------ checkpoints

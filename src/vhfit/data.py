@@ -57,6 +57,10 @@ SIGN_RTOL = 0.01
 #: A measured strain path is simplified (breakpoints dropped) only where that moves it by
 #: less than this fraction of its strain range; turning points are always kept.
 PATH_RTOL = 1e-4
+#: ... unless that leaves more than this many breakpoints (a noisy strain signal keeps
+#: nearly every sample, and the model's work grows with them): the tolerance then grows
+#: until it fits, with a DataWarning saying by how much the simulated path may deviate.
+MAX_BREAKPOINTS = 2000
 #: Resampling by arc length smooths the curve into this many bins first, so that sensor
 #: noise does not count as length.
 _ARC_BINS = 200
@@ -312,7 +316,9 @@ class Curve:
     up to the last objective point. For a time curve it runs through the measured
     (time, strain) samples, with breakpoints dropped only where the path moves by less
     than ``PATH_RTOL`` of the strain range (turning points are kept), so 10⁶ samples
-    cost the model little. Trimming never shortens the history: the material remembers
+    cost the model little; a noisy signal that would keep more than
+    ``MAX_BREAKPOINTS`` is followed less closely, with a :class:`DataWarning`.
+    Trimming never shortens the history: the material remembers
     what happened before the compared window.
 
     Examples
@@ -676,9 +682,21 @@ class Curve:
         if t[0] > 0.0:
             t = np.concatenate([[0.0], t])
             e = np.concatenate([[0.0], e])
-        tol = PATH_RTOL * max(float(np.ptp(e)), float(np.abs(e).max()))
-        t, e = _simplify_path(t, e, tol)
-        return History.piecewise_linear(t, e, out_time=self._t_obj)
+        scale = max(float(np.ptp(e)), float(np.abs(e).max()))
+        tol = PATH_RTOL * scale
+        idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
+        while idx is None:
+            tol *= 4.0
+            idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
+        if tol > PATH_RTOL * scale:
+            _warn(
+                f"{self._where()}: the measured strain path keeps more than "
+                f"{MAX_BREAKPOINTS} breakpoints within {PATH_RTOL:g} of its range (sensor "
+                f"noise?); the simulated history follows it within {tol:.3g} strain "
+                f"({tol / scale:.2g} of its range) with {idx.size} breakpoints; smooth or "
+                f"decimate the strain signal to follow it more closely"
+            )
+        return History.piecewise_linear(t[idx], e[idx], out_time=self._t_obj)
 
     def _sample_time(self) -> np.ndarray:
         return self._time if self._time is not None else self._strain / self._rate
@@ -1126,17 +1144,20 @@ def _simplify_path(t: np.ndarray, e: np.ndarray, tol: float) -> tuple[np.ndarray
     return t[idx], e[idx]
 
 
-def _simplify_idx(t: np.ndarray, e: np.ndarray, tol: float) -> np.ndarray:
+def _simplify_idx(t: np.ndarray, e: np.ndarray, tol: float,
+                  limit: int | None = None) -> np.ndarray | None:
     """Indices of the breakpoints kept by :func:`_simplify_path`.
 
     Douglas–Peucker on the vertical distance; segments shorter than 32 samples that need
-    splitting are kept whole, which bounds the work on noisy data.
+    splitting are kept whole, which bounds the work on noisy data. With ``limit``,
+    returns None as soon as more than ``limit`` breakpoints would be kept.
     """
     n = t.size
     if n <= 2 or not tol > 0:
-        return np.arange(n)
+        return None if limit is not None and n > limit else np.arange(n)
     keep = np.zeros(n, dtype=bool)
     keep[0] = keep[-1] = True
+    kept = 2
     stack = [(0, n - 1)]
     while stack:
         a, b = stack.pop()
@@ -1149,11 +1170,15 @@ def _simplify_idx(t: np.ndarray, e: np.ndarray, tol: float) -> np.ndarray:
         if dev[k] <= tol:
             continue
         if b - a < 32:
+            kept += b - a - 1
             keep[a : b + 1] = True
-            continue
-        keep[a + k] = True
-        stack.append((a, a + k))
-        stack.append((a + k, b))
+        else:
+            kept += 1
+            keep[a + k] = True
+            stack.append((a, a + k))
+            stack.append((a + k, b))
+        if limit is not None and kept > limit:
+            return None
     return np.flatnonzero(keep)
 
 
