@@ -58,9 +58,12 @@ SIGN_RTOL = 0.01
 #: less than this fraction of its strain range; turning points are always kept.
 PATH_RTOL = 1e-4
 #: ... unless that leaves more than this many breakpoints (a noisy strain signal keeps
-#: nearly every sample, and the model's work grows with them): the tolerance then grows
-#: until it fits, with a DataWarning saying by how much the simulated path may deviate.
+#: nearly every sample, its noise then acts as strain-rate spikes, and the model's work
+#: grows with them): the history then follows an average over this many bins of
+#: consecutive samples, simplified likewise, with a DataWarning saying how closely.
 MAX_BREAKPOINTS = 2000
+#: A long time record's rate is estimated from this many bin means of its samples.
+_RATE_BINS = 200
 #: Resampling by arc length smooths the curve into this many bins first, so that sensor
 #: noise does not count as length.
 _ARC_BINS = 200
@@ -317,7 +320,8 @@ class Curve:
     (time, strain) samples, with breakpoints dropped only where the path moves by less
     than ``PATH_RTOL`` of the strain range (turning points are kept), so 10⁶ samples
     cost the model little; a noisy signal that would keep more than
-    ``MAX_BREAKPOINTS`` is followed less closely, with a :class:`DataWarning`.
+    ``MAX_BREAKPOINTS`` is averaged over that many bins first, with a
+    :class:`DataWarning`.
     Trimming never shortens the history: the material remembers
     what happened before the compared window.
 
@@ -685,18 +689,35 @@ class Curve:
         scale = max(float(np.ptp(e)), float(np.abs(e).max()))
         tol = PATH_RTOL * scale
         idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-        while idx is None:
-            tol *= 4.0
-            idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-        if tol > PATH_RTOL * scale:
-            _warn(
-                f"{self._where()}: the measured strain path keeps more than "
-                f"{MAX_BREAKPOINTS} breakpoints within {PATH_RTOL:g} of its range (sensor "
-                f"noise?); the simulated history follows it within {tol:.3g} strain "
-                f"({tol / scale:.2g} of its range) with {idx.size} breakpoints; smooth or "
-                f"decimate the strain signal to follow it more closely"
-            )
+        if idx is None:
+            return self._smoothed_history(tol, scale)
         return History.piecewise_linear(t[idx], e[idx], out_time=self._t_obj)
+
+    def _smoothed_history(self, tol: float, scale: float) -> History:
+        # Following every noisy sample would keep ~all of them as breakpoints and turn
+        # the noise into strain-rate spikes of noise/Δt; follow bin means instead.
+        t, e = _bin_means(self._time, self._strain, MAX_BREAKPOINTS)
+        if t[0] > 0.0:
+            t = np.concatenate([[0.0], t])
+            e = np.concatenate([[0.0], e])
+        tol_b = tol
+        idx = _simplify_idx(t, e, tol_b, limit=MAX_BREAKPOINTS)
+        while idx is None:
+            tol_b *= 2.0
+            idx = _simplify_idx(t, e, tol_b, limit=MAX_BREAKPOINTS)
+        t, e = t[idx], e[idx]
+        dev = np.interp(self._time, t, e) - self._strain
+        rms = float(np.sqrt(np.mean(dev * dev)))
+        _warn(
+            f"{self._where()}: the measured strain path is noisy or too detailed to follow "
+            f"sample by sample (more than {MAX_BREAKPOINTS} breakpoints within "
+            f"{PATH_RTOL:g} of its range, and noise would become strain-rate spikes): the "
+            f"simulated history follows a {MAX_BREAKPOINTS}-bin average of it with "
+            f"{idx.size} breakpoints (RMS deviation from the samples {rms:.3g} strain, "
+            f"{rms / scale:.2g} of the range); smooth the strain signal yourself, or raise "
+            f"vhfit.data.MAX_BREAKPOINTS, to choose differently"
+        )
+        return History.piecewise_linear(t, e, out_time=self._t_obj)
 
     def _sample_time(self) -> np.ndarray:
         return self._time if self._time is not None else self._strain / self._rate
@@ -996,6 +1017,9 @@ def _clean_rate_series(eps, sig, keep, where):
 
 
 def _estimate_rate(t, eps, sgn, tol) -> float:
+    if t.size > 2 * _RATE_BINS:
+        # sample-to-sample differences of a long record measure its noise, not its rate
+        t, eps = _bin_means(t, eps, _RATE_BINS)
     dt = np.diff(t)
     de = np.diff(eps)
     ok = (dt > 0) & (de != 0)
@@ -1136,6 +1160,26 @@ def _place(c: np.ndarray, mask: np.ndarray, n: int, rest: bool) -> np.ndarray | 
         cv = np.clip(c[a] + (pos[sel] - cum[r]), c[a], c[b])
         out[sel] = np.interp(cv, c[a : b + 1], np.arange(a, b + 1, dtype=np.float64))
     return out
+
+
+def _bin_means(t: np.ndarray, e: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """The path averaged over ``k`` bins of consecutive samples, spanning t[0] to t[-1].
+
+    The ends are extended linearly from the two outer bin means, so the path still
+    covers every sample time (the objective's output times among them).
+    """
+    n = t.size
+    k = max(2, min(k, n // 2))
+    b = np.arange(n) * k // n
+    cnt = np.bincount(b, minlength=k)
+    tb = np.bincount(b, weights=t, minlength=k) / cnt
+    eb = np.bincount(b, weights=e, minlength=k) / cnt
+
+    def at(x, i, j):
+        return eb[i] + (eb[j] - eb[i]) * (x - tb[i]) / (tb[j] - tb[i])
+
+    return (np.concatenate([[t[0]], tb, [t[-1]]]),
+            np.concatenate([[at(t[0], 0, 1)], eb, [at(t[-1], k - 2, k - 1)]]))
 
 
 def _simplify_path(t: np.ndarray, e: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
