@@ -360,6 +360,16 @@ def test_a_noisy_long_signal_is_averaged_with_a_warning():
     assert abs(path.max() - 1.0) < 2e-3
 
 
+def test_a_noisy_long_ramp_hold_still_finds_its_hold():
+    n = 200_000
+    t = np.linspace(0.0, 10.0, n)
+    clean = -0.3 * np.minimum(t, 1.0)
+    eps = clean + 3e-4 * np.random.default_rng(2).standard_normal(n)
+    c = Curve(eps, 2.0 * clean - 0.1, time=t)
+    assert c.n_segments == 2  # the ramp and the hold, found in bin means
+    assert c.strain_rate == pytest.approx(-0.3, rel=0.02)
+
+
 @given(
     st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=300),
     st.floats(1e-4, 0.2),

@@ -1110,25 +1110,34 @@ def _segment_bounds(t: np.ndarray, e: np.ndarray) -> np.ndarray:
     n = e.size
     rng = float(np.ptp(e))
     turns = _turning_points(e, LEG_RTOL * rng)
-    idx = _simplify_idx(t, e, 0.5 * HOLD_RTOL * rng)
+    tol = 0.5 * HOLD_RTOL * rng
+    pts = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
+    if pts is None:  # noisy: look for holds in bin means (a sample index each)
+        tb, eb = _bin_means(t, e, MAX_BREAKPOINTS)
+        k = tb.size - 2
+        centre = np.concatenate([[0], (np.arange(k) + 0.5) * n // k, [n - 1]]).astype(np.intp)
+        sub = _simplify_idx(tb, eb, tol)
+        tt, ee, si = tb[sub], eb[sub], centre[sub]
+    else:
+        tt, ee, si = t[pts], e[pts], pts
     band = 2 * HOLD_RTOL * rng
     min_dur = HOLD_MIN_DURATION * (t[-1] - t[0])
     holds = []  # (start sample, end sample) of runs of the path within a narrow band
     start = lo = hi = None
-    for k in range(idx.size - 1):
-        a, b = int(idx[k]), int(idx[k + 1])
-        flat = abs(e[b] - e[a]) <= HOLD_RTOL * rng
-        if flat and start is not None and max(hi, e[b]) - min(lo, e[b]) <= band:
-            lo, hi = min(lo, e[b]), max(hi, e[b])
+    for a in range(tt.size - 1):
+        b = a + 1
+        flat = abs(ee[b] - ee[a]) <= HOLD_RTOL * rng
+        if flat and start is not None and max(hi, ee[b]) - min(lo, ee[b]) <= band:
+            lo, hi = min(lo, ee[b]), max(hi, ee[b])
             end = b
             continue
-        if start is not None and t[end] - t[start] >= min_dur:
-            holds.append((start, end))
+        if start is not None and tt[end] - tt[start] >= min_dur:
+            holds.append((int(si[start]), int(si[end])))
         start = lo = hi = None
         if flat:
-            start, end, lo, hi = a, b, min(e[a], e[b]), max(e[a], e[b])
-    if start is not None and t[end] - t[start] >= min_dur:
-        holds.append((start, end))
+            start, end, lo, hi = a, b, min(ee[a], ee[b]), max(ee[a], ee[b])
+    if start is not None and tt[end] - tt[start] >= min_dur:
+        holds.append((int(si[start]), int(si[end])))
     bounds = set(int(i) for i in turns)
     for a, b in holds:
         bounds = {i for i in bounds if not a < i < b} | {a, b}
