@@ -127,7 +127,7 @@ def test_extreme_parameters_give_finite_stress_or_inf_never_nan(case):
     if m.hyperelastic.name in ("mooney_rivlin", "neo_hooke", "yeoh"):
         # invariant laws with non-negative moduli and E_inf > 0 are defined on every
         # history: an extreme but valid individual must come out finite
-        with np.errstate(over="ignore"):  # nan_to_num maps inf to 1.8e308
+        with np.errstate(all="ignore"):  # nan_to_num maps inf to 1.8e308
             E = 3 * m.hyperelastic.initial_shear_modulus(np.nan_to_num(hyper, nan=-1))
         valid = ~plainly_bad & np.all(hyper >= 0, axis=1) & (E > 0)
         assert not rows_inf[valid].any()
