@@ -144,6 +144,38 @@ def test_resume_from_checkpoint_reaches_the_uninterrupted_result(tmp_path):
     assert res.nit == ref.nit
 
 
+@pytest.mark.parametrize("popsize, method", [(23, "separable"), (64, "separable"),
+                                             (37, "full")])
+def test_popsize_is_the_exact_population(tmp_path, popsize, method):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
+                       RANDOM_RATES)
+    ck = tmp_path / "ck.json"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)  # no Sobol power-of-two complaint
+        calibrate(curves, n_prony=2, seed=0, popsize=popsize, maxiter=2, method=method,
+                  uncertainty=False, polish=False, checkpoint=ck, checkpoint_every=0.0)
+    state = json.loads(ck.read_text())
+    assert len(state["population"]) == len(state["energies"]) == popsize
+
+
+def test_de_options_reach_vhfit_optimize_solver_and_refuse_owned_settings(tmp_path):
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2)
+    curves = synthetic(truth, RANDOM_RATES)
+    cal = calibrate(curves, n_prony=2, seed=0, uncertainty=False,
+                    de_options={"strategy": "shade"})  # one of vhfit.optimize's strategies
+    assert cal.rmsape < 1e-6
+    assert max(rel_err(cal, truth).values()) < 1e-6
+    with pytest.raises(ValueError, match=r"de_options\['maxiter'\].*use its maxiter"):
+        calibrate(curves, n_prony=2, de_options={"maxiter": 3})
+    with pytest.raises(ValueError, match=r"de_options\['popsize'\].*use its popsize"):
+        calibrate(curves, n_prony=2, de_options={"popsize": 3})
+    with pytest.raises(ValueError, match="checkpoints do not save"):
+        calibrate(curves, n_prony=2, de_options={"strategy": "jde"},
+                  checkpoint=tmp_path / "ck.json")
+    with pytest.raises(ValueError, match="unknown strategy"):
+        calibrate(curves, n_prony=2, de_options={"strategy": "best9bin"})
+
+
 def test_resume_refuses_a_checkpoint_of_another_fit(tmp_path):
     curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3), RANDOM_RATES, noise=0.05)
     ck = tmp_path / "ck.json"

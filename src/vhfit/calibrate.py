@@ -836,8 +836,8 @@ def calibrate(
     workers : int or map-like callable
         Passed to the DE (only the full method evaluates in parallel this way).
     popsize : int, optional
-        Absolute population size (default 64 separable — the Sobol initialisation
-        rounds it up to a power of two — and 60 full, the paper's).
+        Population size, exactly (default 64 separable, initialised by a Sobol
+        sequence, and 60 full, the paper's, by Latin hypercube).
     maxiter : int, optional
         Generation cap (default 1000 separable, 100 000 full).
     tol : float
@@ -864,7 +864,12 @@ def calibrate(
     rtol : float
         Accuracy of the model evaluation.
     de_options : dict, optional
-        Further keywords for the differential evolution.
+        Further keywords of the search's solver,
+        :class:`vhfit.optimize.DifferentialEvolutionSolver` (SciPy's, plus ``strategy``
+        ``"jde"``, ``"shade"`` or ``"lshade"`` and ``repair``), e.g. ``{"strategy":
+        "rand1bin", "mutation": 0.8}``. Settings that calibrate owns (population size,
+        generation cap, tolerances, seed, polish, callback, workers) are refused with
+        the argument to use instead.
     checkpoint : path, optional
         File where the search state is written atomically every ``checkpoint_every``
         seconds (and at the end); with ``resume=True`` the search continues from it and
@@ -1051,7 +1056,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         z = np.zeros(0)
         stop = "nothing to search"
     else:
-        from scipy.optimize._differentialevolution import DifferentialEvolutionSolver
+        from vhfit.optimize import DifferentialEvolutionSolver
 
         if method == "separable":
             opts = dict(strategy="best1bin", mutation=(0.5, 1.0), recombination=0.9,
@@ -1062,19 +1067,27 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
             # one-at-a-time variant
             opts = dict(strategy="rand1bin", mutation=0.8, recombination=0.7,
                         init="latinhypercube", updating="deferred")
-        opts.update(de_options or {})
+        opts.update(_check_de_options(de_options, ckpt))
         if workers != 1 and opts["updating"] != "deferred":
             raise ValueError(
                 "updating='immediate' evaluates one trial at a time and cannot use workers: "
                 "use workers=1 or deferred updating"
             )
-        # SciPy sizes the population as popsize * dim
-        mult = max(1, int(math.ceil(npop / dim)))
         vec = opts["updating"] == "deferred"
-        with _mapper(workers) as (mapper, chunks), DifferentialEvolutionSolver(
-            prob.make_objective(method, mapper, chunks), dbounds, maxiter=cap, popsize=mult,
-            tol=0.0, atol=0.0, rng=np.random.default_rng(seed), polish=False, callback=cb,
-            vectorized=vec, **opts,
+
+        def make_solver(objective):
+            with warnings.catch_warnings():
+                # any prefix of a scrambled Sobol sequence fills the box well; its
+                # "balance" needs a power of two only for quadrature, not for a start
+                warnings.filterwarnings("ignore", "The balance properties of Sobol",
+                                        UserWarning)
+                return DifferentialEvolutionSolver(
+                    objective, dbounds, maxiter=cap, population_size=npop, tol=0.0, atol=0.0,
+                    rng=np.random.default_rng(seed), polish=False, callback=cb,
+                    vectorized=vec, **opts)
+
+        with _mapper(workers) as (mapper, chunks), make_solver(
+            prob.make_objective(method, mapper, chunks)
         ) as solver:
             solver_ref["s"] = solver
             finished = None
@@ -1111,6 +1124,37 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                        method=method, seed=seed,
                        popsize=npop, maxiter=cap, tol=tol, target=target, polish=polish,
                        g_inf_min=g_inf_min, rtol=rtol))
+
+
+#: Solver keywords that calibrate sets itself, and the argument to use instead.
+_OWN_DE_KEYS = {
+    "popsize": "popsize", "population_size": "popsize", "maxiter": "maxiter",
+    "tol": "tol", "atol": "tol", "stop": "tol, target, max_time or callback",
+    "rng": "seed", "seed": "seed", "polish": "polish", "callback": "callback",
+    "workers": "workers", "vectorized": "workers", "preset": "method",
+}
+
+
+def _check_de_options(de_options, checkpoint) -> dict:
+    """The user's solver keywords, refused where calibrate owns the setting."""
+    opts = dict(de_options or {})
+    for k in opts:
+        if k in _OWN_DE_KEYS:
+            raise ValueError(
+                f"de_options[{k!r}] is set by calibrate: use its {_OWN_DE_KEYS[k]} "
+                "argument instead"
+            )
+    from vhfit.optimize import AdaptiveStrategy, adaptive_strategies
+
+    strategy = opts.get("strategy")
+    adaptive = isinstance(strategy, AdaptiveStrategy) or (
+        isinstance(strategy, str) and strategy in adaptive_strategies())
+    if adaptive and checkpoint is not None:
+        raise ValueError(
+            f"de_options['strategy'] = {strategy!r} adapts its own state, which checkpoints "
+            "do not save: drop checkpoint/resume or use one of SciPy's strategies"
+        )
+    return opts
 
 
 def _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,

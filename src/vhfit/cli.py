@@ -1037,7 +1037,7 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                    help="continue an interrupted fit from the checkpoint in --out "
                         "(same command otherwise)")
     p.add_argument("--popsize", type=_positive(int, "--popsize"),
-                   help="population size (absolute; default 20 separable, 60 full)")
+                   help="population size (absolute; default 64 separable, 60 full)")
     p.add_argument("--maxiter", type=_positive(int, "--maxiter"),
                    help="generation cap (default 1000 separable, 100000 full)")
     p.add_argument("--max-time", type=_positive(float, "--max-time"), metavar="SECONDS",
