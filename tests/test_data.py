@@ -10,6 +10,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+import vhfit._paths
+import vhfit.data
+from vhfit._paths import _simplify_idx, _simplify_path
 from vhfit.data import (
     DEFAULT_N_POINTS,
     MAX_BREAKPOINTS,
@@ -17,8 +20,6 @@ from vhfit.data import (
     Curve,
     DataError,
     DataWarning,
-    _simplify_idx,
-    _simplify_path,
     curves_from_arrays,
     engineering_to_true,
     read_csv,
@@ -368,6 +369,33 @@ def test_a_noisy_long_ramp_hold_still_finds_its_hold():
     c = Curve(eps, 2.0 * clean - 0.1, time=t)
     assert c.n_segments == 2  # the ramp and the hold, found in bin means
     assert c.strain_rate == pytest.approx(-0.3, rel=0.02)
+
+
+def test_max_breakpoints_is_the_documented_knob(monkeypatch):
+    """Setting vhfit.data.MAX_BREAKPOINTS, as the warning says, caps every path it names."""
+    n = 5000
+    t = np.linspace(0.0, 200.0, n)
+    clean = np.where(t < 100, 0.01 * t, 2.0 - 0.01 * t)
+    eps = clean + 3e-3 * np.random.default_rng(3).standard_normal(n)
+    bins = []
+    real = vhfit._paths._bin_means
+
+    def spy(t, e, k):
+        bins.append(k)
+        return real(t, e, k)
+
+    monkeypatch.setattr(vhfit._paths, "_bin_means", spy)
+    monkeypatch.setattr(vhfit.data, "MAX_BREAKPOINTS", 50)
+    c = Curve(eps, 2.0 * clean, time=t)
+    with pytest.warns(DataWarning, match=r"50-bin average"):
+        h = c.history
+    assert 2 <= h.time.size <= 51
+    assert c.n_segments == 2 and 50 in bins  # the hold search of the segments honours it too
+    monkeypatch.setattr(vhfit.data, "MAX_BREAKPOINTS", 5000)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DataWarning)
+        h = Curve(eps, 2.0 * clean, time=t).history
+    assert h.time.size > 51
 
 
 @given(
