@@ -436,7 +436,7 @@ def test_cli_fit_killed_at_random_moments_then_resumed_matches_an_uninterrupted_
             f"{float(e)!r},{float(s)!r}\n" for e, s in zip(c.strain, c.stress)))
         files.append(str(f))
     base = [sys.executable, "-m", "vhfit", "fit", *files, "--prony", "2", "--seed", "3",
-            "--popsize", "512", "--maxiter", "100", "--target", "0", "--checkpoint-every",
+            "--popsize", "1024", "--maxiter", "100", "--target", "0", "--checkpoint-every",
             "0.01", "--no-plot", "-q"]
     out = tmp_path / "killed"
     rng = random.Random(3)
