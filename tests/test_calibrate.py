@@ -176,6 +176,27 @@ def test_de_options_reach_vhfit_optimize_solver_and_refuse_owned_settings(tmp_pa
         calibrate(curves, n_prony=2, de_options={"strategy": "best9bin"})
 
 
+def test_warns_when_the_data_go_slack_where_the_model_pushes_back():
+    # a tension load-unload whose data carry no stress at the end of unloading (a sheet
+    # that buckles): the model predicts compression there
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1.0)
+    t = np.linspace(0.0, 2.0, 201)
+    eps = 0.5 - np.abs(0.5 - 0.5 * t)
+    h = vhfit.History.piecewise_linear(t, eps, out_time=t)
+    s = m.stress(truth, h, measure="engineering")
+    assert s[-1] < 0  # the solid model goes into compression on the way back
+    curves = [vhfit.Curve(strain=eps, stress=np.maximum(s, 0.0), time=t, name="sheet",
+                          n_points=40)]
+    with pytest.warns(CalibrationWarning, match=r"'sheet'.*slack or buckled.*--trim-time"):
+        calibrate(curves, n_prony=1, seed=0, uncertainty=False)
+    whole = [vhfit.Curve(strain=eps, stress=s, time=t, name="solid", n_points=40)]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        calibrate(whole, n_prony=1, seed=0, uncertainty=False)
+    assert not [w for w in caught if "slack" in str(w.message)]
+
+
 def test_resume_refuses_a_checkpoint_of_another_fit(tmp_path):
     curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3), RANDOM_RATES, noise=0.05)
     ck = tmp_path / "ck.json"

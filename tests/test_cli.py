@@ -275,6 +275,11 @@ def test_fit_bad_input_is_one_line_and_exit_2(case, tmp_path, noisy):
     (["fit", "{f}", "--popsize", "0"], "--popsize"),
     (["fit", "{f}", "--rate", "-1", "--rate", "-2", "--out", "o"], "one rate for all files"),
     (["fit", "{f}", "--force", "--resume"], "contradict"),
+    (["fit", "{f}", "--trim-time", "5", "--out", "o"], "LOW:HIGH"),
+    (["fit", "{f}", "--trim-strain", "-0.1:-0.4", "--out", "o"], "LOW must be below HIGH"),
+    (["fit", "{f}", "--trim-time", ":1", "--trim-time", ":2", "--out", "o"],
+     "one window for all files"),
+    (["fit", "{f}", "--trim-strain", "0.1:", "--out", "o"], "keeps 0 sample(s)"),
     (["fit", "{f}", "--resume", "--out", "nowhere"], "does not exist"),
     (["nosuchcommand"], "invalid choice"),
 ])
@@ -283,6 +288,28 @@ def test_fit_bad_flags_in_process(argv, needle, noisy, tmp_path, monkeypatch, ca
     assert cli.main([a.format(f=noisy[0]) for a in argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("vhfit: error: ") and needle in err[0], err
+
+
+def test_fit_trims_each_file_by_its_own_window(noisy, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    # one window per file, in file order; ':' leaves a file whole
+    argv = ["fit", *map(str, noisy), "--trim-strain", "-0.3:", "--trim-strain", ":",
+            "--trim-strain", "-0.4:-0.1", "--points", "5", "--prony", "1", "--no-plot",
+            "-q", "--out", "o"]
+    assert cli.main(argv) == 0
+    text = (tmp_path / "o" / "fitted_curves.csv").read_text()
+    rows = csv.DictReader(io.StringIO("".join(
+        line for line in text.splitlines(keepends=True) if not line.startswith("#"))))
+    by: dict[str, list[float]] = {}
+    for r in rows:
+        if r["kind"] == "point":
+            by.setdefault(r["curve"], []).append(float(r["strain"]))
+    lo_hi = {name: (min(v), max(v)) for name, v in by.items()}
+    assert len(lo_hi) == 3
+    a, b, c = (lo_hi[k] for k in sorted(lo_hi, key=lambda k: abs(float(k.split("_")[1]))))
+    assert a[0] >= -0.3 - 1e-12  # -0.3: (signed: compression runs to -0.5)
+    assert b[0] == pytest.approx(-0.5)  # untrimmed
+    assert c[0] >= -0.4 - 1e-12 and c[1] <= -0.1 + 1e-12
 
 
 def test_debug_shows_the_traceback(tmp_path):

@@ -772,6 +772,37 @@ def _time_window_warnings(model, x, curves) -> list[str]:
     return out
 
 
+def _slack_warnings(prob, x, curves) -> list[str]:
+    """Curves whose data carry ~no stress where the model pushes the other way.
+
+    A thin sheet (VHB, a membrane) goes slack or buckles on unloading: the measured
+    stress stays ~0 while the strain returns, but a solid model predicts stress of the
+    opposite sign there, a misfit no constants can remove.
+    """
+    out = []
+    model = prob.objective.split(prob.batch(x[None, :])[0])
+    for c, s in zip(curves, model):
+        d = np.asarray(c.target_stress)
+        top = float(np.max(np.abs(d)))
+        if not top > 0:
+            continue
+        sign = float(np.sign(d[np.argmax(np.abs(d))]))
+        bad = (np.abs(d) <= 0.02 * top) & (sign * s < -0.05 * top)
+        if np.count_nonzero(bad) < 2:
+            continue
+        t, e = np.asarray(c.target_time)[bad], np.asarray(c.target_strain)[bad]
+        worst = float(s[bad][np.argmax(np.abs(s[bad]))])
+        out.append(
+            f"curve {c.name!r}: at {int(np.count_nonzero(bad))} objective points (time "
+            f"{t.min():.4g}-{t.max():.4g} s, strain {e.min():.4g} to {e.max():.4g}) the measured "
+            f"stress is ~0 but the model's reaches {worst:.3g} (opposite sign): the specimen "
+            "went slack or buckled there, which the model cannot do; leave that part out, "
+            f"e.g. curve.trim(time=(None, {t.min():.4g})), or `vhfit fit --trim-time "
+            f":{t.min():.4g}` for its file"
+        )
+    return out
+
+
 # --------------------------------------------------------------- the front door
 def calibrate(
     curves: Sequence,
@@ -1199,6 +1230,7 @@ def _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol
                 + " (flat directions of the error): treat their values as one of many fits"
             )
     msgs += _time_window_warnings(model, x, curves)
+    msgs += _slack_warnings(prob, x, curves)
     stab = drucker(model.hyperelastic, x[:nh], stability_range)
     if not stab.stable:
         msgs.append(stab.describe())

@@ -367,6 +367,21 @@ def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
     curves = read_csv(files, **kw)
     if not curves:
         raise UsageError(f"{', '.join(files)}: no curves found; check the files' columns")
+    windows = {}
+    for what in ("strain", "time"):
+        given = getattr(args, f"trim_{what}", None) or []
+        if len(given) not in (0, 1, len(files)):
+            raise UsageError(
+                f"--trim-{what} given {len(given)} times for {len(files)} files: give one "
+                "window for all files or one per file, in file order (':' for no trim)")
+        windows[what] = {os.path.abspath(f): given[0 if len(given) == 1 else k]
+                         for k, f in enumerate(files)} if given else {}
+    if windows["strain"] or windows["time"]:
+        def trimmed(c):
+            src = os.path.abspath(c.source) if c.source else None
+            return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
+
+        curves = [trimmed(c) for c in curves]
     inputs = [{"path": os.path.abspath(f), "sha256": _sha256(f)} for f in files]
     return curves, inputs
 
@@ -404,6 +419,26 @@ def _prony(text: str) -> int | str:
     if n < 0:
         raise argparse.ArgumentTypeError(f"--prony {n}: give a whole number >= 0 or 'auto'")
     return n
+
+
+def _window(what: str) -> Callable[[str], tuple[float | None, float | None] | None]:
+    def conv(text: str) -> tuple[float | None, float | None] | None:
+        lo, sep, hi = text.partition(":")
+        if not sep:
+            raise argparse.ArgumentTypeError(
+                f"{what} {text!r}: give LOW:HIGH, either side may be empty (e.g. :120)")
+        try:
+            out = tuple(float(v) if v.strip() else None for v in (lo, hi))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: LOW and HIGH must be numbers"
+                                             ) from None
+        if any(v is not None and not math.isfinite(v) for v in out):
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: bounds must be finite")
+        if out[0] is not None and out[1] is not None and not out[0] < out[1]:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: LOW must be below HIGH")
+        return None if out == (None, None) else out
+
+    return conv
 
 
 def _positive(kind: type, what: str) -> Callable[[str], Any]:
@@ -1087,6 +1122,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--points", type=_points, default=10, metavar="N|all",
                    help="objective points per curve (default 10, the paper's; 'all' = every "
                         "sample)")
+    p.add_argument("--trim-strain", type=_window("--trim-strain"), metavar="LOW:HIGH",
+                   action="append",
+                   help="compare model and data only where LOW <= strain <= HIGH (signed; "
+                        "either side may be empty, e.g. -0.4: ); once for all files or once "
+                        "per file; the history keeps all data")
+    p.add_argument("--trim-time", type=_window("--trim-time"), metavar="LOW:HIGH",
+                   action="append",
+                   help="compare only where LOW <= time (s) <= HIGH, e.g. :120 to leave out "
+                        "a slack end of unloading; once for all files or once per file")
     _add_fit_options(p, demo=False)
     p.set_defaults(func=cmd_fit)
 
@@ -1142,6 +1186,20 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # ====================================================================== main
+def _glue_windows(argv: list[str]) -> list[str]:
+    """``--trim-strain -0.3:`` -> ``--trim-strain=-0.3:`` (argparse takes -0.3: for a flag)."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("--trim-strain", "--trim-time") and i + 1 < len(argv):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(a)
+            i += 1
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``vhfit`` command line; returns the exit code.
 
@@ -1159,7 +1217,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     debug = "--debug" in argv
     try:
         parser = build_parser()
-        args = parser.parse_args(argv)
+        args = parser.parse_args(_glue_windows(argv))
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE
