@@ -204,15 +204,10 @@ def _bin_means(t: np.ndarray, e: np.ndarray, k: int) -> tuple[np.ndarray, np.nda
             np.concatenate([[at(t[0], 0, 1)], eb, [at(t[-1], k - 2, k - 1)]]))
 
 
-def _simplify_path(t: np.ndarray, e: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
-    """Drop breakpoints of a piecewise-linear path e(t) that move it by at most ``tol``."""
-    idx = _simplify_idx(t, e, tol)
-    return t[idx], e[idx]
-
-
 def _simplify_idx(t: np.ndarray, e: np.ndarray, tol: float,
                   limit: int | None = None) -> np.ndarray | None:
-    """Indices of the breakpoints kept by :func:`_simplify_path`.
+    """Indices of the breakpoints of a piecewise-linear path e(t) to keep so that dropping
+    the others moves it by at most ``tol``.
 
     Douglas–Peucker on the vertical distance; segments shorter than 32 samples that need
     splitting are kept whole, which bounds the work on noisy data. With ``limit``,

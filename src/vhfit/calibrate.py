@@ -17,6 +17,7 @@ uncertainty report.
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 import math
@@ -315,15 +316,11 @@ def atomic_write(path, text: str) -> None:
     _fsync_dir(d)
 
 
+@functools.cache
 def _umask() -> int:
-    if "umask" not in _UMASK:  # reading it means setting it: do it once
-        old = os.umask(0o022)
-        os.umask(old)
-        _UMASK["umask"] = old
-    return _UMASK["umask"]
-
-
-_UMASK: dict[str, int] = {}
+    old = os.umask(0o022)  # reading it means setting it: do it once
+    os.umask(old)
+    return old
 
 
 def _fsync_dir(d: str) -> None:
@@ -582,9 +579,6 @@ class _Problem:
         e[~np.isfinite(e)] = np.inf
         return e
 
-    def per_curve(self, x: np.ndarray) -> list[float]:
-        return [float(v) for v in self.objective.per_curve(self.batch(x[None, :])[0])]
-
 
 def _chunk_errors(args) -> np.ndarray:
     prob, method, Z = args
@@ -772,16 +766,16 @@ def _time_window_warnings(model, x, curves) -> list[str]:
     return out
 
 
-def _slack_warnings(prob, x, curves) -> list[str]:
-    """Curves whose data carry ~no stress where the model pushes the other way.
+def _slack_warnings(model_stress, curves) -> list[str]:
+    """Curves whose data carry ~no stress where the model (``model_stress``, one array
+    per curve at its objective points) pushes the other way.
 
     A thin sheet (VHB, a membrane) goes slack or buckles on unloading: the measured
     stress stays ~0 while the strain returns, but a solid model predicts stress of the
     opposite sign there, a misfit no constants can remove.
     """
     out = []
-    model = prob.objective.split(prob.batch(x[None, :])[0])
-    for c, s in zip(curves, model):
+    for c, s in zip(curves, model_stress):
         d = np.asarray(c.target_stress)
         top = float(np.max(np.abs(d)))
         if not top > 0:
@@ -1230,7 +1224,8 @@ def _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol
                 + " (flat directions of the error): treat their values as one of many fits"
             )
     msgs += _time_window_warnings(model, x, curves)
-    msgs += _slack_warnings(prob, x, curves)
+    stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
+    msgs += _slack_warnings(prob.objective.split(stress), curves)
     stab = drucker(model.hyperelastic, x[:nh], stability_range)
     if not stab.stable:
         msgs.append(stab.describe())
@@ -1240,7 +1235,8 @@ def _finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol
     bounds = {**prob.bounds, **tb}
     bounds = {k: v for k, v in bounds.items() if k in model.param_names}
     return Calibration(
-        model=model, params=params, rmsape=err, per_curve_rmsape=prob.per_curve(x),
+        model=model, params=params, rmsape=err,
+        per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
         nit=int(nit), nfev=int(nfev), wall_time=time.perf_counter() - t0, stop_reason=str(stop),
         g=[float(v) for v in g], g_inf=float(g_inf), bounds=bounds, history=history,
         confidence=conf, stability=stab, warnings=msgs, options=options,

@@ -427,13 +427,8 @@ def _window(what: str) -> Callable[[str], tuple[float | None, float | None] | No
         if not sep:
             raise argparse.ArgumentTypeError(
                 f"{what} {text!r}: give LOW:HIGH, either side may be empty (e.g. :120)")
-        try:
-            out = tuple(float(v) if v.strip() else None for v in (lo, hi))
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{what} {text!r}: LOW and HIGH must be numbers"
-                                             ) from None
-        if any(v is not None and not math.isfinite(v) for v in out):
-            raise argparse.ArgumentTypeError(f"{what} {text!r}: bounds must be finite")
+        number = _float(what)
+        out = tuple(number(v) if v.strip() else None for v in (lo, hi))
         if out[0] is not None and out[1] is not None and not out[0] < out[1]:
             raise argparse.ArgumentTypeError(f"{what} {text!r}: LOW must be below HIGH")
         return None if out == (None, None) else out

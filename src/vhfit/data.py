@@ -535,10 +535,7 @@ class Curve:
         """The stretch history to simulate, with ``out_time`` at the objective points."""
         if self._time is None:
             return History.constant_rate(self._e_obj, self._rate)
-        t, e = self._time, self._strain
-        if t[0] > 0.0:
-            t = np.concatenate([[0.0], t])
-            e = np.concatenate([[0.0], e])
+        t, e = _from_rest(self._time, self._strain)
         scale = max(float(np.ptp(e)), float(np.abs(e).max()))
         tol = PATH_RTOL * scale
         idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
@@ -549,15 +546,11 @@ class Curve:
     def _smoothed_history(self, tol: float, scale: float) -> History:
         # Following every noisy sample would keep ~all of them as breakpoints and turn
         # the noise into strain-rate spikes of noise/Δt; follow bin means instead.
-        t, e = _bin_means(self._time, self._strain, MAX_BREAKPOINTS)
-        if t[0] > 0.0:
-            t = np.concatenate([[0.0], t])
-            e = np.concatenate([[0.0], e])
-        tol_b = tol
-        idx = _simplify_idx(t, e, tol_b, limit=MAX_BREAKPOINTS)
+        t, e = _from_rest(*_bin_means(self._time, self._strain, MAX_BREAKPOINTS))
+        idx = None
         while idx is None:
-            tol_b *= 2.0
-            idx = _simplify_idx(t, e, tol_b, limit=MAX_BREAKPOINTS)
+            idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
+            tol *= 2.0
         t, e = t[idx], e[idx]
         dev = np.interp(self._time, t, e) - self._strain
         rms = float(np.sqrt(np.mean(dev * dev)))
@@ -766,6 +759,13 @@ class Curve:
             f"Curve({self._name!r}: {self._mode}, {self._measure} stress, {rate}{extra}, "
             f"{self._strain.size} samples, {self.n_points} points by {self._by}{win})"
         )
+
+
+def _from_rest(t: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The path (t, e), started from rest (0, 0) when its first sample comes later."""
+    if t[0] > 0.0:
+        return np.concatenate([[0.0], t]), np.concatenate([[0.0], e])
+    return t, e
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
