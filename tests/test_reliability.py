@@ -31,7 +31,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import vhfit
-from vhfit.calibrate import CalibrationWarning, atomic_write, calibrate
+from vhfit._io import atomic_write
+from vhfit.calibrate import CalibrationWarning, calibrate
 
 posix_only = pytest.mark.skipif(os.name != "posix", reason="needs fork and SIGKILL")
 
@@ -256,7 +257,7 @@ FIT = textwrap.dedent(
     import json, warnings
     import numpy as np
     import vhfit
-    from vhfit.calibrate import atomic_write
+    from vhfit._io import atomic_write
 
     OPTS = dict(n_prony=2, seed=123, popsize=64, maxiter=MAXITER, tol=0.0, target=0.0,
                 stall=(0.0, 10**9), uncertainty=False)

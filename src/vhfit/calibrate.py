@@ -17,12 +17,10 @@ uncertainty report.
 from __future__ import annotations
 
 import contextlib
-import functools
 import hashlib
 import json
 import math
 import os
-import tempfile
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -30,6 +28,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit._io import atomic_write
+from vhfit._io import json_default as _json_default
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 from vhfit.stability import StabilityReport, drucker
@@ -285,83 +285,6 @@ class Calibration:
         return text
 
 
-def atomic_write(path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file and a rename: never a torn file.
-
-    The data and then the directory entry are flushed to disk, so after a crash or a
-    power cut the file holds either the old or the new text. Temporary files left by
-    writers that were killed (``.<name>.<pid>.tmp-*.part``, their process gone) are
-    removed. A new file gets the usual permissions (umask), a replaced one keeps its own.
-    """
-    path = os.fspath(path)
-    d = os.path.dirname(os.path.abspath(path))
-    base = os.path.basename(path)
-    _remove_orphans(d, base)
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=f".{base}.{os.getpid()}.tmp-", suffix=".part")
-    try:
-        try:
-            mode = os.stat(path).st_mode & 0o7777
-        except OSError:
-            mode = 0o666 & ~_umask()
-        os.chmod(tmp, mode)
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    _fsync_dir(d)
-
-
-@functools.cache
-def _umask() -> int:
-    old = os.umask(0o022)  # reading it means setting it: do it once
-    os.umask(old)
-    return old
-
-
-def _fsync_dir(d: str) -> None:
-    try:
-        fd = os.open(d, os.O_RDONLY)
-    except OSError:  # e.g. Windows: directories cannot be opened
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
-def _remove_orphans(d: str, base: str) -> None:
-    """Delete ``.<base>.<pid>.tmp-*.part`` files whose writing process no longer exists."""
-    prefix = f".{base}."
-    try:
-        names = [n for n in os.listdir(d) if n.startswith(prefix) and n.endswith(".part")]
-    except OSError:
-        return
-    for name in names:
-        pid = name[len(prefix):].split(".", 1)[0]
-        if pid.isdigit() and not _alive(int(pid)):
-            with contextlib.suppress(OSError):
-                os.unlink(os.path.join(d, name))
-
-
-def _alive(pid: int) -> bool:
-    if pid == os.getpid() or os.name == "nt":  # Windows' os.kill would terminate it
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (PermissionError, OSError):
-        return True  # exists (another user's) or cannot tell: leave its file alone
-    return True
-
-
 # ------------------------------------------------------------------ checkpoints
 def _fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     h = hashlib.sha256()
@@ -415,14 +338,6 @@ def _load_checkpoint(path, key, solver, history) -> tuple[int, float, str | None
     for k in history:
         history[k][:] = data["history"][k]
     return len(history["nit"]), float(data["elapsed"]), data.get("done")
-
-
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    return str(o)
 
 
 # ------------------------------------------------------------- the search space

@@ -37,6 +37,8 @@ from typing import Any, TextIO
 
 import numpy as np
 
+from vhfit._io import dumps
+
 __all__ = ["main", "load_plugins", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE"]
 
 EXIT_OK = 0
@@ -158,7 +160,7 @@ def _sha256(path) -> str:
 
 
 def _write(path: Path, text: str) -> None:
-    from vhfit.calibrate import atomic_write
+    from vhfit._io import atomic_write
 
     atomic_write(path, text)
 
@@ -652,7 +654,7 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
         "card_errors": card_errors,
         "card_notes": card_notes,
     })
-    _write(out / RESULTS, json.dumps(res, indent=2, default=_json_default) + "\n")
+    _write(out / RESULTS, dumps(res, indent=2) + "\n")
     written[RESULTS] = "results"
     written["_summary"] = text
     return written
@@ -670,16 +672,6 @@ def _curve_info(c) -> dict:
 
 def _jsonable(d: dict) -> dict:
     return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
-
-
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    if isinstance(o, Path):
-        return str(o)
-    return str(o)
 
 
 def _fitted_csv(cal, curves, fits, label, interrupted) -> str:
