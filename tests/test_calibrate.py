@@ -402,3 +402,29 @@ def test_rate_stiffening_beyond_the_model_is_named():
     assert any("'slow'" in w and "'fast'" in w for w in cal.warnings)
     fine = calibrate(synthetic(SEBS, SEBS_RATES), n_prony=4, seed=0, uncertainty=False)
     assert not any("rate rises" in w for w in fine.warnings)
+
+
+def test_results_file_round_trip(tmp_path):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-2), RANDOM_RATES, noise=0.02)
+    cal = calibrate(curves, n_prony=1, seed=0)
+    path = tmp_path / "results.json"
+    cal.save(path, curves=curves, extra={"note": "x"})
+    data = json.loads(path.read_text())
+    assert data["format"] == "vhfit-results-1" and data["status"] == "complete"
+    assert data["note"] == "x" and len(data["curves"]) == len(curves)
+    back = vhfit.Calibration.load(path)
+    assert back.params == cal.params
+    assert back.per_curve_rmsape == cal.per_curve_rmsape
+    assert back.history["best"] == cal.history["best"]
+    assert back.stability.stable == cal.stability.stable
+    fits = back.fitted_curves(curves, points=20)
+    for f, c in zip(fits, curves):
+        assert np.allclose(f["model"], cal.predict(c), rtol=1e-12, atol=0)
+        assert f["fine_time"].size == 20
+
+
+def test_load_refuses_a_file_that_is_not_a_results_file(tmp_path):
+    path = tmp_path / "x.json"
+    path.write_text('{"a": 1}')
+    with pytest.raises(ValueError, match="not a vhfit results file"):
+        vhfit.Calibration.load(path)

@@ -40,7 +40,7 @@ def fitted():
 
 def test_fitted_curves_match_the_model(fitted):
     cal, curves = fitted
-    fits = plot.fitted_curves(cal, curves, points=50)
+    fits = cal.fitted_curves(curves, points=50)
     assert len(fits) == 2
     for c, f in zip(curves, fits):
         np.testing.assert_allclose(f["stress"], c.target_stress)
@@ -82,4 +82,4 @@ def test_without_matplotlib_the_message_says_how_to_install(fitted, monkeypatch,
     with pytest.raises(ImportError):
         plot.plot_history(cal)
     # everything else still works
-    assert len(plot.fitted_curves(cal, curves)) == 2
+    assert len(cal.fitted_curves(curves)) == 2

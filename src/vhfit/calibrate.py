@@ -25,11 +25,11 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
 
 import numpy as np
 
-from vhfit._io import atomic_write
-from vhfit._io import json_default as _json_default
+from vhfit._io import atomic_write, dumps
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 from vhfit.stability import StabilityReport, drucker
@@ -41,6 +41,37 @@ DEFAULT_TAU_STRATEGY = "free"
 DEFAULT_DECADES_BELOW = 3  # one decade of margin below Eq. 22: real τ_1 can sit just under it
 DEFAULT_DECADES_ABOVE = 1
 _DEFAULT_TOL = 1e-6
+
+
+RESULTS_FORMAT = "vhfit-results-1"
+
+
+def _versions() -> dict[str, str]:
+    import platform
+
+    import numba
+    import scipy
+
+    from vhfit import __version__
+
+    return {
+        "vhfit": __version__,
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "numba": numba.__version__,
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+    }
+
+
+def _curve_info(c) -> dict:
+    return {
+        "name": str(getattr(c, "name", "")),
+        "strain_rate": float(getattr(c, "strain_rate", float("nan"))),
+        "measure": getattr(c, "measure", "true"),
+        "n_points": int(np.size(c.target_stress)),
+        "source": getattr(c, "source", None),
+    }
 
 
 class CalibrationWarning(UserWarning):
@@ -277,9 +308,104 @@ class Calibration:
             "options": self.options,
         }
 
+    def save(self, path, *, status: str = "complete", curves: Sequence | None = None,
+             extra: dict | None = None) -> None:
+        """Write the results file (JSON) atomically: :meth:`to_dict` plus its context.
+
+        Parameters
+        ----------
+        path : path-like
+            The file to write (``results.json`` of ``vhfit fit``).
+        status : {"complete", "interrupted"}
+            Whether the search ran to its end.
+        curves : sequence of Curve, optional
+            The fitted curves, described by name, rate, measure, size and source.
+        extra : dict, optional
+            Further top-level entries (the command line adds its inputs and options).
+        """
+        res = self.to_dict()
+        res.update({
+            "format": RESULTS_FORMAT,
+            "status": status,
+            "interrupted": status == "interrupted",
+            "curves": [_curve_info(c) for c in (curves or [])],
+            "versions": _versions(),
+            "timestamp": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "history": self.history,
+        })
+        res.update(extra or {})
+        atomic_write(path, dumps(res, indent=2) + "\n")
+
+    @classmethod
+    def load(cls, path) -> Calibration:
+        """Read a results file written by :meth:`save` (or by ``vhfit fit``).
+
+        The model and constants, errors, counts, bounds, intervals, warnings and
+        history come back; the stability report is recomputed from the constants.
+        """
+        with open(path, encoding="utf-8") as f:
+            res = json.load(f)
+        if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
+            raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
+                             "'params'); give the results.json written by vhfit")
+        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)))
+        x = model.check(res["params"])
+        lo_hi = res.get("options", {}).get("stability_range")
+        stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],
+                       tuple(lo_hi) if lo_hi else (0.2, 5.0))
+        return cls(
+            model=model, params=model.as_dict(x), rmsape=float(res["rmsape"]),
+            per_curve_rmsape=list(res.get("per_curve_rmsape", [])),
+            nit=int(res.get("nit", 0)), nfev=int(res.get("nfev", 0)),
+            wall_time=float(res.get("wall_time", 0.0)),
+            stop_reason=str(res.get("stop_reason", "")), g=list(res.get("g", [])),
+            g_inf=float(res.get("g_inf", 1.0)),
+            bounds={k: tuple(v) for k, v in res.get("bounds", {}).items()},
+            history=dict(res.get("history", {})),
+            confidence={k: tuple(v) for k, v in res.get("confidence", {}).items()},
+            stability=stab, order_scan=list(res.get("order_scan", [])),
+            warnings=list(res.get("warnings", [])), options=dict(res.get("options", {})),
+            curve_names=list(res.get("curve_names", [])),
+        )
+
+    def fitted_curves(self, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:
+        """Model stresses along each curve, at its points and on a fine grid.
+
+        Parameters
+        ----------
+        curves : sequence of Curve
+            The curves it was fitted to (each with ``.history`` and ``.measure``).
+        points : int
+            Size of the fine, uniform-in-time grid along each history.
+
+        Returns
+        -------
+        list of dict
+            Per curve: ``time``, ``strain``, ``stress`` (objective points: data and
+            ``model``), and ``fine_time``, ``fine_strain``, ``fine_model``. Stresses are
+            in the curve's own measure, MPa.
+        """
+        out = []
+        for c in curves:
+            h = c.history
+            measure = getattr(c, "measure", "true")
+            model = self.model.stress(self.params, h, measure=measure)
+            t_fine = np.linspace(0.0, h.duration, int(points))
+            fine = self.model.stress(self.params, h.with_outputs(t_fine), measure=measure)
+            out.append({
+                "time": np.asarray(h.out_time, dtype=np.float64),
+                "strain": np.asarray(h.out_strain, dtype=np.float64),
+                "stress": np.asarray(c.target_stress, dtype=np.float64),
+                "model": np.asarray(model, dtype=np.float64),
+                "fine_time": t_fine,
+                "fine_strain": h.stretch_at(t_fine) - 1.0,
+                "fine_model": np.asarray(fine, dtype=np.float64),
+            })
+        return out
+
     def to_json(self, path=None, **kw) -> str:
         """Serialise :meth:`to_dict`; write it atomically to ``path`` if given."""
-        text = json.dumps(self.to_dict(), indent=2, default=_json_default, **kw)
+        text = dumps(self.to_dict(), indent=2, **kw)
         if path is not None:
             atomic_write(path, text)
         return text
@@ -312,7 +438,7 @@ def _snapshot(solver, history, elapsed) -> dict:
 
 
 def _save_checkpoint(path, key, snap: dict) -> None:
-    atomic_write(path, json.dumps({**snap, "key": key}, default=_json_default))
+    atomic_write(path, dumps({**snap, "key": key}))
 
 
 def _load_checkpoint(path, key, solver, history) -> tuple[int, float, str | None]:

@@ -24,20 +24,16 @@ import io
 import json
 import math
 import os
-import platform
 import shlex
 import signal
 import sys
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, TextIO
 
 import numpy as np
-
-from vhfit._io import dumps
 
 __all__ = ["main", "load_plugins", "EXIT_OK", "EXIT_FAILED", "EXIT_USAGE"]
 
@@ -135,22 +131,6 @@ def _tau_strategies() -> list[str]:
 
 
 # ==================================================================== helpers
-def _versions() -> dict[str, str]:
-    import numba
-    import scipy
-
-    import vhfit
-
-    return {
-        "vhfit": getattr(vhfit, "__version__", "?"),
-        "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "numba": numba.__version__,
-        "python": platform.python_version(),
-        "platform": platform.platform(),
-    }
-
-
 def _sha256(path) -> str:
     h = hashlib.sha256()
     with open(path, "rb") as f:
@@ -579,7 +559,7 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
     head.append(f"status: {status}")
     summary = "\n".join(head + ["", cal.summary()])
 
-    fits = plot.fitted_curves(cal, curves)
+    fits = cal.fitted_curves(curves)
     _write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
 
@@ -635,39 +615,21 @@ def _write_outputs(cal, curves, inputs, args, out: Path, *, label, command, inte
     _write(out / "summary.txt", text + "\n")
     written["summary.txt"] = "this table"
 
-    res = cal.to_dict()
-    res.update({
-        "format": "vhfit-results-1",
-        "status": "interrupted" if interrupted else "complete",
-        "interrupted": bool(interrupted),
-        "data_label": label,
-        "inputs": inputs,
-        "curves": [_curve_info(c) for c in curves],
-        "command": ["vhfit"] + list(command),
-        "cli_options": _jsonable(vars(args)),
-        "seed": args.seed,
-        "versions": _versions(),
-        "timestamp": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-        "history": cal.history,
-        "files": {**{k: v for k, v in written.items()}, RESULTS: "this file"},
-        "cards": cards_ok,
-        "card_errors": card_errors,
-        "card_notes": card_notes,
-    })
-    _write(out / RESULTS, dumps(res, indent=2) + "\n")
+    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=curves,
+             extra={
+                 "data_label": label,
+                 "inputs": inputs,
+                 "command": ["vhfit"] + list(command),
+                 "cli_options": _jsonable(vars(args)),
+                 "seed": args.seed,
+                 "files": {**written, RESULTS: "this file"},
+                 "cards": cards_ok,
+                 "card_errors": card_errors,
+                 "card_notes": card_notes,
+             })
     written[RESULTS] = "results"
     written["_summary"] = text
     return written
-
-
-def _curve_info(c) -> dict:
-    return {
-        "name": str(getattr(c, "name", "")),
-        "strain_rate": float(getattr(c, "strain_rate", float("nan"))),
-        "measure": getattr(c, "measure", "true"),
-        "n_points": int(np.size(c.target_stress)),
-        "source": getattr(c, "source", None),
-    }
 
 
 def _jsonable(d: dict) -> dict:

@@ -24,7 +24,6 @@ __all__ = [
     "PlotUnavailable",
     "have_matplotlib",
     "group_by_magnitude",
-    "fitted_curves",
     "plot_fit",
     "plot_history",
     "plot_order_scan",
@@ -128,44 +127,6 @@ def _data_points(curve) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(eps, dtype=np.float64), np.asarray(sig, dtype=np.float64)
 
 
-def fitted_curves(cal, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:
-    """Model stresses of a calibration along each curve, at its points and on a fine grid.
-
-    Parameters
-    ----------
-    cal : Calibration
-        A result of :func:`vhfit.calibrate` (anything with ``.model`` and ``.params``).
-    curves : sequence of Curve
-        The curves it was fitted to (each with ``.history`` and ``.measure``).
-    points : int
-        Size of the fine, uniform-in-time grid along each history.
-
-    Returns
-    -------
-    list of dict
-        Per curve: ``time``, ``strain``, ``stress`` (objective points: data and
-        ``model``), and ``fine_time``, ``fine_strain``, ``fine_model``. Stresses are
-        in the curve's own measure, MPa.
-    """
-    out = []
-    for c in curves:
-        h = c.history
-        measure = getattr(c, "measure", "true")
-        model = cal.model.stress(cal.params, h, measure=measure)
-        t_fine = np.linspace(0.0, h.duration, int(points))
-        fine = cal.model.stress(cal.params, h.with_outputs(t_fine), measure=measure)
-        out.append({
-            "time": np.asarray(h.out_time, dtype=np.float64),
-            "strain": np.asarray(h.out_strain, dtype=np.float64),
-            "stress": np.asarray(c.target_stress, dtype=np.float64),
-            "model": np.asarray(model, dtype=np.float64),
-            "fine_time": t_fine,
-            "fine_strain": h.stretch_at(t_fine) - 1.0,
-            "fine_model": np.asarray(fine, dtype=np.float64),
-        })
-    return out
-
-
 def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: str | None = None):
     """Data against the calibrated model, one colour per curve, panels by magnitude.
 
@@ -188,7 +149,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
     matplotlib.figure.Figure
     """
     curves = list(curves)
-    fits = fitted_curves(cal, curves)
+    fits = cal.fitted_curves(curves)
     peaks = [
         max(np.max(np.abs(_data_points(c)[1])), np.max(np.abs(f["fine_model"])))
         for c, f in zip(curves, fits)
