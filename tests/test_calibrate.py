@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibrate import CalibrationWarning, auto_bounds, calibrate
+from vhfit.calibration import CalibrationWarning, auto_bounds, calibrate
 
 SEBS = dict(C10=0.00491, C01=0.00441, G1=3.49, tau1=10**-4.91, G2=0.0634, tau2=10**-1.99,
             G3=0.0603, tau3=10**0.581, G4=0.103, tau4=10**2.68)
@@ -350,14 +350,12 @@ def test_bad_workers_is_a_clear_error():
 
 
 def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypatch):
-    import sys
-
-    vc = sys.modules["vhfit.calibrate"]  # the package attribute is the function
+    from vhfit.calibration._space import SeparableSpace
     curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
                        RANDOM_RATES, noise=0.05, seed=9)
     ref = calibrate(curves, n_prony=2, seed=4, uncertainty=False)
     ck = tmp_path / "ck.json"
-    real = vc._Problem.solve_linear
+    real = SeparableSpace.solve_linear
     calls = {"n": 0}
 
     def flaky(self, hyper, tau):
@@ -366,10 +364,10 @@ def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypat
             raise KeyboardInterrupt
         return real(self, hyper, tau)
 
-    monkeypatch.setattr(vc._Problem, "solve_linear", flaky)
+    monkeypatch.setattr(SeparableSpace, "solve_linear", flaky)
     cut = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck,
                     checkpoint_every=1e9)
-    monkeypatch.setattr(vc._Problem, "solve_linear", real)
+    monkeypatch.setattr(SeparableSpace, "solve_linear", real)
     assert cut.stop_reason == "interrupted"
     assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
     res = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck, resume=True)

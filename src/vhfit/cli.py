@@ -448,7 +448,7 @@ def _float(what: str) -> Callable[[str], float]:
 def _run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
              demo: bool = False) -> int:
     """Calibrate, then write every output into ``out`` (also when interrupted)."""
-    from vhfit.calibrate import calibrate
+    from vhfit.calibration import calibrate
 
     model = _resolve_model_name(args.model)
     strategy = args.strategy
@@ -509,7 +509,7 @@ def _run_fit(curves, inputs, args, out: Path, *, label: str | None, command: lis
         sigs.writing = True
         files = _write_outputs(cal, curves, inputs, args, out, label=label, command=command,
                                interrupted=interrupted, demo=demo)
-    from vhfit.calibrate import CalibrationWarning
+    from vhfit.calibration import CalibrationWarning
 
     seen = set(cal.warnings)
     for w in caught:
