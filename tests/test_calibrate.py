@@ -426,3 +426,29 @@ def test_load_refuses_a_file_that_is_not_a_results_file(tmp_path):
     path.write_text('{"a": 1}')
     with pytest.raises(ValueError, match="not a vhfit results file"):
         vhfit.Calibration.load(path)
+
+
+@pytest.mark.parametrize("kw, name", [
+    (dict(n_prony=-1), "n_prony"), (dict(n_prony=1.5), "n_prony"), (dict(n_prony="two"), "n_prony"),
+    (dict(n_prony=True), "n_prony"), (dict(method="exhaustive"), "method"),
+    (dict(tau_strategy="loose"), "tau_strategy"), (dict(bounds=[(0, 1)]), "bounds"),
+    (dict(workers=0), "workers"), (dict(popsize=3), "popsize"), (dict(maxiter=0), "maxiter"),
+    (dict(tol=-1.0), "tol"), (dict(g_inf_min=1.0), "g_inf_min"), (dict(max_time=-1), "max_time"),
+    (dict(max_prony=0), "max_prony"), (dict(rtol=0.0), "rtol"), (dict(stall=(0.02,)), "stall"),
+    (dict(stability_range=(2.0, 1.0)), "stability_range"), (dict(target=float("nan")), "target"),
+    (dict(callback=3), "callback"), (dict(de_options=["rand1bin"]), "de_options"),
+    (dict(resume=True), "resume"), (dict(polish="yes"), "polish"),
+    (dict(checkpoint_every=float("inf")), "checkpoint_every"),
+])
+def test_bad_arguments_are_refused_at_the_front_door(kw, name, monkeypatch):
+    import vhfit.calibration._workflow as wf
+
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+
+    def no_work(*a, **k):  # nothing may be computed before the arguments are checked
+        raise AssertionError("computation started before the arguments were checked")
+
+    monkeypatch.setattr(wf, "rate_sensitivity", no_work)
+    monkeypatch.setattr(wf, "search_bounds", no_work)
+    with pytest.raises(ValueError, match=rf"^{name} = .*: "):
+        calibrate(curves, **kw)
