@@ -22,7 +22,7 @@ from vhfit.optimize import (
     DifferentialEvolutionSolver,
     MeanImprovement,
 )
-from vhfit.optimize._state import from_plain, to_plain
+from vhfit.optimize._state import from_plain, plain_column, to_plain
 
 BOUNDS = [(-2.0, 2.0)] * 3
 N_GEN = 30  # generations of the uninterrupted run
@@ -298,6 +298,10 @@ def test_plain_conversion_is_exact():
     assert back["tuple"] == values["tuple"]
     with pytest.raises(TypeError):
         to_plain(object())
+    # the fast path for history columns stores what to_plain stores
+    for column, dtype in [([1.0, math.inf, math.nan, -0.0, -math.inf], "float64"),
+                          ([1e308, 1e308], "float64"), ([3, 2**40], "int64"), ([], "float64")]:
+        assert plain_column(column, dtype) == to_plain(np.asarray(column, dtype=dtype))
 
 
 # ------------------------------------------------------------------ refusals

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vhfit.optimize._state import from_plain, to_plain
+from vhfit.optimize._state import from_plain, plain_column, to_plain
 from vhfit.optimize._stopping import StopState
 
 __all__ = ["DEHistory"]
@@ -129,17 +129,17 @@ class _Recorder:
     def dump(self) -> dict:
         """The rows (and snapshots) recorded so far, as plain JSON types."""
         st = self.state
-        return to_plain({
-            "nit": np.asarray(self.nit, dtype=np.int64),
-            "nfev": np.asarray(self.nfev, dtype=np.int64),
-            "best": np.asarray(st.best_history, dtype=np.float64),
-            "mean": np.asarray(st.mean_history, dtype=np.float64),
-            "time": np.asarray(self.time, dtype=np.float64),
-            "population_size": np.asarray(self.size, dtype=np.int64),
-            "snapshot_nit": np.asarray(self.snap_nit, dtype=np.int64),
-            "snapshot_populations": list(self.snap_pop),
-            "snapshot_energies": list(self.snap_e),
-        })
+        return {
+            "nit": plain_column(self.nit, "int64"),
+            "nfev": plain_column(self.nfev, "int64"),
+            "best": plain_column(st.best_history, "float64"),
+            "mean": plain_column(st.mean_history, "float64"),
+            "time": plain_column(self.time, "float64"),
+            "population_size": plain_column(self.size, "int64"),
+            "snapshot_nit": plain_column(self.snap_nit, "int64"),
+            "snapshot_populations": to_plain(self.snap_pop),
+            "snapshot_energies": to_plain(self.snap_e),
+        }
 
     def load(self, data: dict, energies: np.ndarray) -> None:
         """Restore :meth:`dump`'s rows; `energies` are the current population's."""
