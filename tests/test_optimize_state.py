@@ -365,22 +365,3 @@ def test_refused_state_leaves_the_solver_untouched():
         s.load_state(bad)
     assert s.state_dict()["population"] == before["population"]
 
-
-def test_resumed_solver_holds_no_reference_cycle():
-    import gc
-    import weakref
-
-    a = make("lshade", "deferred", False, True)
-    for _ in range(CUT):
-        next(a)
-    state = a.state_dict()
-    gc.disable()
-    try:
-        b = make("lshade", "deferred", False, True)
-        b.load_state(state)
-        b.solve()
-        ref = weakref.ref(b)
-        del b
-        assert ref() is None, "resumed solver kept alive by a reference cycle"
-    finally:
-        gc.enable()
