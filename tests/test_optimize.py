@@ -576,18 +576,25 @@ def test_unknown_init_with_population_size():
 
 
 # ============================================================== housekeeping
+@pytest.mark.parametrize("resumed", [False, True])
 @pytest.mark.parametrize(
     "kw",
     [dict(), dict(history=True, snapshots=2, stop="paper", strategy="lshade",
                   repair="midpoint", population_size=10, updating="deferred")],
 )
-def test_solver_has_no_reference_cycles(kw):
+def test_solver_has_no_reference_cycles(kw, resumed):
     import gc
     import weakref
 
     gc.disable()
     try:
         s = DifferentialEvolutionSolver(rosen, [(0, 10)] * 2, maxiter=10, **kw)
+        if resumed:  # a solver that continues a saved run (load_state)
+            donor = DifferentialEvolutionSolver(rosen, [(0, 10)] * 2, maxiter=10, **kw)
+            for _ in range(3):
+                next(donor)
+            s.load_state(donor.state_dict())
+            del donor
         s.solve()
         ref = weakref.ref(s)
         del s

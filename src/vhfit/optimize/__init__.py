@@ -5,6 +5,10 @@ SciPy's, with keyword-only extras (absolute population size, composable stopping
 criteria, per-generation history, the paper's preset, self-adaptive strategies).
 ``de`` plugs the same solver into :func:`scipy.optimize.minimize`; ``tau_bounds``
 gives the paper's search bounds for the Prony relaxation times (Eq. 22).
+
+"The paper" here is *Visco-hyperelastic material model fitting to experimental
+stress–strain curves using a genetic algorithm and its application to soft tissue
+simulants*; its §2.2 describes the algorithm, the stopping criteria and the τ bounds.
 """
 
 from vhfit.optimize._de import DifferentialEvolutionSolver, differential_evolution

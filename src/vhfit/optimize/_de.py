@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import inspect
 import math
+import time
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -44,6 +45,7 @@ except ImportError:  # pragma: no cover
 
 from vhfit.optimize._history import _Recorder
 from vhfit.optimize._presets import EXTRA_KEYS, SCIPY_DEFAULTS, preset_settings
+from vhfit.optimize._state import from_plain, to_plain
 from vhfit.optimize._stopping import StopCriterion, as_criterion
 from vhfit.optimize._strategies import AdaptiveStrategy, _resolve, adaptive_strategies
 
@@ -53,6 +55,8 @@ _SCIPY_STRATEGIES = tuple(_SciPySolver._binomial) + tuple(_SciPySolver._exponent
 _INITS = ("latinhypercube", "sobol", "halton", "random")
 _REPAIRS = ("random", "clip", "midpoint")
 _CALLBACK_STOP = "callback function requested stop early"
+_STATE_FORMAT = "vhfit.DifferentialEvolutionSolver"
+_STATE_VERSION = 1
 _NO_CV = np.zeros((1, 1))  # constraint violation of an unconstrained trial (read-only use)
 
 
@@ -270,11 +274,20 @@ integrality, vectorized
         self._vh_rec = _Recorder(snapshots) if self._vh_extras else None
         if self._vh_extras:
             self.func = _NanToInf(self.func)
+        # resumable state (state_dict/load_state): wall clock, and how solve() continues
+        self._vh_t0: float | None = None
+        self._vh_elapsed0 = 0.0
+        self._vh_resumed = False
+        self._vh_nit_offset = 0
+        self._vh_preconverged = False
 
     # ------------------------------------------------------------------ loop hooks
     def __next__(self):
+        self._vh_clock()
         if not self._vh_extras:
-            return super().__next__()
+            out = super().__next__()
+            self._vh_gen += 1
+            return out
         rec = self._vh_rec
         if not rec.recorded:
             self._vh_initial()
@@ -302,22 +315,311 @@ integrality, vectorized
         return True
 
     def solve(self):
-        """Run the solver; see :func:`differential_evolution` for the result's fields."""
-        if not self._vh_extras:
-            return super().solve()
+        """Run the solver; see :func:`differential_evolution` for the result's fields.
+
+        After :meth:`load_state`, the run continues where the state was taken: at most
+        ``maxiter`` generations in all (those before the state included), ``nit``
+        counting all of them.
+        """
+        self._vh_clock()
         self._vh_fired = None
         self._vh_last_message = None
-        self._vh_rec.start()
-        if not self._vh_rec.recorded:
+        if self._vh_extras and not self._vh_rec.recorded:
             self._vh_initial()
-        res = super().solve()
-        self._vh_finish(res)
+        maxiter = self.maxiter
+        done = self._vh_gen if self._vh_resumed else 0
+        if done:
+            # SciPy's loop tests convergence after each generation's callback; a state
+            # taken in that callback resumes with the test the uninterrupted run made next
+            self._vh_preconverged = bool(self.converged())
+            self.maxiter = 0 if self._vh_preconverged else max(maxiter - done, 0)
+            self._vh_nit_offset = done
+        try:
+            res = super().solve()
+        finally:
+            self.maxiter = maxiter
+            self._vh_nit_offset = 0
+            self._vh_preconverged = False
+        if self._vh_extras:
+            self._vh_finish(res)
         return res
 
     def _result(self, **kwds):
+        if kwds.get("nit") is not None:
+            kwds["nit"] += self._vh_nit_offset
+        if self._vh_preconverged and kwds.get("message") == _status_message["maxiter"]:
+            kwds["message"], kwds["warning_flag"] = _status_message["success"], False
         if self._vh_extras and kwds.get("message") != "in progress":
             self._vh_last_message = kwds.get("message")
         return super()._result(**kwds)
+
+    # ------------------------------------------------------------------ resumable state
+    def state_dict(self) -> dict:
+        """Everything needed to continue this run exactly, as plain JSON types.
+
+        Take it at a generation boundary: before :meth:`solve`, between two
+        ``next(solver)`` calls, or inside the ``callback`` (which runs after each
+        generation). A state taken after :meth:`solve` has polished the best member
+        (``polish=True``) carries the polished member.
+
+        Returns
+        -------
+        dict
+            Plain JSON types only (dicts, lists, str, int, finite float, bool, None):
+            ``json.dumps(state, allow_nan=False)`` works and reading the text back
+            gives a state that resumes bit for bit. Arrays are stored as
+            ``{"__ndarray__": dtype, "shape": [...], "data": [...]}`` (non-finite
+            values as the strings ``"inf"``, ``"-inf"``, ``"nan"``). Keys:
+
+            ``format``, ``version``
+                ``"vhfit.DifferentialEvolutionSolver"`` and 1.
+            ``parameter_count``, ``bounds``, ``strategy``
+                What :meth:`load_state` checks: number of parameters, the bounds
+                (``(N, 2)``, after SciPy's integrality adjustment) and the strategy
+                (its name, or the adaptive strategy's repr with its settings).
+            ``population_size``, ``population``, ``population_energies``, \
+``feasible``, ``constraint_violation``
+                The population in the unit cube (best first), its energies,
+                feasibility and constraint violations; the size changes with
+                L-SHADE.
+            ``random_state``
+                ``{"kind": "Generator" | "RandomState", "state": ...}``: the
+                bit-generator state (with a legacy ``RandomState``, also its
+                cached normal deviate).
+            ``donor_index``
+                The index array SciPy shuffles in place to choose donors.
+            ``nfev``, ``generations``, ``evaluations``
+                Objective calls (SciPy's count), generations done, and individual
+                evaluations (what L-SHADE's reduction counts).
+            ``elapsed``
+                Wall time in seconds spent in this run so far.
+            ``extras``
+                Whether the solver runs vhfit's extras (stop criteria, history, ...).
+            ``strategy_state``
+                The adaptive strategy's run-time state (jDE's per-member F and CR;
+                SHADE/L-SHADE's memories, memory index, archive, ...), or None.
+            ``history``
+                The per-generation rows (``nit``, ``nfev``, ``best``, ``mean``,
+                ``time``, ``population_size``) and snapshots, which also feed the
+                stopping criteria; None without extras.
+
+        See Also
+        --------
+        load_state : Continue a run from this state.
+
+        Examples
+        --------
+        Run 30 generations, save the state as JSON text, and finish the run in a new
+        solver; the result is the uninterrupted run's, bit for bit.
+
+        >>> import json
+        >>> from scipy.optimize import rosen
+        >>> from vhfit.optimize import DifferentialEvolutionSolver
+        >>> def solver():
+        ...     return DifferentialEvolutionSolver(rosen, [(-2, 2)] * 3, rng=7,
+        ...                                        maxiter=80, polish=False,
+        ...                                        strategy="shade", history=True)
+        >>> whole = solver().solve()
+        >>> first = solver()
+        >>> for _ in range(30):
+        ...     _ = next(first)
+        >>> text = json.dumps(first.state_dict(), allow_nan=False)
+        >>> second = solver()
+        >>> second.load_state(json.loads(text))
+        >>> res = second.solve()
+        >>> res.nit == whole.nit, res.nfev == whole.nfev, bool(res.fun == whole.fun)
+        (True, True, True)
+        >>> bool((res.history.best == whole.history.best).all())
+        True
+        """
+        rng = self.random_number_generator
+        if isinstance(rng, np.random.Generator):
+            kind, rng_state = "Generator", rng.bit_generator.state
+        else:  # legacy RandomState (seed=int): its state includes a cached normal deviate
+            kind, rng_state = "RandomState", rng.get_state(legacy=False)
+        strat = self._vh_adaptive
+        return {
+            "format": _STATE_FORMAT,
+            "version": _STATE_VERSION,
+            "parameter_count": int(self.parameter_count),
+            "bounds": to_plain(self.limits.T.copy()),
+            "strategy": self._vh_strategy_id(),
+            "population_size": int(self.num_population_members),
+            "population": to_plain(self.population),
+            "population_energies": to_plain(self.population_energies),
+            "feasible": to_plain(self.feasible),
+            "constraint_violation": to_plain(self.constraint_violation),
+            "random_state": {"kind": kind, "state": to_plain(rng_state)},
+            "donor_index": to_plain(self._random_population_index),
+            "nfev": int(self._nfev),
+            "generations": int(self._vh_gen),
+            "evaluations": int(self._vh_nevals),
+            "elapsed": float(self._vh_elapsed()),
+            "extras": self._vh_extras,
+            "strategy_state": (None if strat is None or self._vh_astate is None
+                               else strat.dump_state(self._vh_astate)),
+            "history": None if self._vh_rec is None else self._vh_rec.dump(),
+        }
+
+    def load_state(self, state: dict) -> None:
+        """Continue a run from a :meth:`state_dict`: restore it into this solver.
+
+        Build the solver with the same arguments as the saved one (objective,
+        bounds, strategy, seed, extras; ``maxiter`` may differ), then call
+        ``load_state``. :meth:`solve` then continues the run: at most
+        ``maxiter - state["generations"]`` more generations, ``result.nit`` and
+        ``result.history`` counting every generation (those before the state
+        included), wall times continuing from the saved ``elapsed``, and stopping
+        criteria seeing the whole history. ``next(solver)`` also continues.
+
+        Parameters
+        ----------
+        state : dict
+            What :meth:`state_dict` returned (also after a JSON round trip).
+
+        Raises
+        ------
+        ValueError
+            When the state is not a solver state, or was saved with a different
+            number of parameters, bounds, strategy, random generator kind or with(out)
+            vhfit's extras; the message names what differs and how to fix it.
+
+        See Also
+        --------
+        state_dict : The state, and an example of a resumed run.
+
+        Examples
+        --------
+        >>> from scipy.optimize import rosen
+        >>> from vhfit.optimize import DifferentialEvolutionSolver
+        >>> a = DifferentialEvolutionSolver(rosen, [(-2, 2)] * 3, rng=1, polish=False)
+        >>> for _ in range(5):
+        ...     _ = next(a)
+        >>> b = DifferentialEvolutionSolver(rosen, [(-2, 2)] * 3, rng=1, polish=False)
+        >>> b.load_state(a.state_dict())
+        >>> bool((next(b)[0] == next(a)[0]).all())
+        True
+        >>> c = DifferentialEvolutionSolver(rosen, [(-2, 2)] * 4, rng=1)
+        >>> c.load_state(a.state_dict())  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        ValueError: load_state: the state has 3 parameters but this solver's bounds ...
+        """
+        self._vh_check_state(state)
+        try:
+            pop = np.array(from_plain(state["population"]), dtype=np.float64)
+            energies = np.array(from_plain(state["population_energies"]), dtype=np.float64)
+            feasible = np.array(from_plain(state["feasible"]), dtype=bool)
+            cv = np.array(from_plain(state["constraint_violation"]), dtype=np.float64)
+            index = np.array(from_plain(state["donor_index"]))
+            rng_state = from_plain(state["random_state"]["state"])
+            nfev, gen = int(state["nfev"]), int(state["generations"])
+            nevals, elapsed = int(state["evaluations"]), float(state["elapsed"])
+            history, strategy_state = state["history"], state["strategy_state"]
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(
+                f"load_state: the state is incomplete or damaged ({type(exc).__name__}: "
+                f"{exc}); pass the dict that state_dict() returned") from None
+        NP = pop.shape[0] if pop.ndim == 2 else -1
+        if (pop.shape != (NP, self.parameter_count) or energies.shape != (NP,)
+                or state.get("population_size") != NP
+                or feasible.shape != (NP,) or cv.shape[:1] != (NP,) or index.shape != (NP,)):
+            raise ValueError(
+                "load_state: the state's population arrays do not fit together (damaged "
+                "state); pass the dict that state_dict() returned")
+        self.population, self.population_energies = pop, energies
+        self.feasible, self.constraint_violation = feasible, cv
+        self.num_population_members = NP
+        self.population_shape = (NP, self.parameter_count)
+        self._random_population_index = index
+        self._nfev, self._vh_gen, self._vh_nevals = nfev, gen, nevals
+        self._vh_elapsed0, self._vh_t0 = elapsed, None
+        if self._vh_rec is not None:
+            self._vh_rec.load(history, self.population_energies)
+            self._vh_rec.t0 = None
+        if self._vh_adaptive is not None:
+            self._vh_astate = (None if strategy_state is None
+                               else self._vh_adaptive.restore_state(self, strategy_state))
+        # last: restoring a strategy's state may build it with init_state (no draws
+        # by vhfit's strategies, but a user's might)
+        rng = self.random_number_generator
+        if isinstance(rng, np.random.Generator):
+            rng.bit_generator.state = rng_state
+        else:
+            rng.set_state(rng_state)
+        self._vh_resumed = True
+
+    def _vh_check_state(self, state: Any) -> None:
+        """Refuse a state that does not belong to a run of this solver (one-line errors)."""
+        fmt = state.get("format") if isinstance(state, dict) else None
+        if fmt != _STATE_FORMAT:
+            raise ValueError(
+                f"load_state: not a solver state (format {fmt!r}, expected "
+                f"{_STATE_FORMAT!r}); pass the dict that state_dict() returned")
+        if state.get("version") != _STATE_VERSION:
+            raise ValueError(
+                f"load_state: state version {state.get('version')!r} is not supported "
+                f"(this vhfit reads version {_STATE_VERSION}); resume with the vhfit "
+                "that saved it")
+        n = state.get("parameter_count")
+        if n != self.parameter_count:
+            raise ValueError(
+                f"load_state: the state has {n} parameters but this solver's bounds "
+                f"define {self.parameter_count}; build the solver with the bounds of the "
+                "saved run")
+        try:
+            saved = np.asarray(from_plain(state["bounds"]), dtype=float).reshape(-1, 2)
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(
+                "load_state: the state's bounds are missing or damaged; pass the dict "
+                "that state_dict() returned") from None
+        given = self.limits.T
+        if saved.shape != given.shape or not np.array_equal(saved, given):
+            i = int(np.flatnonzero((saved != given).any(axis=1))[0]) \
+                if saved.shape == given.shape else 0
+            raise ValueError(
+                f"load_state: bounds differ from the saved run's (parameter {i}: saved "
+                f"{tuple(saved[i].tolist())}, given {tuple(given[i].tolist())}); build the "
+                "solver with the bounds of the saved run")
+        sid, mine = state.get("strategy"), self._vh_strategy_id()
+        if sid != mine:
+            raise ValueError(
+                f"load_state: the state was saved with strategy {sid!r} but this solver "
+                f"uses {mine!r}; build the solver with the saved run's strategy")
+        if bool(state.get("extras")) != self._vh_extras:
+            how = "with" if state.get("extras") else "without"
+            raise ValueError(
+                f"load_state: the state was saved by a solver {how} vhfit's extras "
+                "(population_size, stop, history, snapshots, preset, repair or an adaptive "
+                "strategy); build the solver with the saved run's keyword arguments")
+        rs = state.get("random_state") or {}
+        saved_bg = (rs.get("state") or {}).get("bit_generator")
+        rng = self.random_number_generator
+        kind = "Generator" if isinstance(rng, np.random.Generator) else "RandomState"
+        bg = (type(rng.bit_generator).__name__ if kind == "Generator"
+              else rng.get_state(legacy=False)["bit_generator"])
+        if rs.get("kind") != kind or saved_bg != bg:
+            raise ValueError(
+                f"load_state: the state's random generator is a {rs.get('kind')} "
+                f"({saved_bg}) but this solver's is a {kind} ({bg}); pass rng= (or seed=) "
+                "as for the saved run")
+
+    def _vh_strategy_id(self) -> str:
+        if self._vh_adaptive is not None:
+            return repr(self._vh_adaptive)
+        if isinstance(self.strategy, str):
+            return self.strategy
+        return "callable " + getattr(self.strategy, "__qualname__", type(self.strategy).__name__)
+
+    def _vh_clock(self) -> None:
+        """Start the run's wall clock (once), continuing from a loaded ``elapsed``."""
+        if self._vh_t0 is None:
+            self._vh_t0 = time.perf_counter() - self._vh_elapsed0
+            if self._vh_rec is not None:
+                self._vh_rec.t0 = self._vh_t0
+
+    def _vh_elapsed(self) -> float:
+        return self._vh_elapsed0 if self._vh_t0 is None else time.perf_counter() - self._vh_t0
 
     # ------------------------------------------------------------------ repair modes
     def _mutate(self, candidate):

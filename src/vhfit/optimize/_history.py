@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit.optimize._state import from_plain, plain_column, to_plain
 from vhfit.optimize._stopping import StopState
 
 __all__ = ["DEHistory"]
@@ -96,10 +97,6 @@ class _Recorder:
         self.snap_e: list[np.ndarray] = []
         self.state = StopState()
 
-    def start(self) -> None:
-        if self.t0 is None:
-            self.t0 = time.perf_counter()
-
     def record(self, nit: int, nfev: int, energies: np.ndarray, scaled_population=None) -> None:
         if self.t0 is None:
             self.t0 = time.perf_counter()
@@ -128,6 +125,39 @@ class _Recorder:
     @property
     def recorded(self) -> bool:
         return bool(self.nit)
+
+    def dump(self) -> dict:
+        """The rows (and snapshots) recorded so far, as plain JSON types."""
+        st = self.state
+        return {
+            "nit": plain_column(self.nit, "int64"),
+            "nfev": plain_column(self.nfev, "int64"),
+            "best": plain_column(st.best_history, "float64"),
+            "mean": plain_column(st.mean_history, "float64"),
+            "time": plain_column(self.time, "float64"),
+            "population_size": plain_column(self.size, "int64"),
+            "snapshot_nit": plain_column(self.snap_nit, "int64"),
+            "snapshot_populations": to_plain(self.snap_pop),
+            "snapshot_energies": to_plain(self.snap_e),
+        }
+
+    def load(self, data: dict, energies: np.ndarray) -> None:
+        """Restore :meth:`dump`'s rows; `energies` are the current population's."""
+        d = from_plain(data)
+        self.nit = d["nit"].tolist()
+        self.nfev = d["nfev"].tolist()
+        self.time = d["time"].tolist()
+        self.size = d["population_size"].tolist()
+        self.snap_nit = d["snapshot_nit"].tolist()
+        self.snap_pop = list(d["snapshot_populations"])
+        self.snap_e = list(d["snapshot_energies"])
+        st = self.state = StopState()
+        st.best_history = d["best"].tolist()
+        st.mean_history = d["mean"].tolist()
+        if self.nit:
+            st.nit, st.nfev, st.elapsed = self.nit[-1], self.nfev[-1], self.time[-1]
+            st.best, st.mean = st.best_history[-1], st.mean_history[-1]
+            st.population_energies = energies
 
     def result(self) -> DEHistory:
         st = self.state

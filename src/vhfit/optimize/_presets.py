@@ -24,7 +24,7 @@ SCIPY_DEFAULTS: dict[str, Any] = {
 EXTRA_KEYS = ("population_size", "stop", "repair")
 
 _PRESETS: dict[str, dict[str, Any]] = {
-    # The paper's DE (SPEC §5; Rodríguez-Mier's tutorial code it was based on):
+    # The paper's DE (its §2.2; Rodríguez-Mier's tutorial code it was based on):
     # rand/1/bin, F = 0.8, CR = 0.7, NP = 60 absolute, immediate updating, uniform
     # random initial population, mutants clipped to the bounds, no polishing, the
     # four stopping criteria, up to 100 000 generations.

@@ -6,8 +6,10 @@ truthy to stop.  A string return value is used as the human-readable reason.
 Criteria combine with ``|`` (stop when any one is met) and ``&`` (stop when all are
 met at the same generation).
 
-The four criteria of the paper (SPEC §5) are built in, each with the paper's values
-as defaults; :func:`paper_criteria` combines them.
+The four criteria of the paper (*Visco-hyperelastic material model fitting to
+experimental stress–strain curves using a genetic algorithm and its application to soft
+tissue simulants*, §2.2) are built in, each with the paper's values as defaults;
+:func:`paper_criteria` combines them.
 """
 
 from __future__ import annotations
@@ -273,8 +275,8 @@ def _check_nonneg_float(name: str, value: Any) -> float:
 class MeanImprovement(StopCriterion):
     """Stop when the population's mean energy improved by less than `rel` over `window` generations.
 
-    The paper's first criterion (SPEC §5): "mean generation error reduced by less than
-    2 % over the last 2000 generations", i.e. stop when
+    The paper's first criterion (its §2.2): "mean generation error reduced by less
+    than 2 % over the last 2000 generations", i.e. stop when
     ``(mean[g - window] - mean[g]) / |mean[g - window]| < rel``.
     Never fires before ``window`` generations, nor while either mean is infinite.
 
@@ -307,8 +309,8 @@ class MeanImprovement(StopCriterion):
 class BestMeanGap(StopCriterion):
     """Stop when the best and the mean energy of a generation are within `rel` of each other.
 
-    The paper's second criterion (SPEC §5, "relative gap between the best and the mean
-    error < 0.001 %"): stop when ``mean - best <= rel * |mean|``. The gap is taken
+    The paper's second criterion (its §2.2, "relative gap between the best and the
+    mean error < 0.001 %"): stop when ``mean - best <= rel * |mean|``. The gap is taken
     relative to the mean (the paper does not say which; relative to the mean it is
     bounded by 1 and defined when the best is 0). Never fires while the mean is
     infinite.
@@ -457,7 +459,7 @@ def paper_criteria(
     max_generations: int = 100_000,
     target: float = 1e-3,
 ) -> AnyOf:
-    """The paper's four stopping criteria, any one of which ends the run (SPEC §5).
+    """The paper's four stopping criteria, any one of which ends the run (its §2.2).
 
     Parameters
     ----------

@@ -28,6 +28,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.optimize._state import from_plain, to_plain
+
 __all__ = ["AdaptiveStrategy", "JDE", "SHADE", "LSHADE", "adaptive_strategies"]
 
 
@@ -135,6 +137,28 @@ class AdaptiveStrategy:
 
     def resize(self, state, keep: np.ndarray) -> None:
         """The population was reduced to the members `keep` (in that order)."""
+
+    def dump_state(self, state) -> dict:
+        """The run-time `state` as plain JSON types (for the solver's ``state_dict``).
+
+        The default stores every attribute of the state object (its ``__slots__`` or
+        ``__dict__``) that holds numbers, strings, None, numpy arrays, or lists, tuples
+        and dicts of those. Override it (with :meth:`restore_state`) for other state.
+        """
+        names = getattr(type(state), "__slots__", None) or list(vars(state))
+        try:
+            return {n: to_plain(getattr(state, n)) for n in names if hasattr(state, n)}
+        except TypeError as exc:
+            raise ValueError(
+                f"strategy {self.name!r}: its run-time state cannot be stored ({exc}); "
+                "override AdaptiveStrategy.dump_state and restore_state") from None
+
+    def restore_state(self, solver, data: dict) -> Any:
+        """A run-time state rebuilt from :meth:`dump_state`'s output, for `solver`."""
+        state = self.init_state(solver)
+        for name, value in data.items():
+            setattr(state, name, from_plain(value))
+        return state
 
     def __repr__(self) -> str:
         fields = ", ".join(f"{k}={v!r}" for k, v in vars(self).items())
@@ -296,7 +320,7 @@ class SHADE(AdaptiveStrategy):
         st.M_CR = np.full(self.memory_size, self.CR_init)
         st.k = 0
         st.cap = int(round(self.archive_rate * NP))
-        st.archive = np.empty((max(st.cap, 1), N))
+        st.archive = np.zeros((max(st.cap, 1), N))  # rows past n_archive are never read
         st.n_archive = 0
         st.S_F, st.S_CR, st.S_w = [], [], []
         st.np_init = NP

@@ -1,4 +1,8 @@
-"""Search bounds for the Prony relaxation times, in log10 τ (SPEC §5, paper Eq. 22)."""
+"""Search bounds for the Prony relaxation times, in log10 τ (the paper's Eq. 22).
+
+The paper: *Visco-hyperelastic material model fitting to experimental stress–strain
+curves using a genetic algorithm and its application to soft tissue simulants*, §2.2.
+"""
 
 from __future__ import annotations
 
@@ -213,7 +217,7 @@ def _fixed(a: float, b: float, n: int) -> np.ndarray:
 
 def tau_bounds(rates: Any, n_terms: int, strategy: str | TauStrategy = "semifree",
                decades_above: float = 1, decades_below: float = 2) -> TauBounds:
-    """Per-term bounds on log10 τ of the Prony terms (SPEC §5, paper Eq. 22).
+    """Per-term bounds on log10 τ of the Prony terms (the paper's §2.2, Eq. 22).
 
     The whole range is ``[a, b]`` with ``b = log10(1 / min|r|) + decades_above`` and
     ``a = log10(1 / max|r|) - decades_below`` (:func:`tau_range`). Strategies:
@@ -257,8 +261,9 @@ def tau_bounds(rates: Any, n_terms: int, strategy: str | TauStrategy = "semifree
 
     References
     ----------
-    .. [1] The paper in ``/work/shared/paper`` (section "Genetic algorithm", Eq. 22),
-       summarised in SPEC §5.
+    .. [1] *Visco-hyperelastic material model fitting to experimental stress–strain
+       curves using a genetic algorithm and its application to soft tissue simulants*,
+       §2.2 "Genetic algorithm", Eq. 22.
 
     Examples
     --------
