@@ -138,7 +138,7 @@ def test_resume_from_checkpoint_reaches_the_uninterrupted_result(tmp_path):
     cut = calibrate(curves, n_prony=2, seed=3, uncertainty=False, checkpoint=ck,
                     checkpoint_every=0.0, callback=interrupt)
     assert cut.stop_reason == "interrupted"
-    assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
+    assert json.loads(ck.read_text())["solver"]["generations"] == 5
     res = calibrate(curves, n_prony=2, seed=3, uncertainty=False, checkpoint=ck, resume=True)
     assert res.params == ref.params
     assert res.nit == ref.nit
@@ -154,8 +154,8 @@ def test_popsize_is_the_exact_population(tmp_path, popsize, method):
         warnings.simplefilter("error", UserWarning)  # no Sobol power-of-two complaint
         calibrate(curves, n_prony=2, seed=0, popsize=popsize, maxiter=2, method=method,
                   uncertainty=False, polish=False, checkpoint=ck, checkpoint_every=0.0)
-    state = json.loads(ck.read_text())
-    assert len(state["population"]) == len(state["energies"]) == popsize
+    state = json.loads(ck.read_text())["solver"]
+    assert state["population"]["shape"][0] == state["population_energies"]["shape"][0] == popsize
 
 
 def test_de_options_reach_vhfit_optimize_solver_and_refuse_owned_settings(tmp_path):
@@ -169,11 +169,29 @@ def test_de_options_reach_vhfit_optimize_solver_and_refuse_owned_settings(tmp_pa
         calibrate(curves, n_prony=2, de_options={"maxiter": 3})
     with pytest.raises(ValueError, match=r"de_options\['popsize'\].*use its popsize"):
         calibrate(curves, n_prony=2, de_options={"popsize": 3})
-    with pytest.raises(ValueError, match="checkpoints do not save"):
-        calibrate(curves, n_prony=2, de_options={"strategy": "jde"},
-                  checkpoint=tmp_path / "ck.json")
     with pytest.raises(ValueError, match="unknown strategy"):
         calibrate(curves, n_prony=2, de_options={"strategy": "best9bin"})
+
+
+@pytest.mark.parametrize("strategy", ["jde", "shade", "lshade"])
+def test_adaptive_strategies_resume_from_a_checkpoint_bit_identically(tmp_path, strategy):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
+                       RANDOM_RATES, noise=0.05, seed=5)
+    opts = dict(n_prony=2, seed=3, uncertainty=False, de_options={"strategy": strategy})
+    ref = calibrate(curves, **opts)
+    ck = tmp_path / "ck.json"
+
+    def interrupt(state):
+        if state["generation"] == 4:
+            raise KeyboardInterrupt
+
+    cut = calibrate(curves, checkpoint=ck, checkpoint_every=0.0, callback=interrupt, **opts)
+    assert cut.stop_reason == "interrupted"
+    res = calibrate(curves, checkpoint=ck, resume=True, **opts)
+    assert res.params == ref.params
+    assert (res.nit, res.stop_reason) == (ref.nit, ref.stop_reason)
+    assert res.history["best"] == ref.history["best"]
+    assert res.history["mean"] == ref.history["mean"]
 
 
 def test_warns_when_the_data_go_slack_where_the_model_pushes_back():
@@ -369,7 +387,7 @@ def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypat
                     checkpoint_every=1e9)
     monkeypatch.setattr(SeparableSpace, "solve_linear", real)
     assert cut.stop_reason == "interrupted"
-    assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
+    assert json.loads(ck.read_text())["solver"]["generations"] == 5
     res = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck, resume=True)
     assert res.params == ref.params
 

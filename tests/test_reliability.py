@@ -342,9 +342,10 @@ def read_checkpoint(ck) -> int:
         return 0
     with open(ck) as f:
         data = json.load(f)  # a truncated or half-written file raises here
-    assert data["format"] == "vhfit-checkpoint-1"
-    assert len(data["population"]) == len(data["energies"]) > 0
-    return len(data["history"]["nit"])
+    assert data["format"] == "vhfit-checkpoint-2"
+    solver = data["solver"]
+    assert solver["population"]["shape"][0] == solver["population_energies"]["shape"][0] > 0
+    return solver["generations"]
 
 
 def reference(maxiter):

@@ -1,4 +1,9 @@
-"""Checkpoints: the search state at a generation boundary, written atomically, resumed exactly."""
+"""Checkpoints: the solver's state at a generation boundary, written atomically, resumed exactly.
+
+The state itself is :meth:`vhfit.optimize.DifferentialEvolutionSolver.state_dict`; a
+checkpoint adds a key that identifies the fit (data, model, search settings), so that a
+file of another fit is refused, and marks a search that had already ended.
+"""
 
 from __future__ import annotations
 
@@ -9,10 +14,13 @@ import numpy as np
 
 from vhfit._io import atomic_write, dumps
 
-__all__ = ["fit_key", "snapshot", "save", "load"]
+__all__ = ["fit_key", "save", "load", "FORMAT"]
+
+FORMAT = "vhfit-checkpoint-2"
 
 
 def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
+    """A digest of everything that makes two fits the same search."""
     h = hashlib.sha256()
     for a in (prob.y, prob.scale, prob.batch.sample_stretch, prob.batch.step, prob.tau_b):
         h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
@@ -22,26 +30,14 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     return h.hexdigest()
 
 
-def snapshot(solver, history, elapsed) -> dict:
-    """The search state at a generation boundary (all a bit-identical resume needs)."""
-    return {
-        "format": "vhfit-checkpoint-1",
-        "population": solver.population.tolist(),
-        "energies": [float(e) if np.isfinite(e) else "inf" for e in solver.population_energies],
-        "rng": solver.random_number_generator.bit_generator.state,
-        # SciPy shuffles this array in place to pick donors: it is state too
-        "index": solver._random_population_index.tolist(),
-        "nfev": int(solver._nfev),
-        "history": {k: list(v) for k, v in history.items()},
-        "elapsed": elapsed,
-    }
+def save(path, key: str, solver_state: dict, done: str | None = None) -> None:
+    """Write the solver state (and, once the search has ended, why) atomically."""
+    atomic_write(path, dumps({"format": FORMAT, "key": key, "done": done,
+                              "solver": solver_state}))
 
 
-def save(path, key, snap: dict) -> None:
-    atomic_write(path, dumps({**snap, "key": key}))
-
-
-def load(path, key, solver, history) -> tuple[int, float, str | None]:
+def load(path, key: str) -> tuple[dict, str | None]:
+    """The solver state saved in ``path`` and the stop reason if the search had ended."""
     try:
         with open(path) as f:
             data = json.load(f)
@@ -49,18 +45,9 @@ def load(path, key, solver, history) -> tuple[int, float, str | None]:
         raise ValueError(
             f"checkpoint {path} cannot be read ({exc}); delete it to start afresh"
         ) from None
-    if data.get("format") != "vhfit-checkpoint-1" or data.get("key") != key:
+    if not isinstance(data, dict) or data.get("format") != FORMAT or data.get("key") != key:
         raise ValueError(
             f"checkpoint {path} belongs to a different fit (data, model, seed or options "
-            "differ); delete it or drop --resume"
+            "differ, or an older vhfit wrote it); delete it or drop --resume"
         )
-    solver.population = np.array(data["population"], dtype=np.float64)
-    solver.population_energies = np.array(
-        [np.inf if e == "inf" else e for e in data["energies"]], dtype=np.float64
-    )
-    solver.random_number_generator.bit_generator.state = data["rng"]
-    solver._nfev = int(data["nfev"])
-    solver._random_population_index = np.array(data["index"], dtype=np.int64)
-    for k in history:
-        history[k][:] = data["history"][k]
-    return len(history["nit"]), float(data["elapsed"]), data.get("done")
+    return data["solver"], data.get("done")

@@ -1,4 +1,9 @@
-"""The global search: differential evolution over a search space, with checkpoints."""
+"""The global search: differential evolution over a search space, with checkpoints.
+
+The search is :class:`vhfit.optimize.DifferentialEvolutionSolver` with its own stopping
+criteria (:mod:`vhfit.optimize`'s ``TargetValue``, ``MaxTime``, ``BestMeanGap`` and
+``MeanImprovement``), its generation history, and its state for checkpoints.
+"""
 
 from __future__ import annotations
 
@@ -20,13 +25,12 @@ OWN_DE_KEYS = {
     "tol": "tol", "atol": "tol", "stop": "tol, target, max_time or callback",
     "rng": "seed", "seed": "seed", "polish": "polish", "callback": "callback",
     "workers": "workers", "vectorized": "workers", "preset": "method",
+    "history": "(always on)", "snapshots": "(not available)",
 }
 
 
-def check_de_options(de_options, checkpoint) -> dict:
+def check_de_options(de_options) -> dict:
     """The user's solver keywords, refused where calibrate owns the setting."""
-    if de_options is not None and not isinstance(de_options, dict):
-        raise ValueError(f"de_options = {de_options!r}: give a dict of solver keywords or None")
     opts = dict(de_options or {})
     for k in opts:
         if k in OWN_DE_KEYS:
@@ -34,16 +38,6 @@ def check_de_options(de_options, checkpoint) -> dict:
                 f"de_options[{k!r}] is set by calibrate: use its {OWN_DE_KEYS[k]} "
                 "argument instead"
             )
-    from vhfit.optimize import AdaptiveStrategy, adaptive_strategies
-
-    strategy = opts.get("strategy")
-    adaptive = isinstance(strategy, AdaptiveStrategy) or (
-        isinstance(strategy, str) and strategy in adaptive_strategies())
-    if adaptive and checkpoint is not None:
-        raise ValueError(
-            f"de_options['strategy'] = {strategy!r} adapts its own state, which checkpoints "
-            "do not save: drop checkpoint/resume or use one of SciPy's strategies"
-        )
     return opts
 
 
@@ -81,104 +75,125 @@ class _Objective:
         return np.concatenate(out)
 
 
+def stop_criteria(tol, target, stall, max_time):
+    """The criteria that end the search, in the order they are tested, and their reasons."""
+    from vhfit.optimize import BestMeanGap, MaxTime, MeanImprovement, TargetValue
+
+    rel, window = stall
+    crits = [TargetValue(target)]
+    if max_time is not None:
+        crits.append(MaxTime(max_time))
+    crits += [BestMeanGap(tol), MeanImprovement(rel, window)]
+    reasons = {
+        "TargetValue": "target reached", "MaxTime": "max_time", "BestMeanGap": "converged",
+        "MeanImprovement": f"mean error improved < {rel:.0%} over {window} generations",
+        "maxiter": "maxiter", "callback": "callback",
+    }
+    return crits, reasons
+
+
+def _history(solver, setup: float = 0.0) -> dict:
+    """The generations of the run (not the initial population); times include ``setup``."""
+    h = None if solver is None else solver.history
+    if h is None or len(h) < 2:
+        return {"nit": [], "best": [], "mean": [], "time": []}
+    return {"nit": h.nit[1:].tolist(), "best": h.best[1:].tolist(),
+            "mean": h.mean[1:].tolist(), "time": (h.time[1:] + setup).tolist()}
+
+
 def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, stall, callback,
                de_options, checkpoint, checkpoint_every, resume, max_time, t0) -> Search:
-    """Differential evolution over ``space`` until a stopping test fires."""
-    prob = space.prob
-    history = {"nit": [], "best": [], "mean": [], "time": []}
-    state = {"best_x": None, "best_f": np.inf, "stop": None, "saved": time.perf_counter()}
-    key = _checkpoint.fit_key(prob, space.method, seed, popsize, tol, target, de_options)
-    ckpt = None if checkpoint is None else str(checkpoint)
+    """Differential evolution over ``space`` until a stopping criterion is met."""
     dbounds = space.bounds()
-    npop = popsize or space.popsize
-    cap = maxiter or space.maxiter
-
-    def cb(intermediate_result):
-        e = np.asarray(getattr(solver_ref.get("s"), "population_energies", [np.nan]))
-        best = float(intermediate_result.fun)
-        mean = float(np.mean(e[np.isfinite(e)])) if np.isfinite(e).any() else np.inf
-        el = time.perf_counter() - t0
-        history["nit"].append(len(history["nit"]) + 1)
-        history["best"].append(best)
-        history["mean"].append(mean)
-        history["time"].append(el)
-        if best < state["best_f"]:
-            state["best_f"], state["best_x"] = best, np.array(intermediate_result.x)
-        if ckpt is not None:
-            # a Ctrl-C may land mid-generation: only boundary states are ever written
-            state["snap"] = _checkpoint.snapshot(solver_ref["s"], history, el)
-            if time.perf_counter() - state["saved"] >= checkpoint_every:
-                _checkpoint.save(ckpt, key, state["snap"])
-                state["saved"] = time.perf_counter()
-        if callback is not None and callback({"generation": len(history["nit"]), "best": best,
-                                             "mean": mean, "elapsed": el, "n_prony": n_prony,
-                                             "x": np.array(intermediate_result.x)}):
-            state["stop"] = "callback"
-            return True
-        if best <= target:
-            state["stop"] = "target reached"
-            return True
-        if max_time is not None and el > max_time:
-            state["stop"] = "max_time"
-            return True
-        if np.isfinite(mean) and mean - best <= tol * max(best, 1e-300):
-            state["stop"] = "converged"
-            return True
-        rel, window = stall
-        if len(history["mean"]) > window:
-            old = history["mean"][-window - 1]
-            if np.isfinite(old) and old - mean < rel * old:
-                state["stop"] = f"mean error improved < {rel:.0%} over {window} generations"
-                return True
-        return False
-
-    solver_ref: dict = {}
     if not dbounds:  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
-        return Search(np.zeros(0), 0, 0, "nothing to search", history, t0)
+        return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
     from vhfit.optimize import DifferentialEvolutionSolver
 
-    opts = dict(space.de_options)
-    opts.update(check_de_options(de_options, ckpt))
+    opts = {**space.de_options, **check_de_options(de_options)}
     if workers != 1 and opts["updating"] != "deferred":
         raise ValueError(
             "updating='immediate' evaluates one trial at a time and cannot use workers: "
             "use workers=1 or deferred updating"
         )
-    vec = opts["updating"] == "deferred"
-
-    def make_solver(objective):
+    npop, cap = popsize or space.popsize, maxiter or space.maxiter
+    key = _checkpoint.fit_key(space.prob, space.method, seed, popsize, tol, target, de_options)
+    ckpt = None if checkpoint is None else str(checkpoint)
+    left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
+    crits, reasons = stop_criteria(tol, target, stall, left)
+    t_in = t0
+    track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every)
+    with worker_map(workers) as (mapper, chunks):
+        objective = _Objective(space, mapper, chunks)
         with warnings.catch_warnings():
             # any prefix of a scrambled Sobol sequence fills the box well; its
             # "balance" needs a power of two only for quadrature, not for a start
             warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
-            return DifferentialEvolutionSolver(
+            solver = DifferentialEvolutionSolver(
                 objective, dbounds, maxiter=cap, population_size=npop, tol=0.0, atol=0.0,
-                rng=np.random.default_rng(seed), polish=False, callback=cb,
-                vectorized=vec, **opts)
-
-    with worker_map(workers) as (mapper, chunks):
-        objective = _Objective(space, mapper, chunks)
-        with make_solver(objective) as solver:
-            solver_ref["s"] = solver
+                rng=np.random.default_rng(seed), polish=False, callback=track,
+                vectorized=opts["updating"] == "deferred", stop=crits, history=True, **opts)
+        with solver:
+            track.solver = solver
             finished = None
             if resume and ckpt is not None and os.path.exists(ckpt):
-                done, elapsed, finished = _checkpoint.load(ckpt, key, solver, history)
-                solver.maxiter = max(cap - done, 0)
-                t0 -= elapsed - (time.perf_counter() - t0)
-            try:
-                if finished:  # the search had ended before the run was cut: don't extend it
-                    z, stop = solver.x, finished
-                else:
-                    res = solver.solve()
-                    z = res.x
-                    stop = state["stop"] or (
-                        "maxiter" if len(history["nit"]) >= cap else res.message)
-            except KeyboardInterrupt:
-                stop = "interrupted"
-                z = state["best_x"] if state["best_x"] is not None else solver.x
-            nit = len(history["nit"])
-            if ckpt is not None and state.get("snap") is not None:
-                snap = state["snap"] if stop == "interrupted" else {**state["snap"], "done": stop}
-                _checkpoint.save(ckpt, key, snap)
-        nfev = max(objective.nfev, int(getattr(solver, "_nfev", 0)))
-    return Search(np.asarray(z), nit, nfev, stop, history, t0)
+                state, finished = _checkpoint.load(ckpt, key)
+                solver.load_state(state)
+                track.state = state
+                t0 -= float(state["elapsed"])
+            setup = time.perf_counter() - t_in  # the solver's clock counts the search only
+            track.objective = objective
+            z, stop, nfev = _solve(solver, track, finished, reasons)
+            if ckpt is not None and track.state is not None:
+                _checkpoint.save(ckpt, key, track.state,
+                                 None if stop == "interrupted" else stop)
+            history = _history(solver, setup)
+    # SciPy counts a vectorised call as one evaluation: the objective counts individuals
+    return Search(np.asarray(z), len(history["nit"]), max(objective.nfev, nfev), stop, history,
+                  t0)
+
+
+def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str, int]:
+    """Run (or, for a search that had ended, do not run) the solver: (z, stop, nfev)."""
+    if finished:  # the search had ended before the run was cut: don't extend it
+        h = solver.history
+        return solver.x, finished, int(h.nfev[-1]) if h is not None and len(h) else 0
+    try:
+        res = solver.solve()
+    except KeyboardInterrupt:
+        h = solver.history
+        z = track.best_x if track.best_x is not None else solver.x
+        return z, "interrupted", int(h.nfev[-1]) if h is not None and len(h) else 0
+    return res.x, reasons.get(res.stop_reason, res.message), int(res.nfev)
+
+
+class _Tracker:
+    """The solver's callback: best member so far, checkpoints, the user's callback."""
+
+    def __init__(self, callback, n_prony, ckpt, key, every):
+        self.callback, self.n_prony = callback, n_prony
+        self.ckpt, self.key, self.every = ckpt, key, every
+        self.solver = self.objective = None
+        self.state = None  # the last generation boundary's solver state
+        self.best_x, self.best_f = None, np.inf
+        self.saved = time.perf_counter()
+
+    def __call__(self, intermediate_result) -> bool:
+        r = intermediate_result
+        best = float(r.fun)
+        e = np.asarray(r.population_energies)
+        mean = float(e.sum()) / e.size
+        if best < self.best_f:
+            self.best_f, self.best_x = best, np.array(r.x)
+        if self.ckpt is not None:
+            # a Ctrl-C may land mid-generation: only boundary states are ever written
+            self.state = self.solver.state_dict()
+            if time.perf_counter() - self.saved >= self.every:
+                _checkpoint.save(self.ckpt, self.key, self.state)
+                self.saved = time.perf_counter()
+        if self.callback is None:
+            return False
+        h = self.solver.history
+        return bool(self.callback({
+            "generation": int(r.nit), "best": best, "mean": mean,
+            "elapsed": float(h.time[-1]) if h is not None and len(h) else 0.0,
+            "n_prony": self.n_prony, "x": np.array(r.x)}))

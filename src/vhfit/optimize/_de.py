@@ -43,7 +43,7 @@ except ImportError:  # pragma: no cover
         "maxiter": "Maximum number of iterations has been exceeded.",
     }
 
-from vhfit.optimize._history import _Recorder
+from vhfit.optimize._history import DEHistory, _Recorder
 from vhfit.optimize._presets import EXTRA_KEYS, SCIPY_DEFAULTS, preset_settings
 from vhfit.optimize._state import from_plain, to_plain
 from vhfit.optimize._stopping import StopCriterion, as_criterion
@@ -352,6 +352,15 @@ integrality, vectorized
         if self._vh_extras and kwds.get("message") != "in progress":
             self._vh_last_message = kwds.get("message")
         return super()._result(**kwds)
+
+    @property
+    def history(self) -> DEHistory | None:
+        """The per-generation record of the run so far (None without vhfit's extras).
+
+        The same rows as ``result.history``, available during the run (e.g. after a
+        ``KeyboardInterrupt`` cut :meth:`solve` short).
+        """
+        return None if self._vh_rec is None else self._vh_rec.result()
 
     # ------------------------------------------------------------------ resumable state
     def state_dict(self) -> dict:
