@@ -189,7 +189,7 @@ def test_adaptive_strategies_resume_from_a_checkpoint_bit_identically(tmp_path, 
     assert cut.stop_reason == "interrupted"
     res = calibrate(curves, checkpoint=ck, resume=True, **opts)
     assert res.params == ref.params
-    assert (res.nit, res.stop_reason) == (ref.nit, ref.stop_reason)
+    assert (res.nit, res.nfev, res.stop_reason) == (ref.nit, ref.nfev, ref.stop_reason)
     assert res.history["best"] == ref.history["best"]
     assert res.history["mean"] == ref.history["mean"]
 

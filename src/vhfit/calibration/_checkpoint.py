@@ -30,14 +30,16 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     return h.hexdigest()
 
 
-def save(path, key: str, solver_state: dict, done: str | None = None) -> None:
-    """Write the solver state (and, once the search has ended, why) atomically."""
+def save(path, key: str, solver_state: dict, evaluations: int, done: str | None = None) -> None:
+    """Write the solver state, the individuals evaluated so far and, once the search has
+    ended, why it ended, atomically."""
     atomic_write(path, dumps({"format": FORMAT, "key": key, "done": done,
-                              "solver": solver_state}))
+                              "evaluations": int(evaluations), "solver": solver_state}))
 
 
-def load(path, key: str) -> tuple[dict, str | None]:
-    """The solver state saved in ``path`` and the stop reason if the search had ended."""
+def load(path, key: str) -> tuple[dict, int, str | None]:
+    """The solver state saved in ``path``, the individuals evaluated before it, and the
+    stop reason if the search had ended."""
     try:
         with open(path) as f:
             data = json.load(f)
@@ -50,4 +52,4 @@ def load(path, key: str) -> tuple[dict, str | None]:
             f"checkpoint {path} belongs to a different fit (data, model, seed or options "
             "differ, or an older vhfit wrote it); delete it or drop --resume"
         )
-    return data["solver"], data.get("done")
+    return data["solver"], int(data["evaluations"]), data.get("done")

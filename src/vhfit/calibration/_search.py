@@ -136,34 +136,30 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
             track.solver = solver
             finished = None
             if resume and ckpt is not None and os.path.exists(ckpt):
-                state, finished = _checkpoint.load(ckpt, key)
+                state, done_before, finished = _checkpoint.load(ckpt, key)
                 solver.load_state(state)
-                track.state = state
+                track.state, track.evaluations = state, done_before
+                objective.nfev = done_before
                 t0 -= float(state["elapsed"])
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective
-            z, stop, nfev = _solve(solver, track, finished, reasons)
+            z, stop = _solve(solver, track, finished, reasons)
             if ckpt is not None and track.state is not None:
-                _checkpoint.save(ckpt, key, track.state,
+                _checkpoint.save(ckpt, key, track.state, track.evaluations,
                                  None if stop == "interrupted" else stop)
             history = _history(solver, setup)
-    # SciPy counts a vectorised call as one evaluation: the objective counts individuals
-    return Search(np.asarray(z), len(history["nit"]), max(objective.nfev, nfev), stop, history,
-                  t0)
+    return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0)
 
 
-def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str, int]:
-    """Run (or, for a search that had ended, do not run) the solver: (z, stop, nfev)."""
+def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
+    """Run (or, for a search that had ended, do not run) the solver: (z, stop reason)."""
     if finished:  # the search had ended before the run was cut: don't extend it
-        h = solver.history
-        return solver.x, finished, int(h.nfev[-1]) if h is not None and len(h) else 0
+        return solver.x, finished
     try:
         res = solver.solve()
     except KeyboardInterrupt:
-        h = solver.history
-        z = track.best_x if track.best_x is not None else solver.x
-        return z, "interrupted", int(h.nfev[-1]) if h is not None and len(h) else 0
-    return res.x, reasons.get(res.stop_reason, res.message), int(res.nfev)
+        return (track.best_x if track.best_x is not None else solver.x), "interrupted"
+    return res.x, reasons.get(res.stop_reason, res.message)
 
 
 class _Tracker:
@@ -174,6 +170,7 @@ class _Tracker:
         self.ckpt, self.key, self.every = ckpt, key, every
         self.solver = self.objective = None
         self.state = None  # the last generation boundary's solver state
+        self.evaluations = 0  # individuals evaluated up to that boundary
         self.best_x, self.best_f = None, np.inf
         self.saved = time.perf_counter()
 
@@ -187,8 +184,9 @@ class _Tracker:
         if self.ckpt is not None:
             # a Ctrl-C may land mid-generation: only boundary states are ever written
             self.state = self.solver.state_dict()
+            self.evaluations = self.objective.nfev
             if time.perf_counter() - self.saved >= self.every:
-                _checkpoint.save(self.ckpt, self.key, self.state)
+                _checkpoint.save(self.ckpt, self.key, self.state, self.evaluations)
                 self.saved = time.perf_counter()
         if self.callback is None:
             return False
