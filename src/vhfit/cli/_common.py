@@ -242,10 +242,6 @@ class Signals:
             signal.signal(sig, old)
         return False
 
-    @property
-    def hit(self) -> bool:
-        return self.count > 0
-
     def _handler(self, signum, frame):
         self.count += 1
         if self.writing:

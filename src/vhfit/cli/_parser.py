@@ -30,18 +30,22 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ============================================================== value checks
-def _points(text: str) -> int | None:
-    if text.lower() in ("all", "none"):
-        return None
+def _whole(text: str, least: int, not_int: str, too_small: str) -> int:
+    """``text`` as an int >= ``least``; the messages say which flag and the fix."""
     try:
         n = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--points {text!r}: give a whole number >= 2 or 'all'"
-        ) from None
-    if n < 2:
-        raise argparse.ArgumentTypeError(f"--points {n}: give at least 2 (or 'all')")
+        raise argparse.ArgumentTypeError(not_int) from None
+    if n < least:
+        raise argparse.ArgumentTypeError(too_small.format(n=n))
     return n
+
+
+def _points(text: str) -> int | None:
+    if text.lower() in ("all", "none"):
+        return None
+    return _whole(text, 2, f"--points {text!r}: give a whole number >= 2 or 'all'",
+                  "--points {n}: give at least 2 (or 'all')")
 
 
 def _ramp_points(text: str) -> int:
@@ -54,15 +58,8 @@ def _ramp_points(text: str) -> int:
 def _prony(text: str) -> int | str:
     if text.lower() == "auto":
         return "auto"
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--prony {text!r}: give the number of Prony terms (e.g. 3) or 'auto'"
-        ) from None
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"--prony {n}: give a whole number >= 0 or 'auto'")
-    return n
+    return _whole(text, 0, f"--prony {text!r}: give the number of Prony terms (e.g. 3) or 'auto'",
+                  "--prony {n}: give a whole number >= 0 or 'auto'")
 
 
 def _window(what: str) -> Callable[[str], tuple[float | None, float | None] | None]:
