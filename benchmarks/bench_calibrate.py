@@ -27,7 +27,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import cases  # noqa: E402
 
 import vhfit  # noqa: E402
-from vhfit.calibrate import CalibrationWarning  # noqa: E402
+from vhfit.calibration import CalibrationWarning  # noqa: E402
 
 PAPER = {
     "SEBS (Table 5)": "7.484 % (experimental), 3058 gen., 132 min on 16 cores",

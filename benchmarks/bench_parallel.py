@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import cases  # noqa: E402
 
 import vhfit  # noqa: E402
-from vhfit.calibrate import CalibrationWarning  # noqa: E402
+from vhfit.calibration import CalibrationWarning  # noqa: E402
 from vhfit.parallel import calibrate_many  # noqa: E402
 
 

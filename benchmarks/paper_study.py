@@ -118,7 +118,7 @@ def paper_init(curves, n, strategy, npop, seed):
     """
     from scipy.stats import qmc
 
-    from vhfit.calibrate import auto_bounds
+    from vhfit.calibration import auto_bounds
     from vhfit.optimize import tau_bounds
 
     rates = [abs(c.strain_rate) for c in curves]
@@ -214,7 +214,7 @@ def _worker_init():
     warnings.simplefilter("ignore")
     for attempt in range(5):  # the package may be mid-edit by others: retry the import
         try:
-            import vhfit.calibrate  # noqa: F401
+            import vhfit.calibration  # noqa: F401
             import vhfit.optimize  # noqa: F401
             return
         except Exception:

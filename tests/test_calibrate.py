@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibrate import CalibrationWarning, auto_bounds, calibrate
+from vhfit.calibration import CalibrationWarning, auto_bounds, calibrate
 
 SEBS = dict(C10=0.00491, C01=0.00441, G1=3.49, tau1=10**-4.91, G2=0.0634, tau2=10**-1.99,
             G3=0.0603, tau3=10**0.581, G4=0.103, tau4=10**2.68)
@@ -350,14 +350,12 @@ def test_bad_workers_is_a_clear_error():
 
 
 def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypatch):
-    import sys
-
-    vc = sys.modules["vhfit.calibrate"]  # the package attribute is the function
+    from vhfit.calibration._space import SeparableSpace
     curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-2),
                        RANDOM_RATES, noise=0.05, seed=9)
     ref = calibrate(curves, n_prony=2, seed=4, uncertainty=False)
     ck = tmp_path / "ck.json"
-    real = vc._Problem.solve_linear
+    real = SeparableSpace.solve_linear
     calls = {"n": 0}
 
     def flaky(self, hyper, tau):
@@ -366,10 +364,10 @@ def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypat
             raise KeyboardInterrupt
         return real(self, hyper, tau)
 
-    monkeypatch.setattr(vc._Problem, "solve_linear", flaky)
+    monkeypatch.setattr(SeparableSpace, "solve_linear", flaky)
     cut = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck,
                     checkpoint_every=1e9)
-    monkeypatch.setattr(vc._Problem, "solve_linear", real)
+    monkeypatch.setattr(SeparableSpace, "solve_linear", real)
     assert cut.stop_reason == "interrupted"
     assert json.loads(ck.read_text())["history"]["nit"][-1] == 5
     res = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck, resume=True)
@@ -428,3 +426,29 @@ def test_load_refuses_a_file_that_is_not_a_results_file(tmp_path):
     path.write_text('{"a": 1}')
     with pytest.raises(ValueError, match="not a vhfit results file"):
         vhfit.Calibration.load(path)
+
+
+@pytest.mark.parametrize("kw, name", [
+    (dict(n_prony=-1), "n_prony"), (dict(n_prony=1.5), "n_prony"), (dict(n_prony="two"), "n_prony"),
+    (dict(n_prony=True), "n_prony"), (dict(method="exhaustive"), "method"),
+    (dict(tau_strategy="loose"), "tau_strategy"), (dict(bounds=[(0, 1)]), "bounds"),
+    (dict(workers=0), "workers"), (dict(popsize=3), "popsize"), (dict(maxiter=0), "maxiter"),
+    (dict(tol=-1.0), "tol"), (dict(g_inf_min=1.0), "g_inf_min"), (dict(max_time=-1), "max_time"),
+    (dict(max_prony=0), "max_prony"), (dict(rtol=0.0), "rtol"), (dict(stall=(0.02,)), "stall"),
+    (dict(stability_range=(2.0, 1.0)), "stability_range"), (dict(target=float("nan")), "target"),
+    (dict(callback=3), "callback"), (dict(de_options=["rand1bin"]), "de_options"),
+    (dict(resume=True), "resume"), (dict(polish="yes"), "polish"),
+    (dict(checkpoint_every=float("inf")), "checkpoint_every"),
+])
+def test_bad_arguments_are_refused_at_the_front_door(kw, name, monkeypatch):
+    import vhfit.calibration._workflow as wf
+
+    curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
+
+    def no_work(*a, **k):  # nothing may be computed before the arguments are checked
+        raise AssertionError("computation started before the arguments were checked")
+
+    monkeypatch.setattr(wf, "rate_sensitivity", no_work)
+    monkeypatch.setattr(wf, "search_bounds", no_work)
+    with pytest.raises(ValueError, match=rf"^{name} = .*: "):
+        calibrate(curves, **kw)

@@ -43,7 +43,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import vhfit
-from vhfit.calibrate import CalibrationWarning
+from vhfit.calibration import CalibrationWarning
 from vhfit.data import Curve, DataError, curves_from_arrays, read_csv
 
 BATCH = 100

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibrate import CalibrationWarning
+from vhfit.calibration import CalibrationWarning
 from vhfit.parallel import Job, JobResult, calibrate_many
 
 TRUTH = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-2)

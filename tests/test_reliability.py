@@ -32,7 +32,7 @@ from hypothesis import strategies as st
 
 import vhfit
 from vhfit._io import atomic_write
-from vhfit.calibrate import CalibrationWarning, calibrate
+from vhfit.calibration import CalibrationWarning, calibrate
 
 posix_only = pytest.mark.skipif(os.name != "posix", reason="needs fork and SIGKILL")
 

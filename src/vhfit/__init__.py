@@ -10,7 +10,7 @@ The public API (SPEC §7)::
 """
 
 from vhfit import export, hyperelastic, viscoelastic
-from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
+from vhfit.calibration import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic

@@ -11,7 +11,7 @@ import warnings
 
 import numpy as np
 
-from vhfit.calibrate import calibrate
+from vhfit.calibration import calibrate
 from vhfit.data import Curve
 from vhfit.model import ViscoHyperelastic
 

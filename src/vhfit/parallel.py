@@ -169,7 +169,7 @@ def _run_task(task: tuple, threads: int | None = None, capture: bool = True) -> 
 
             old = numba.get_num_threads()
             numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
-        from vhfit.calibrate import calibrate
+        from vhfit.calibration import calibrate
 
         with _warnings.catch_warnings(record=True) if capture else _no_capture() as caught:
             if capture:

@@ -25,7 +25,7 @@ import numpy as np
 
 from vhfit import datasets, plot
 from vhfit._io import atomic_write
-from vhfit.calibrate import Calibration, CalibrationWarning, calibrate
+from vhfit.calibration import Calibration, CalibrationWarning, calibrate
 from vhfit.cli._common import (
     EXIT_FAILED,
     EXIT_OK,

@@ -1,0 +1,20 @@
+"""Calibration: curves at several strain rates in, a visco-hyperelastic material out.
+
+The public face is :func:`vhfit.calibrate` and its result, :class:`Calibration`.
+Inside, one module per concern:
+
+* ``_arguments`` — the front door: every argument checked before any computation;
+* ``_bounds`` — τ ranges from the rates (Eq. 22) and the moduli's search limits;
+* ``_space`` — the fitted problem and the two search spaces (``separable``, ``full``);
+* ``_search`` — the differential evolution with its stopping tests and checkpoints;
+* ``_checkpoint`` — the saved search state, resumed exactly;
+* ``_polish`` — bounded least squares on all parameters afterwards;
+* ``_report`` — pruning, uncertainty, stability and warnings; the result;
+* ``_result`` — :class:`Calibration`, its summary and its results file.
+"""
+
+from vhfit.calibration._bounds import auto_bounds
+from vhfit.calibration._result import RESULTS_FORMAT, Calibration, CalibrationWarning
+from vhfit.calibration._workflow import calibrate
+
+__all__ = ["calibrate", "Calibration", "CalibrationWarning", "auto_bounds", "RESULTS_FORMAT"]

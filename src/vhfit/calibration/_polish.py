@@ -1,0 +1,83 @@
+"""The polish: bounded least squares on all parameters after the global search."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vhfit.calibration._space import Problem
+
+__all__ = ["polish", "g_inf_ok"]
+
+
+def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
+    """Bounded least squares on all parameters (τ in log10); never raises the error."""
+    model, nh = prob.model, prob.hm.n_params
+    lo = np.empty(model.n_params)
+    hi = np.empty(model.n_params)
+    for k, name in enumerate(prob.hm.param_names):
+        plo, phi = prob.hm.bounds[k]
+        blo, bhi = prob.bounds[name]
+        lo[k] = max(plo, min(blo, x0[k]))
+        hi[k] = phi if prob.hm.units[k] == "MPa" else max(bhi, x0[k])
+    lo[nh::2], hi[nh::2] = 0.0, np.inf
+    lo[nh + 1::2] = prob.tau_b[:, 0]
+    hi[nh + 1::2] = prob.tau_b[:, 1]
+    fixed = lo >= hi
+    free = ~fixed
+
+    def expand(z):
+        x = np.array(z0_full, dtype=np.float64, copy=True)
+        x[free] = z
+        x[nh + 1::2] = 10.0 ** x[nh + 1::2]
+        return x
+
+    z0_full = x0.copy()
+    z0_full[nh + 1::2] = np.log10(x0[nh + 1::2])
+    z0_full = np.clip(z0_full, lo, np.where(fixed, lo, hi))
+    counter = {"n": 0}
+
+    def resid_batch(Z):
+        X = np.array([expand(z) for z in Z])
+        counter["n"] += len(Z)
+        S = prob.batch(X)
+        return (S - prob.y) * prob.scale
+
+    def fun(z):
+        return resid_batch(z[None, :])[0]
+
+    def jac(z):
+        h = 1e-7 * np.maximum(np.abs(z), 1e-3)
+        Z = np.vstack([z, z + np.diag(h)])
+        # step backwards where forwards would leave the bounds
+        over = Z[1:] > hi[free]
+        Z[1:][over] = (z - np.diag(h))[over]
+        R = resid_batch(Z)
+        sgn = np.where(over.any(axis=1), -1.0, 1.0)
+        return ((R[1:] - R[0]) / (h * sgn)[:, None]).T
+
+    e0 = float(np.sqrt(np.sum(fun(z0_full[free]) ** 2)))
+    if not np.isfinite(e0) or not free.any():
+        return x0, e0, counter["n"]
+    try:
+        with np.errstate(all="ignore"):
+            from scipy.optimize import least_squares
+
+            res = least_squares(
+                fun, z0_full[free], jac=jac, bounds=(lo[free], hi[free]), method="trf",
+                x_scale="jac", max_nfev=max_nfev, xtol=1e-15, ftol=1e-15, gtol=1e-15,
+            )
+        x1 = expand(res.x)
+        e1 = float(np.sqrt(2 * res.cost))
+    except (ValueError, np.linalg.LinAlgError):
+        return x0, e0, counter["n"]
+    if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1):
+        return x1, e1, counter["n"]
+    return x0, e0, counter["n"]
+
+
+def g_inf_ok(prob: Problem, x: np.ndarray) -> bool:
+    if prob.g_inf_min <= 0 or prob.model.n_prony == 0:
+        return True
+    E = prob.model.long_term_modulus(x)
+    G = prob.model.split(x)[1]
+    return E > 0 and E / (E + G.sum()) >= prob.g_inf_min * (1 - 1e-9)

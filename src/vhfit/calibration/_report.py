@@ -1,0 +1,178 @@
+"""After the search: order of the terms, pruning, uncertainty, checks, warnings, the result."""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+
+from vhfit.calibration._result import Calibration, CalibrationWarning
+from vhfit.calibration._space import Problem
+from vhfit.model import ViscoHyperelastic
+from vhfit.stability import drucker
+from vhfit.viscoelastic import prony_g
+
+__all__ = ["finish", "confidence", "time_window_warnings", "slack_warnings"]
+
+
+def confidence(prob: Problem, x: np.ndarray, level: float = 0.95):
+    """Intervals from the Jacobian of the weighted residuals (τ intervals via log10 τ)."""
+    model, nh = prob.model, prob.hm.n_params
+    z = x.copy()
+    z[nh + 1::2] = np.log10(x[nh + 1::2])
+    n_par = z.size
+    h = 1e-6 * np.maximum(np.abs(z), 1e-6)
+    Z = np.vstack([z + np.diag(h), z - np.diag(h)])
+    X = Z.copy()
+    X[:, nh + 1::2] = 10.0 ** X[:, nh + 1::2]
+    S = prob.batch(X)
+    R = (S - prob.y) * prob.scale
+    J = ((R[:n_par] - R[n_par:]) / (2 * h)[:, None]).T
+    r0 = (prob.batch(x[None, :])[0] - prob.y) * prob.scale
+    n = r0.size
+    dof = max(n - n_par, 1)
+    s2 = float(r0 @ r0) / dof
+    out, unident = {}, []
+    if not np.all(np.isfinite(J)):
+        return out, unident
+    U, sv, Vt = np.linalg.svd(J, full_matrices=False)
+    tiny = sv <= sv.max() * 1e-10 if sv.size else np.array([], bool)
+    inv = np.where(tiny, 0.0, 1.0 / np.where(tiny, 1.0, sv) ** 2)
+    cov = (Vt.T * inv) @ Vt * s2
+    from scipy.stats import t as student_t
+
+    tq = float(student_t.ppf(0.5 + level / 2, dof))
+    for k, name in enumerate(model.param_names):
+        half = tq * math.sqrt(max(cov[k, k], 0.0))
+        # a parameter along a (near-)null direction of J cannot be identified
+        weak = any(abs(Vt[j, k]) > 0.1 for j in np.flatnonzero(tiny))
+        if weak:
+            unident.append(name)
+        if k >= nh and (k - nh) % 2 == 1:
+            with np.errstate(over="ignore"):  # an unidentifiable τ: an interval to inf
+                out[name] = (10 ** (z[k] - half), 10 ** (z[k] + half))
+        else:
+            out[name] = (x[k] - half, x[k] + half)
+    return out, unident
+
+
+def time_window_warnings(model, x, curves) -> list[str]:
+    nh = model.hyperelastic.n_params
+    out = []
+    durations = [c.history.duration for c in curves]
+    firsts = []
+    for c in curves:
+        t = np.asarray(c.history.out_time)
+        firsts.append(float(np.min(t[t > 0])) if np.any(t > 0) else c.history.duration)
+    for i in range(model.n_prony):
+        G, tau = x[nh + 2 * i], x[nh + 2 * i + 1]
+        if G <= 0:
+            continue
+        if tau > 10 * max(durations):
+            out.append(
+                f"tau{i + 1} = {tau:.3g} s is longer than 10x every curve's duration "
+                f"(longest {max(durations):.3g} s): the data cannot tell it from a stiffer "
+                "elastic law; add a slower test or a relaxation hold to identify it"
+            )
+        elif tau < 0.01 * min(firsts):
+            out.append(
+                f"tau{i + 1} = {tau:.3g} s relaxes before the first objective point of every "
+                f"curve (earliest {min(firsts):.3g} s): its modulus is only seen through "
+                "G*tau; faster tests are needed to identify it"
+            )
+    return out
+
+
+def slack_warnings(model_stress, curves) -> list[str]:
+    """Curves whose data carry ~no stress where the model (``model_stress``, one array
+    per curve at its objective points) pushes the other way.
+
+    A thin sheet (VHB, a membrane) goes slack or buckles on unloading: the measured
+    stress stays ~0 while the strain returns, but a solid model predicts stress of the
+    opposite sign there, a misfit no constants can remove.
+    """
+    out = []
+    for c, s in zip(curves, model_stress):
+        d = np.asarray(c.target_stress)
+        top = float(np.max(np.abs(d)))
+        if not top > 0:
+            continue
+        sign = float(np.sign(d[np.argmax(np.abs(d))]))
+        bad = (np.abs(d) <= 0.02 * top) & (sign * s < -0.05 * top)
+        if np.count_nonzero(bad) < 2:
+            continue
+        t, e = np.asarray(c.target_time)[bad], np.asarray(c.target_strain)[bad]
+        worst = float(s[bad][np.argmax(np.abs(s[bad]))])
+        out.append(
+            f"curve {c.name!r}: at {int(np.count_nonzero(bad))} objective points (time "
+            f"{t.min():.4g}-{t.max():.4g} s, strain {e.min():.4g} to {e.max():.4g}) the measured "
+            f"stress is ~0 but the model's reaches {worst:.3g} (opposite sign): the specimen "
+            "went slack or buckled there, which the model cannot do; leave that part out, "
+            f"e.g. curve.trim(time=(None, {t.min():.4g})), or `vhfit fit --trim-time "
+            f":{t.min():.4g}` for its file"
+        )
+    return out
+
+
+def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
+            stability_range, uncertainty, options) -> Calibration:
+    msgs: list[str] = []
+    nh = model.hyperelastic.n_params
+    order = np.argsort(x[nh + 1::2], kind="stable")  # present terms from fastest to slowest
+    x = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in order])
+    prob.tau_b = prob.tau_b[order]
+    # prune Prony terms whose modulus is negligible, and report the effective N
+    G = x[nh::2]
+    keep = [i for i in range(model.n_prony) if G[i] > prune_tol * max(G.sum(), 1e-300)]
+    if len(keep) < model.n_prony:
+        pruned = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol)
+        x2 = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in keep])
+        msgs.append(
+            f"{model.n_prony - len(keep)} Prony term(s) came out negligible and were "
+            f"dropped: effective N = {len(keep)}"
+        )
+        tau_b = prob.tau_b[keep] if len(keep) else np.zeros((0, 2))
+        prob = Problem(pruned, curves, tau_b, prob.bounds, prob.g_inf_min,
+                        prob.objective_spec)
+        model, x = pruned, x2
+        err = float(prob.errors(x[None, :])[0])
+    params = model.as_dict(x)
+    E_inf = model.long_term_modulus(x)
+    if model.n_prony and E_inf > 0:
+        g, g_inf = prony_g(E_inf, model.split(x)[1])
+    else:
+        g, g_inf = np.zeros(model.n_prony), 1.0
+    if prob.g_inf_min > 0 and model.n_prony and g_inf <= prob.g_inf_min * (1 + 1e-6):
+        msgs.append(
+            f"the g_inf floor ({prob.g_inf_min:g}) is active: the best fit wants less long-term "
+            "stiffness than FE solvers accept; lower g_inf_min to see what it costs"
+        )
+    conf: dict = {}
+    if uncertainty:
+        conf, unident = confidence(prob, x)
+        if unident:
+            msgs.append(
+                "the data cannot identify " + ", ".join(unident)
+                + " (flat directions of the error): treat their values as one of many fits"
+            )
+    msgs += time_window_warnings(model, x, curves)
+    stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
+    msgs += slack_warnings(prob.objective.split(stress), curves)
+    stab = drucker(model.hyperelastic, x[:nh], stability_range)
+    if not stab.stable:
+        msgs.append(stab.describe())
+    for m in msgs:
+        warnings.warn(m, CalibrationWarning, stacklevel=3)
+    tb = {f"tau{i + 1}": tuple(10.0 ** prob.tau_b[i]) for i in range(model.n_prony)}
+    bounds = {**prob.bounds, **tb}
+    bounds = {k: v for k, v in bounds.items() if k in model.param_names}
+    return Calibration(
+        model=model, params=params, rmsape=err,
+        per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
+        nit=int(nit), nfev=int(nfev), wall_time=time.perf_counter() - t0, stop_reason=str(stop),
+        g=[float(v) for v in g], g_inf=float(g_inf), bounds=bounds, history=history,
+        confidence=conf, stability=stab, warnings=msgs, options=options,
+        curve_names=[str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)],
+    )

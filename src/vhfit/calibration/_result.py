@@ -1,0 +1,289 @@
+"""The result of a calibration: constants, errors, report, and its results file."""
+
+from __future__ import annotations
+
+import json
+import platform
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+
+import numpy as np
+
+from vhfit._io import atomic_write, dumps
+from vhfit.model import ViscoHyperelastic
+from vhfit.stability import StabilityReport, drucker
+
+__all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT"]
+
+RESULTS_FORMAT = "vhfit-results-1"
+
+
+def _versions() -> dict[str, str]:
+    import numba
+    import scipy
+
+    from vhfit import __version__
+
+    return {
+        "vhfit": __version__,
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "numba": numba.__version__,
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+    }
+
+
+def _curve_info(c) -> dict:
+    return {
+        "name": str(getattr(c, "name", "")),
+        "strain_rate": float(getattr(c, "strain_rate", float("nan"))),
+        "measure": getattr(c, "measure", "true"),
+        "n_points": int(np.size(c.target_stress)),
+        "source": getattr(c, "source", None),
+    }
+
+
+class CalibrationWarning(UserWarning):
+    """Something about a calibration the user should know (floor active, unidentifiable τ…)."""
+
+
+
+@dataclass
+class Calibration:
+    """Result of :func:`calibrate`.
+
+    Attributes
+    ----------
+    model : ViscoHyperelastic
+        The calibrated model (after pruning of negligible Prony terms).
+    params : dict
+        Name -> value (moduli in MPa, τ in s). Hyperelastic constants are long-term.
+    rmsape : float
+        Eq. 20 in percent on the objective points.
+    per_curve_rmsape : list of float
+        Eq. 20 of each curve alone, percent.
+    nit, nfev : int
+        Generations and model evaluations of the global search (plus polish evaluations).
+    wall_time : float
+        Seconds.
+    stop_reason : str
+        Why the global search stopped ("converged", "target reached", "max_time",
+        "maxiter", "interrupted", ...).
+    g, g_inf : list of float, float
+        Dimensionless Prony weights (docs/theory.md §3).
+    bounds : dict
+        Search bounds used (τ bounds in s).
+    history : dict
+        Per-generation best and mean error and wall time.
+    confidence : dict
+        Name -> (low, high) 95 % interval from the Jacobian at the optimum.
+    stability : StabilityReport
+    order_scan : list of dict
+        With ``n_prony="auto"``: error against N.
+    warnings : list of str
+    """
+
+    model: ViscoHyperelastic
+    params: dict
+    rmsape: float
+    per_curve_rmsape: list
+    nit: int
+    nfev: int
+    wall_time: float
+    stop_reason: str
+    g: list = field(default_factory=list)
+    g_inf: float = 1.0
+    bounds: dict = field(default_factory=dict)
+    history: dict = field(default_factory=dict)
+    confidence: dict = field(default_factory=dict)
+    stability: StabilityReport | None = None
+    order_scan: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    options: dict = field(default_factory=dict)
+    curve_names: list = field(default_factory=list)
+
+    @property
+    def x(self) -> np.ndarray:
+        """Parameters as an array in ``model.param_names`` order."""
+        return self.model.as_array(self.params)
+
+    @property
+    def n_prony(self) -> int:
+        return self.model.n_prony
+
+    def predict(self, history=None, **kwargs) -> np.ndarray:
+        """Stress of the calibrated material along a history or curve (see ``model.stress``)."""
+        if history is not None and not kwargs and hasattr(history, "target_stress"):
+            kwargs["measure"] = getattr(history, "measure", "true")
+        return self.model.stress(self.params, history, **kwargs)
+
+    def summary(self) -> str:
+        """A readable table of constants, intervals, errors and checks."""
+        units = dict(zip(self.model.param_names, self.model.units))
+        lines = [
+            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)",
+            f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
+            f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
+            "",
+            f"{'parameter':<10}{'value':>14}  {'unit':<5}{'95 % interval':>30}",
+        ]
+        for name, v in self.params.items():
+            ci = self.confidence.get(name)
+            cis = f"[{ci[0]:.4g}, {ci[1]:.4g}]" if ci else ""
+            lines.append(f"{name:<10}{v:>14.6g}  {units[name]:<5}{cis:>30}")
+        if self.n_prony:
+            lines.append("")
+            lines.append("g_i = " + ", ".join(f"{g:.6g}" for g in self.g)
+                         + f"   g_inf = {self.g_inf:.6g}")
+        lines.append("")
+        lines.append("per-curve RMSAPE:")
+        for name, e in zip(self.curve_names, self.per_curve_rmsape):
+            lines.append(f"  {name:<30} {e:.4g} %")
+        if self.order_scan:
+            lines.append("")
+            lines.append("error against number of Prony terms:")
+            for row in self.order_scan:
+                mark = "  <- chosen" if row["n_prony"] == self.options.get("n_prony_chosen") else ""
+                lines.append(
+                    f"  N = {row['n_prony']}: RMSAPE {row['rmsape']:.4g} %  "
+                    f"(effective N = {row['effective_n']}){mark}"
+                )
+        if self.stability is not None:
+            lines.append("")
+            lines.append("stability: " + self.stability.describe())
+        for w in self.warnings:
+            lines.append("warning: " + w)
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict with everything needed to reproduce and export the result."""
+        return {
+            "hyperelastic": self.model.hyperelastic.name,
+            "n_prony": self.n_prony,
+            "param_names": list(self.model.param_names),
+            "units": list(self.model.units),
+            "params": {k: float(v) for k, v in self.params.items()},
+            "g": [float(v) for v in self.g],
+            "g_inf": float(self.g_inf),
+            "rmsape": float(self.rmsape),
+            "per_curve_rmsape": [float(v) for v in self.per_curve_rmsape],
+            "curve_names": list(self.curve_names),
+            "nit": int(self.nit),
+            "nfev": int(self.nfev),
+            "wall_time": float(self.wall_time),
+            "stop_reason": self.stop_reason,
+            "bounds": {k: [float(a), float(b)] for k, (a, b) in self.bounds.items()},
+            "confidence": {k: [float(a), float(b)] for k, (a, b) in self.confidence.items()},
+            "stability": None if self.stability is None else {
+                "stable": self.stability.stable,
+                "stretch_range": list(self.stability.stretch_range),
+                "unstable": {k: [list(i) for i in v] for k, v in self.stability.unstable.items()},
+            },
+            "order_scan": self.order_scan,
+            "warnings": list(self.warnings),
+            "options": self.options,
+        }
+
+    def save(self, path, *, status: str = "complete", curves: Sequence | None = None,
+             extra: dict | None = None) -> None:
+        """Write the results file (JSON) atomically: :meth:`to_dict` plus its context.
+
+        Parameters
+        ----------
+        path : path-like
+            The file to write (``results.json`` of ``vhfit fit``).
+        status : {"complete", "interrupted"}
+            Whether the search ran to its end.
+        curves : sequence of Curve, optional
+            The fitted curves, described by name, rate, measure, size and source.
+        extra : dict, optional
+            Further top-level entries (the command line adds its inputs and options).
+        """
+        res = self.to_dict()
+        res.update({
+            "format": RESULTS_FORMAT,
+            "status": status,
+            "interrupted": status == "interrupted",
+            "curves": [_curve_info(c) for c in (curves or [])],
+            "versions": _versions(),
+            "timestamp": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "history": self.history,
+        })
+        res.update(extra or {})
+        atomic_write(path, dumps(res, indent=2) + "\n")
+
+    @classmethod
+    def load(cls, path) -> Calibration:
+        """Read a results file written by :meth:`save` (or by ``vhfit fit``).
+
+        The model and constants, errors, counts, bounds, intervals, warnings and
+        history come back; the stability report is recomputed from the constants.
+        """
+        with open(path, encoding="utf-8") as f:
+            res = json.load(f)
+        if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
+            raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
+                             "'params'); give the results.json written by vhfit")
+        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)))
+        x = model.check(res["params"])
+        lo_hi = res.get("options", {}).get("stability_range")
+        stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],
+                       tuple(lo_hi) if lo_hi else (0.2, 5.0))
+        return cls(
+            model=model, params=model.as_dict(x), rmsape=float(res["rmsape"]),
+            per_curve_rmsape=list(res.get("per_curve_rmsape", [])),
+            nit=int(res.get("nit", 0)), nfev=int(res.get("nfev", 0)),
+            wall_time=float(res.get("wall_time", 0.0)),
+            stop_reason=str(res.get("stop_reason", "")), g=list(res.get("g", [])),
+            g_inf=float(res.get("g_inf", 1.0)),
+            bounds={k: tuple(v) for k, v in res.get("bounds", {}).items()},
+            history=dict(res.get("history", {})),
+            confidence={k: tuple(v) for k, v in res.get("confidence", {}).items()},
+            stability=stab, order_scan=list(res.get("order_scan", [])),
+            warnings=list(res.get("warnings", [])), options=dict(res.get("options", {})),
+            curve_names=list(res.get("curve_names", [])),
+        )
+
+    def fitted_curves(self, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:
+        """Model stresses along each curve, at its points and on a fine grid.
+
+        Parameters
+        ----------
+        curves : sequence of Curve
+            The curves it was fitted to (each with ``.history`` and ``.measure``).
+        points : int
+            Size of the fine, uniform-in-time grid along each history.
+
+        Returns
+        -------
+        list of dict
+            Per curve: ``time``, ``strain``, ``stress`` (objective points: data and
+            ``model``), and ``fine_time``, ``fine_strain``, ``fine_model``. Stresses are
+            in the curve's own measure, MPa.
+        """
+        out = []
+        for c in curves:
+            h = c.history
+            measure = getattr(c, "measure", "true")
+            model = self.model.stress(self.params, h, measure=measure)
+            t_fine = np.linspace(0.0, h.duration, int(points))
+            fine = self.model.stress(self.params, h.with_outputs(t_fine), measure=measure)
+            out.append({
+                "time": np.asarray(h.out_time, dtype=np.float64),
+                "strain": np.asarray(h.out_strain, dtype=np.float64),
+                "stress": np.asarray(c.target_stress, dtype=np.float64),
+                "model": np.asarray(model, dtype=np.float64),
+                "fine_time": t_fine,
+                "fine_strain": h.stretch_at(t_fine) - 1.0,
+                "fine_model": np.asarray(fine, dtype=np.float64),
+            })
+        return out
+
+    def to_json(self, path=None, **kw) -> str:
+        """Serialise :meth:`to_dict`; write it atomically to ``path`` if given."""
+        text = dumps(self.to_dict(), indent=2, **kw)
+        if path is not None:
+            atomic_write(path, text)
+        return text

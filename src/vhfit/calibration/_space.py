@@ -1,0 +1,201 @@
+"""What is fitted (model, targets, weighted residuals) and the two ways to search it.
+
+Both search spaces follow one protocol — ``bounds()``, ``errors(Z)`` for a batch of
+search vectors, ``to_params(z)`` for the full parameter vector — plus the defaults of
+their differential evolution (``popsize``, ``maxiter``, ``de_options``):
+
+* :class:`SeparableSpace`: for fixed relaxation times and a fixed shape of the
+  hyperelastic law the stress of the corrected Eq. 19 is linear in the long-term
+  modulus E∞ and the Prony moduli G_i (docs/theory.md §5). The search covers only
+  the law's shape and log10 τ_i; each evaluation solves the moduli exactly by
+  non-negative least squares (variable projection).
+* :class:`FullSpace`: the paper's all-parameter search (hyperelastic constants, G_i,
+  log10 τ_i).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vhfit.model import ViscoHyperelastic
+from vhfit.objective import Objective
+
+__all__ = ["Problem", "SeparableSpace", "FullSpace", "SPACES"]
+
+
+class Problem:
+    """Model, targets and the weighted residuals whose norm is the objective (Eq. 20)."""
+
+    def __init__(self, model: ViscoHyperelastic, curves, tau_b, bounds, g_inf_min,
+                 objective="rmsape"):
+        self.model = model
+        self.hm = model.hyperelastic
+        self.batch = model.batch(curves)
+        self.objective = Objective(curves, objective)
+        self.objective_spec = objective
+        self.y = self.objective.target
+        # residual weights r = (σ − y) * scale with ||r|| = the objective (Eq. 20)
+        w = self.objective.weights
+        self.scale = np.sqrt(w / w.sum()) / self.objective.scale
+        self.tau_b = tau_b  # (N, 2) log10 τ
+        self.bounds = bounds  # name -> (lo, hi) for hyperelastic constants and G
+        self.g_inf_min = float(g_inf_min)
+
+    def errors(self, X: np.ndarray) -> np.ndarray:
+        """Objective of parameter sets X (P, n_params); inf where invalid."""
+        S = self.batch(np.atleast_2d(X))
+        r = (S - self.y) * self.scale
+        with np.errstate(all="ignore", over="ignore"):
+            e = np.sqrt(np.sum(r * r, axis=1))
+        e[~np.isfinite(e)] = np.inf
+        return e
+
+    def residuals(self, X: np.ndarray) -> np.ndarray:
+        """Weighted residuals (P, n_points) of parameter sets X."""
+        return (self.batch(np.atleast_2d(X)) - self.y) * self.scale
+
+
+def log_tau_to_tau(Z: np.ndarray, nh: int) -> np.ndarray:
+    """Parameter vectors with τ from vectors with log10 τ (hyperelastic part first)."""
+    X = np.array(Z, dtype=np.float64, copy=True)
+    X[..., nh + 1::2] = 10.0 ** X[..., nh + 1::2]
+    return X
+
+
+class SeparableSpace:
+    """Search over (shape of the law, log10 τ); (E∞, G_i) by NNLS for every individual."""
+
+    method = "separable"
+    popsize = 64
+    maxiter = 1000
+    de_options = dict(strategy="best1bin", mutation=(0.5, 1.0), recombination=0.9,
+                      init="sobol", updating="deferred")
+
+    def __init__(self, prob: Problem):
+        self.prob = prob
+        hm = prob.hm
+        self.amp = [k for k, u in enumerate(hm.units) if u == "MPa"]
+        self.other = [k for k, u in enumerate(hm.units) if u != "MPa"]
+        lo_amp = [prob.bounds[hm.param_names[k]][0] for k in self.amp]
+        # shape of the law: a fraction between two non-negative moduli, or the moduli
+        # themselves (redundant scale) when there are more or they may be negative
+        self.beta = len(self.amp) == 2 and min(lo_amp) >= 0
+        self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
+
+    def bounds(self) -> list[tuple[float, float]]:
+        hm, pb, b = self.prob.hm, self.prob.bounds, []
+        if self.beta:
+            b.append((0.0, 1.0))
+        elif len(self.amp) > 1:
+            b += [pb[hm.param_names[k]] for k in self.amp]
+        b += [pb[hm.param_names[k]] for k in self.other]
+        b += [tuple(self.prob.tau_b[i]) for i in self.free_tau]
+        return b
+
+    def decode(self, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Shape constants (P, n_h), scale-free, and τ (P, N) from search vectors."""
+        P = Z.shape[0]
+        hyper = np.zeros((P, self.prob.hm.n_params))
+        j = 0
+        if self.beta:
+            hyper[:, self.amp[0]] = 1.0 - Z[:, 0]
+            hyper[:, self.amp[1]] = Z[:, 0]
+            j = 1
+        elif len(self.amp) > 1:
+            hyper[:, self.amp] = Z[:, : len(self.amp)]
+            j = len(self.amp)
+        else:
+            hyper[:, self.amp] = 1.0
+        for k in self.other:
+            hyper[:, k] = Z[:, j]
+            j += 1
+        logtau = np.tile(self.prob.tau_b[:, 0], (P, 1))
+        logtau[:, self.free_tau] = Z[:, j:]
+        return hyper, 10.0**logtau
+
+    def solve_linear(self, hyper, tau):
+        """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)."""
+        prob = self.prob
+        base, H = prob.batch.shape_columns(hyper, tau)
+        P, N = tau.shape
+        amps = np.zeros((P, 1 + N))
+        err = np.full(P, np.inf)
+        from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
+
+        ys = prob.y * prob.scale
+        kappa = prob.g_inf_min / (1.0 - prob.g_inf_min) if prob.g_inf_min > 0 else 0.0
+        for p in range(P):
+            A = np.column_stack([base[p]] + [H[p, i] for i in range(N)]) * prob.scale[:, None]
+            if not np.all(np.isfinite(A)):
+                continue
+            a, rn = nnls(A, ys)
+            if kappa > 0 and a[0] < kappa * a[1:].sum():
+                # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
+                Ak = A[:, 1:] + kappa * A[:, :1]
+                g, rn = nnls(Ak, ys)
+                a = np.concatenate([[kappa * g.sum()], g])
+            amps[p] = a
+            err[p] = rn
+        return amps, err
+
+    def errors(self, Z: np.ndarray) -> np.ndarray:
+        """Objective of search vectors Z (P, d)."""
+        hyper, tau = self.decode(Z)
+        return self.solve_linear(hyper, tau)[1]
+
+    def to_params(self, z: np.ndarray) -> np.ndarray:
+        hyper, tau = self.decode(z[None, :])
+        amps, _ = self.solve_linear(hyper, tau)
+        return self.assemble(hyper[0], amps[0, 0], amps[0, 1:], tau[0])
+
+    def assemble(self, shape, E_inf, G, tau) -> np.ndarray:
+        """Full parameter vector from a law's shape, its E∞, and the Prony terms."""
+        hm = self.prob.hm
+        shape = np.array(shape, dtype=np.float64)
+        with np.errstate(all="ignore"):
+            E_shape = 3.0 * float(hm.initial_shear_modulus(shape))
+        if E_inf <= 0 or not np.isfinite(E_shape) or E_shape <= 0:
+            # no long-term stiffness at all: keep the shape at a vanishing scale
+            E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
+        shape[self.amp] *= E_inf / E_shape
+        x = np.empty(self.prob.model.n_params)
+        nh = hm.n_params
+        x[:nh] = shape
+        x[nh::2] = G
+        x[nh + 1::2] = tau
+        return x
+
+
+class FullSpace:
+    """The paper's search: every parameter at once, τ as log10 τ."""
+
+    method = "full"
+    popsize = 60
+    maxiter = 100_000
+    # the paper's DE: rand/1/bin, F = 0.8, CR = 0.7, NP = 60; each generation is
+    # evaluated as one batch (deferred updating) so that workers = 1 and 2 follow the
+    # same trajectory; de_options={"updating": "immediate"} is the paper's exact
+    # one-at-a-time variant
+    de_options = dict(strategy="rand1bin", mutation=0.8, recombination=0.7,
+                      init="latinhypercube", updating="deferred")
+
+    def __init__(self, prob: Problem):
+        self.prob = prob
+
+    def bounds(self) -> list[tuple[float, float]]:
+        pb = self.prob.bounds
+        b = [pb[n] for n in self.prob.hm.param_names]
+        for i in range(self.prob.model.n_prony):
+            b.append(pb[f"G{i + 1}"])
+            b.append(tuple(self.prob.tau_b[i]))
+        return b
+
+    def errors(self, Z: np.ndarray) -> np.ndarray:
+        """Objective of search vectors Z (P, d)."""
+        return self.prob.errors(self.to_params(Z))
+
+    def to_params(self, z: np.ndarray) -> np.ndarray:
+        return log_tau_to_tau(z, self.prob.hm.n_params)
+
+
+SPACES = {"separable": SeparableSpace, "full": FullSpace}

@@ -1,0 +1,267 @@
+"""The calibration workflow: curves in, a calibrated material out (:func:`calibrate`)."""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from collections.abc import Callable, Sequence
+
+from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
+from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._polish import polish as polish_fit
+from vhfit.calibration._report import finish
+from vhfit.calibration._result import Calibration, CalibrationWarning
+from vhfit.calibration._search import run_search
+from vhfit.calibration._space import SPACES, Problem
+from vhfit.data import read_csv
+from vhfit.diagnostics import rate_sensitivity
+from vhfit.model import ViscoHyperelastic
+
+__all__ = ["calibrate"]
+
+DEFAULT_TAU_STRATEGY = "free"
+DEFAULT_DECADES_BELOW = 3  # one decade of margin below Eq. 22: real τ_1 can sit just under it
+DEFAULT_DECADES_ABOVE = 1
+
+
+def _as_curves(curves) -> list:
+    """A list of curves from Curve objects, file paths (read with read_csv), or a mix."""
+    if hasattr(curves, "history") or isinstance(curves, (str, os.PathLike)):
+        curves = [curves]
+    try:
+        items = list(curves)
+    except TypeError:
+        raise ValueError(
+            f"curves must be Curve objects or CSV paths, got {type(curves).__name__}"
+        ) from None
+    out = []
+    for i, c in enumerate(items):
+        if isinstance(c, (str, os.PathLike)):
+            out += read_csv(c)
+        elif hasattr(c, "history") and hasattr(c, "target_stress"):
+            out.append(c)
+        else:
+            raise ValueError(
+                f"curves[{i}] is a {type(c).__name__}: give vhfit.Curve objects "
+                "(vhfit.Curve(strain=..., stress=..., strain_rate=...)) or CSV paths"
+            )
+    if not out:
+        raise ValueError("calibrate needs at least one curve")
+    return out
+
+
+
+def calibrate(
+    curves: Sequence,
+    hyperelastic="mooney_rivlin",
+    n_prony: int | str = 2,
+    *,
+    tau_strategy: str | Callable = DEFAULT_TAU_STRATEGY,
+    bounds: str | dict = "auto",
+    objective: str = "rmsape",
+    method: str = "separable",
+    seed=None,
+    workers=1,
+    popsize: int | None = None,
+    maxiter: int | None = None,
+    tol: float = DEFAULT_TOL,
+    target: float = 1e-4,
+    stall: tuple[float, int] = (0.02, 2000),
+    polish: bool = True,
+    g_inf_min: float = 1e-6,
+    max_time: float | None = None,
+    max_prony: int = 5,
+    order_tol: float = 0.05,
+    prune_tol: float = 1e-6,
+    decades_below: float = DEFAULT_DECADES_BELOW,
+    decades_above: float = DEFAULT_DECADES_ABOVE,
+    stability_range: tuple[float, float] = (0.2, 5.0),
+    uncertainty: bool = True,
+    callback: Callable | None = None,
+    rtol: float = 1e-6,
+    de_options: dict | None = None,
+    checkpoint=None,
+    checkpoint_every: float = 5.0,
+    resume: bool = False,
+    check_rates: bool = True,
+) -> Calibration:
+    """Calibrate a hyperelastic law + Prony series to curves at several strain rates.
+
+    Parameters
+    ----------
+    curves : Curve, path, or sequence of them
+        Measured curves (``.history``, ``.target_stress``, ``.measure``, ``.strain_rate``,
+        optional ``.weight`` and ``.name``; see :class:`vhfit.Curve`), or CSV files read
+        with :func:`vhfit.read_csv`.
+    hyperelastic : str
+        Registered hyperelastic model name.
+    n_prony : int or "auto"
+        Number of Prony terms; "auto" fits N = 1..``max_prony`` and keeps the smallest
+        N whose error is within ``order_tol`` (relative) of the best.
+    tau_strategy : {"free", "semifree", "fixed"} or callable
+        How the τ bounds are cut from the Eq. 22 range (the paper's §2.2). Default "free".
+    bounds : "auto" or dict
+        Search bounds; a dict overrides the automatic ones per parameter
+        (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
+    objective : {"rmsape", "rmse", "relative_l2"} or callable
+        Eq. 20 in percent (default) or an alternative of :mod:`vhfit.objective`; per-curve
+        and per-point weights of the curves apply.
+    method : {"separable", "full"}
+        Variable projection over (shape, log τ) with NNLS for the moduli (default), or
+        the paper's all-parameter DE.
+    seed : int or None
+        Seeds the global search; same seed, same result.
+    workers : int or map-like callable
+        Passed to the DE (only the full method evaluates in parallel this way).
+    popsize : int, optional
+        Population size, exactly (default 64 separable, initialised by a Sobol
+        sequence, and 60 full, the paper's, by Latin hypercube).
+    maxiter : int, optional
+        Generation cap (default 1000 separable, 100 000 full).
+    tol : float
+        Relative best–mean gap of the population that ends the search (default 1e-6;
+        1e-5, the paper's 0.001 %, for the full method).
+    stall : (float, int)
+        The paper's first criterion: stop when the mean error improved by less than
+        this fraction over this many generations.
+    target : float
+        RMSAPE (percent) that ends the search at once.
+    polish : bool
+        Refine all parameters by bounded least squares afterwards.
+    g_inf_min : float
+        Floor on g∞ (FE solvers reject g∞ = 0); a warning says when it is active.
+    max_time : float, optional
+        Seconds after which the search stops with the best result so far.
+    stability_range : (float, float)
+        Stretch range of the Drucker check.
+    uncertainty : bool
+        Compute 95 % intervals from the Jacobian.
+    callback : callable, optional
+        Called each generation with a dict (generation, best, mean, elapsed, n_prony, x);
+        returning True stops the search.
+    rtol : float
+        Accuracy of the model evaluation.
+    de_options : dict, optional
+        Further keywords of the search's solver,
+        :class:`vhfit.optimize.DifferentialEvolutionSolver` (SciPy's, plus ``strategy``
+        ``"jde"``, ``"shade"`` or ``"lshade"`` and ``repair``), e.g. ``{"strategy":
+        "rand1bin", "mutation": 0.8}``. Settings that calibrate owns (population size,
+        generation cap, tolerances, seed, polish, callback, workers) are refused with
+        the argument to use instead.
+    checkpoint : path, optional
+        File where the search state is written atomically every ``checkpoint_every``
+        seconds (and at the end); with ``resume=True`` the search continues from it and
+        reaches the same result as an uninterrupted run with the same seed.
+    checkpoint_every : float
+        Seconds between checkpoints.
+    resume : bool
+        Continue from ``checkpoint`` if it exists (it must belong to the same fit).
+    check_rates : bool
+        Warn, naming the curves, when the data's rise of stress with strain rate exceeds
+        what the model can represent (:func:`vhfit.diagnostics.rate_sensitivity`; the
+        paper's gelatin argument).
+
+    Returns
+    -------
+    Calibration
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> true = dict(C10=0.01, C01=0.005, G1=0.5, tau1=0.01)
+    >>> eps = np.linspace(-0.05, -0.5, 10)
+    >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+    ...           measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
+    >>> cal = vhfit.calibrate(curves, n_prony=1, seed=0)
+    >>> cal.rmsape < 1e-3
+    True
+    """
+    t0 = time.perf_counter()
+    curves = _as_curves(curves)
+    check_arguments(locals())
+    common = dict(
+        tau_strategy=tau_strategy, bounds=bounds, objective=objective, method=method, seed=seed,
+        workers=workers,
+        popsize=popsize, maxiter=maxiter, tol=tol, target=target, stall=stall, polish=polish,
+        g_inf_min=g_inf_min, decades_below=decades_below, decades_above=decades_above,
+        stability_range=stability_range, uncertainty=uncertainty, callback=callback,
+        rtol=rtol, de_options=de_options, prune_tol=prune_tol,
+        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
+    )
+    rate_msgs: list[str] = []
+    if check_rates:
+        n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
+        rate_msgs = rate_sensitivity(curves, hyperelastic, n_check)
+    if isinstance(n_prony, str):
+        cal = _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)
+    else:
+        cal = _calibrate_n(curves, hyperelastic, int(n_prony), max_time=max_time, t0=t0,
+                           **common)
+    for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
+        warnings.warn(m, CalibrationWarning, stacklevel=2)
+    cal.warnings[:0] = rate_msgs
+    return cal
+
+
+def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common):
+    results = []
+    for n in range(1, max_prony + 1):
+        left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
+        if left is not None and left <= 0:
+            break
+        opts = dict(common)
+        if opts.get("checkpoint") is not None:  # one checkpoint per N of the scan
+            opts["checkpoint"] = f"{opts['checkpoint']}.N{n}"
+        results.append(_calibrate_n(curves, hyperelastic, n, max_time=left, t0=time.perf_counter(),
+                                    **opts))
+        if results[-1].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
+            break
+    best = min(r.rmsape for r in results)
+    chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
+    chosen.order_scan = [
+        {"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
+        for n, r in enumerate(results)
+    ]
+    chosen.options["n_prony"] = "auto"
+    chosen.options["n_prony_chosen"] = results.index(chosen) + 1
+    chosen.options["order_rule"] = (
+        f"smallest N whose RMSAPE is within {order_tol:.0%} of the best over N = 1..{len(results)}"
+    )
+    chosen.wall_time = time.perf_counter() - t0
+    return chosen
+
+
+
+def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objective, method,
+                 seed, workers, popsize, maxiter, tol, target, stall, polish, g_inf_min,
+                 decades_below, decades_above, stability_range, uncertainty, callback, rtol,
+                 de_options, prune_tol, checkpoint, checkpoint_every, resume, max_time,
+                 t0) -> Calibration:
+    """One calibration with N Prony terms: bounds, global search, polish, report."""
+    model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol)
+    tau_b, auto = search_bounds(model, curves, tau_strategy, decades_below, decades_above,
+                                bounds)
+    prob = Problem(model, curves, tau_b, auto, g_inf_min, objective)
+    space = SPACES[method](prob)
+    if method == "full" and tol == DEFAULT_TOL:
+        tol = 1e-5  # the paper's best-mean gap of 0.001 %
+    found = run_search(
+        space, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter,
+        tol=tol, target=target, stall=stall, callback=callback, de_options=de_options,
+        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
+        max_time=max_time, t0=t0)
+    x = space.to_params(found.z)
+    err = float(prob.errors(x[None, :])[0])
+    nfev = found.nfev
+    if polish and found.stop != "interrupted":
+        x, err, n_pol = polish_fit(prob, x)
+        nfev += n_pol
+    return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,
+                  found.t0, prune_tol, stability_range, uncertainty, dict(
+                      hyperelastic=model.hyperelastic.name, n_prony=n_prony,
+                      tau_strategy=str(tau_strategy), objective=prob.objective.kind,
+                      method=method, seed=seed,
+                      popsize=popsize or space.popsize, maxiter=maxiter or space.maxiter,
+                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol))
