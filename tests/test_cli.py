@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import importlib.util
 import io
 import json
 import os
@@ -27,6 +28,8 @@ import pytest
 
 import vhfit
 from vhfit import cli, datasets
+from vhfit.cli._common import count_prony, prepare_out
+from vhfit.cli._simulate import parse_params
 from vhfit.model import ViscoHyperelastic
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -102,7 +105,7 @@ def test_demo_end_to_end(demo):
     for f in ("results.json", "fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac",
               "material.json", "summary.txt"):
         assert (out / f).is_file(), f
-    if cli.importlib.util.find_spec("matplotlib"):
+    if importlib.util.find_spec("matplotlib"):
         assert (out / "fit.png").stat().st_size > 10_000
         assert (out / "history.png").is_file()
     assert not list(out.glob("checkpoint.json*"))  # finished: no checkpoint left over
@@ -128,9 +131,9 @@ def test_demo_refuses_a_non_empty_out(demo):
 def test_default_out_is_a_fresh_folder(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "vhfit-demo").mkdir()
-    assert cli._prepare_out(None, "vhfit-demo", force=False, resume=False) == Path("vhfit-demo")
+    assert prepare_out(None, "vhfit-demo", force=False, resume=False) == Path("vhfit-demo")
     (tmp_path / "vhfit-demo" / "x").write_text("taken")
-    assert cli._prepare_out(None, "vhfit-demo", force=False, resume=False) == \
+    assert prepare_out(None, "vhfit-demo", force=False, resume=False) == \
         Path("vhfit-demo-2")
 
 
@@ -476,9 +479,9 @@ def test_progress_prints_plain_periodic_lines_otherwise():
 
 
 def test_parse_helpers():
-    assert cli._parse_params("C10=0.1, C01=2e-3") == {"C10": 0.1, "C01": 0.002}
-    assert cli._count_prony({"C10": 1, "G1": 1, "tau1": 1, "G2": 2, "tau2": 2}) == 2
+    assert parse_params("C10=0.1, C01=2e-3") == {"C10": 0.1, "C01": 0.002}
+    assert count_prony({"C10": 1, "G1": 1, "tau1": 1, "G2": 2, "tau2": 2}) == 2
     with pytest.raises(cli.UsageError, match="tau2"):
-        cli._count_prony({"G1": 1, "tau1": 1, "G2": 2})
+        count_prony({"G1": 1, "tau1": 1, "G2": 2})
     with pytest.raises(cli.UsageError, match="NAME=VALUE"):
-        cli._parse_params("C10")
+        parse_params("C10")

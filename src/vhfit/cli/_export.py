@@ -1,0 +1,33 @@
+"""``vhfit export``: the solver card of a results file."""
+
+from __future__ import annotations
+
+from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, load_results, one_line
+from vhfit.cli._plugins import resolve_model_name
+from vhfit.export import export
+from vhfit.model import ViscoHyperelastic
+
+__all__ = ["cmd_export"]
+
+
+def cmd_export(args) -> int:
+    """``vhfit export RESULTS.json --to SOLVER``."""
+    res = load_results(args.results)
+    name = resolve_model_name(res["hyperelastic"])
+    params = res["params"]
+    try:
+        model = ViscoHyperelastic(name, count_prony(params))
+        model.check(params)
+    except ValueError as exc:
+        raise UsageError(f"{args.results}: {one_line(exc)}") from None
+    kw = {}
+    if args.name:
+        kw["name"] = args.name
+    try:
+        text = export(model, params, to=args.to, **kw)
+    except ValueError as exc:
+        raise UsageError(f"--to {args.to}: {one_line(exc)}") from None
+    if not text.endswith("\n"):
+        text += "\n"
+    emit(text, args.out, what=f"{args.to} card")
+    return EXIT_OK

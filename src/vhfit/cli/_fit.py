@@ -1,0 +1,382 @@
+"""``vhfit fit`` and ``vhfit demo``: calibrate, then write every output into one folder.
+
+The two commands share the whole workflow (:func:`run_fit`): they differ only in where
+the curves come from. ``results.json`` is written by :meth:`Calibration.save`; the
+files that only the command line writes (``fitted_curves.csv``, ``summary.txt``, the
+solver cards and the plots) are written here.
+"""
+
+from __future__ import annotations
+
+import csv
+import glob
+import hashlib
+import io
+import json
+import os
+import shlex
+import sys
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vhfit import datasets, plot
+from vhfit._io import atomic_write
+from vhfit.calibration import Calibration, CalibrationWarning, calibrate
+from vhfit.cli._common import (
+    EXIT_FAILED,
+    EXIT_OK,
+    FitFailed,
+    Progress,
+    Signals,
+    UsageError,
+    one_line,
+    prepare_out,
+)
+from vhfit.cli._plugins import resolve_model_name, tau_strategies
+from vhfit.data import read_csv
+from vhfit.export import export
+
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "SOLVERS", "CARD_FILES", "DEMO_PRONY"]
+
+SOLVERS = ("abaqus", "lsdyna", "ansys")
+CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
+              "json": "material.json"}
+RESULTS = "results.json"
+CHECKPOINT = "checkpoint.json"
+DEMO_PRONY = 4
+DEMO_STRATEGY = "semifree"
+
+
+# ================================================================== commands
+def cmd_fit(args) -> int:
+    """``vhfit fit CURVES...``."""
+    if args.force and args.resume:
+        raise UsageError("--force and --resume contradict each other: give one")
+    out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
+    curves, inputs = _read_curves(args.curves, args)
+    return run_fit(curves, inputs, args, out, label=None, command=args._argv)
+
+
+def cmd_demo(args) -> int:
+    """``vhfit demo``: the bundled synthetic SEBS set, end to end."""
+    if args.force and args.resume:
+        raise UsageError("--force and --resume contradict each other: give one")
+    out = prepare_out(args.out, "vhfit-demo", force=args.force, resume=args.resume)
+    path = datasets.sebs_path()
+    curves = datasets.load_sebs()
+    inputs = [{"path": str(path), "sha256": _sha256(path), "bundled": "vhfit.datasets.sebs"}]
+    if args.out is None:
+        args._argv = list(args._argv) + ["--out", str(out)]
+    args.model, args.prony, args.strategy = "mooney_rivlin", args.prony, DEMO_STRATEGY
+    if not args.quiet:
+        print(
+            f"vhfit demo: {len(curves)} synthetic SEBS curves (rates "
+            f"{', '.join(f'{r:g}' for r in datasets.SEBS_RATES)} 1/s) generated from the paper's "
+            f"Table 5 parameters; calibrating Mooney-Rivlin + {args.prony} Prony terms",
+            file=sys.stderr,
+        )
+    code = run_fit(curves, inputs, args, out, label=datasets.SEBS_LABEL, command=args._argv,
+                   demo=True)
+    if code == EXIT_OK:
+        _demo_check(out)
+    return code
+
+
+def _demo_check(out: Path) -> None:
+    """Print the fitted constants next to the generating ones."""
+    with open(out / RESULTS) as f:
+        res = json.load(f)
+    p = res["params"]
+    true = datasets.SEBS_PARAMS
+    rows = ["", "fitted vs generating parameters (paper Table 5):"]
+    for k, v in true.items():
+        if k in p:
+            rows.append(f"  {k:<6} fitted {p[k]:<12.6g} generating {v:<12.6g} "
+                        f"rel. diff {abs(p[k] - v) / abs(v):.1e}")
+    print("\n".join(rows))
+
+
+# ============================================================ reading inputs
+def _sha256(path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
+    """The curves of the CSV files (globs expanded, trimmed) and their paths and digests."""
+    files = []
+    for p in paths:
+        matches = sorted(glob.glob(p)) if glob.has_magic(p) else [p]
+        if not matches:
+            raise UsageError(f"{p}: no file matches this pattern; check the path")
+        files += matches
+    for f in files:
+        if not os.path.exists(f):
+            raise UsageError(f"{f}: no such file; check the path (run 'vhfit demo' for an example)")
+        if os.path.isdir(f):
+            raise UsageError(f"{f}: is a folder; give the CSV files in it (e.g. {f}/*.csv)")
+    kw: dict[str, Any] = {}
+    if args.rate:
+        if len(args.rate) not in (1, len(files)):
+            raise UsageError(
+                f"--rate given {len(args.rate)} times for {len(files)} files: give one rate "
+                "for all files or one per file, in file order"
+            )
+        kw["rate"] = args.rate[0] if len(args.rate) == 1 else list(args.rate)
+    if args.measure:
+        kw["measure"] = args.measure
+    kw["n_points"] = args.points
+    curves = read_csv(files, **kw)
+    if not curves:
+        raise UsageError(f"{', '.join(files)}: no curves found; check the files' columns")
+    windows = {}
+    for what in ("strain", "time"):
+        given = getattr(args, f"trim_{what}", None) or []
+        if len(given) not in (0, 1, len(files)):
+            raise UsageError(
+                f"--trim-{what} given {len(given)} times for {len(files)} files: give one "
+                "window for all files or one per file, in file order (':' for no trim)")
+        windows[what] = {os.path.abspath(f): given[0 if len(given) == 1 else k]
+                         for k, f in enumerate(files)} if given else {}
+    if windows["strain"] or windows["time"]:
+        def trimmed(c):
+            src = os.path.abspath(c.source) if c.source else None
+            return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
+
+        curves = [trimmed(c) for c in curves]
+    inputs = [{"path": os.path.abspath(f), "sha256": _sha256(f)} for f in files]
+    return curves, inputs
+
+
+# ================================================================ the fit job
+def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
+            demo: bool = False) -> int:
+    """Calibrate, then write every output into ``out`` (also when interrupted)."""
+    model = resolve_model_name(args.model)
+    strategy = args.strategy
+    if strategy not in tau_strategies():
+        raise UsageError(
+            f"--strategy {strategy!r}: choose one of {', '.join(tau_strategies())}"
+        )
+    if args.resume and not any(out.glob(CHECKPOINT + "*")):
+        raise UsageError(
+            f"--resume: no checkpoint in {out} (the fit ended, or never started there); "
+            "drop --resume to fit afresh"
+        )
+    if not args.quiet:
+        n_txt = f"auto (N = 1..{args.max_prony})" if args.prony == "auto" else str(args.prony)
+        print(f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed "
+              f"{args.seed}, to {len(curves)} curve(s); outputs in {out}/"
+              + (" (resuming)" if args.resume else ""), file=sys.stderr, flush=True)
+    # a resumed scan starts mid-way: N cannot be counted from the generations then
+    progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
+                        first_n=None if args.resume else 1)
+    sigs = Signals()
+    with sigs, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cal = _search(curves, args, out, model, strategy, progress, sigs, command)
+        interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
+        sigs.writing = True
+        files = _write_outputs(cal, curves, inputs, args, out, label=label, command=command,
+                               interrupted=interrupted, demo=demo)
+    _show_warnings(caught, cal)
+    print(files.pop("_summary"))
+    print("")
+    print(f"outputs in {out}/: " + ", ".join(sorted(files)))
+    if not np.isfinite(cal.rmsape):
+        print("vhfit: error: the fit found no valid parameter set (RMSAPE is not finite); "
+              "check the data and the model", file=sys.stderr)
+        return EXIT_FAILED
+    if interrupted:
+        print(
+            f"vhfit: interrupted: the outputs hold the best parameters found so far and are "
+            f"marked 'interrupted'; continue with: {_resume_cmd(command)}",
+            file=sys.stderr,
+        )
+        return EXIT_FAILED
+    for f in out.glob(CHECKPOINT + "*"):  # finished: nothing left to resume
+        f.unlink()
+    return EXIT_OK
+
+
+def _search(curves, args, out: Path, model: str, strategy: str, progress: Progress,
+            sigs: Signals, command: list[str]) -> Calibration:
+    """The calibration itself, with progress, signals and a checkpoint in ``out``."""
+    def callback(d):
+        progress(d)
+        sigs.check()  # raises KeyboardInterrupt (caught by calibrate) after a signal
+        return False
+
+    kw = dict(
+        hyperelastic=model, n_prony=args.prony, tau_strategy=strategy, method=args.method,
+        seed=args.seed, workers=args.workers, popsize=args.popsize, maxiter=args.maxiter,
+        target=args.target, polish=not args.no_polish, g_inf_min=args.g_inf_min,
+        max_time=args.max_time, callback=callback, checkpoint=str(out / CHECKPOINT),
+        checkpoint_every=args.checkpoint_every, resume=args.resume,
+    )
+    if args.prony == "auto":
+        kw["max_prony"] = args.max_prony
+    try:
+        cal = calibrate(curves, **kw)
+    except KeyboardInterrupt:
+        progress.close()
+        raise FitFailed(
+            f"interrupted before a result was ready; continue with: {_resume_cmd(command)}"
+            if any(out.glob(CHECKPOINT + "*")) else "interrupted before the search started"
+        ) from None
+    except (ValueError, UsageError):
+        progress.close()
+        raise
+    except Exception as exc:
+        progress.close()
+        raise FitFailed(f"the fit failed: {one_line(exc)}") from exc
+    progress.close()
+    return cal
+
+
+def _show_warnings(caught: list, cal: Calibration) -> None:
+    """Warnings of the run on stderr, one line each, once each."""
+    seen = set(cal.warnings)
+    for w in caught:
+        # the table lists the calibration's own warnings; numerical RuntimeWarnings of
+        # trial individuals are noise; data warnings (what the reader assumed) are shown
+        if issubclass(w.category, CalibrationWarning) or not issubclass(w.category,
+                                                                         UserWarning):
+            continue
+        msg = one_line(w.message)
+        if msg not in seen:
+            seen.add(msg)
+            print(f"warning: {msg}", file=sys.stderr)
+
+
+def _resume_cmd(command: list[str]) -> str:
+    cmd = [c for c in command if c not in ("--resume", "--force")]
+    return shlex.join(["vhfit"] + cmd + ["--resume"])
+
+
+# ================================================================== outputs
+def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, command,
+                   interrupted, demo) -> dict[str, str]:
+    """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``."""
+    written: dict[str, str] = {}
+    status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
+    head = [f"data: {label}"] if label else []
+    head.append(f"status: {status}")
+    summary = "\n".join(head + ["", cal.summary()])
+
+    fits = cal.fitted_curves(curves)
+    atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
+    written["fitted_curves.csv"] = "data and model stress per curve"
+
+    cards_ok, card_errors, card_notes = _write_cards(cal, out)
+    written.update({f: f"{solver} card" for solver, f in cards_ok.items()})
+    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
+    written.update({p: "plot" for p in plots.values()})
+
+    lines = [summary, ""]
+    if cards_ok:
+        lines.append("solver cards: " + ", ".join(f"{k} -> {v}" for k, v in cards_ok.items()))
+    for k, v in card_notes.items():
+        lines += [f"note ({k} card): {n}" for n in v]
+    for k, v in card_errors.items():
+        lines.append(f"no {k} card: {v}")
+    if plot_note:
+        lines.append(plot_note)
+    text = "\n".join(lines)
+    atomic_write(out / "summary.txt", text + "\n")
+    written["summary.txt"] = "this table"
+
+    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=curves,
+             extra={
+                 "data_label": label,
+                 "inputs": inputs,
+                 "command": ["vhfit"] + list(command),
+                 "cli_options": _jsonable(vars(args)),
+                 "seed": args.seed,
+                 "files": {**written, RESULTS: "this file"},
+                 "cards": cards_ok,
+                 "card_errors": card_errors,
+                 "card_notes": card_notes,
+             })
+    written[RESULTS] = "results"
+    written["_summary"] = text
+    return written
+
+
+def _write_cards(cal: Calibration, out: Path) -> tuple[dict, dict, dict]:
+    """Every solver card that can hold the model: (files, errors, notes) per solver."""
+    cards_ok, card_errors, card_notes = {}, {}, {}
+    for solver in SOLVERS + ("json",):
+        try:
+            with warnings.catch_warnings(record=True) as ws:
+                warnings.simplefilter("always")
+                text = export(cal, to=solver)
+        except Exception as exc:  # a solver that cannot take this model is not fatal
+            card_errors[solver] = one_line(exc)
+            continue
+        notes = list(dict.fromkeys(one_line(w.message) for w in ws))
+        if notes:
+            card_notes[solver] = notes
+        atomic_write(out / CARD_FILES[solver], text)
+        cards_ok[solver] = CARD_FILES[solver]
+    return cards_ok, card_errors, card_notes
+
+
+def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
+                demo: bool) -> tuple[dict[str, str], str | None]:
+    """The plots that apply ({kind: file}) and a note on those not drawn."""
+    if skip:
+        return {}, "plots skipped (--no-plot)"
+    if not plot.have_matplotlib():
+        return {}, f"plots skipped: {plot.INSTALL_HINT}"
+    plots: dict[str, str] = {}
+    try:
+        plot.plot_fit(cal, curves, out / "fit.png",
+                      title=None if not demo else
+                      f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
+                      f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
+        plots["fit"] = "fit.png"
+        if cal.history and cal.history.get("nit"):
+            plot.plot_history(cal, out / "history.png")
+            plots["history"] = "history.png"
+        if cal.order_scan:
+            plot.plot_order_scan(cal, out / "order_scan.png")
+            plots["order_scan"] = "order_scan.png"
+    except Exception as exc:
+        return plots, f"plots failed: {one_line(exc)}"
+    return plots, None
+
+
+def _jsonable(d: dict) -> dict:
+    return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+
+
+def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
+    buf = io.StringIO()
+    buf.write("# vhfit fitted curves: data and calibrated model, per curve\n")
+    if label:
+        buf.write(f"# data: {label}\n")
+    buf.write(f"# model: {cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s); "
+              f"RMSAPE {cal.rmsape:.6g} %" + ("; INTERRUPTED" if interrupted else "") + "\n")
+    buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
+              "kind=fine: model on a fine time grid (stress_data empty)\n")
+    buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
+                "stress_model"])
+    for c, f in zip(curves, fits):
+        name = str(getattr(c, "name", ""))
+        rate = f"{float(getattr(c, 'strain_rate', float('nan'))):g}"
+        meas = getattr(c, "measure", "true")
+        for t, e, s, m in zip(f["time"], f["strain"], f["stress"], f["model"]):
+            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"])
+        for t, e, m in zip(f["fine_time"], f["fine_strain"], f["fine_model"]):
+            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"])
+    return buf.getvalue()

@@ -1,0 +1,62 @@
+"""``vhfit models``: registered hyperelastic models, τ strategies and plug-ins."""
+
+from __future__ import annotations
+
+import json
+
+from vhfit import hyperelastic
+from vhfit.cli._common import EXIT_OK
+from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins, tau_strategies
+
+__all__ = ["cmd_models"]
+
+
+def cmd_models(args) -> int:
+    """``vhfit models``: registered models, τ strategies, plug-ins."""
+    builtin = set(hyperelastic.available())
+    plugins = load_plugins()
+    origin = {m: f"plug-in {p['name']} ({p['value']})" for p in plugins for m in p["models"]}
+    models = []
+    for name in hyperelastic.available():
+        hm = hyperelastic.get(name)
+        models.append({
+            "name": name,
+            "parameters": [{"name": n, "unit": u} for n, u in zip(hm.param_names, hm.units)],
+            "kind": hm.kind,
+            "linear": bool(hm.linear),
+            "origin": "built-in" if name in builtin and name not in origin else
+                      origin.get(name, "registered"),
+            "doc": (hm.doc or "").strip().splitlines()[0] if hm.doc else "",
+        })
+    strategies = tau_strategies()
+    if args.json:
+        print(json.dumps({"models": models, "tau_strategies": strategies, "plugins": plugins,
+                          "plugin_group": PLUGIN_GROUP}, indent=2))
+        return EXIT_OK
+    _print_table(models, strategies, plugins)
+    return EXIT_OK
+
+
+def _print_table(models: list[dict], strategies: list[str], plugins: list[dict]) -> None:
+    print("hyperelastic models (vhfit fit --model NAME):")
+    w = max(len(m["name"]) for m in models)
+    for m in models:
+        pars = ", ".join(f"{p['name']} [{p['unit']}]" for p in m["parameters"])
+        tag = "" if m["origin"] == "built-in" else f"   <- {m['origin']}"
+        print(f"  {m['name']:<{w}}  {pars}{tag}")
+        if m["doc"]:
+            print(f"  {'':<{w}}    {m['doc']}")
+    print("")
+    print("Prony terms add G_i [MPa] and tau_i [s] for i = 1..N (vhfit fit --prony N|auto)")
+    print("")
+    print("tau strategies (vhfit fit --strategy NAME): " + ", ".join(strategies))
+    print("")
+    if plugins:
+        print(f"plug-ins (entry-point group '{PLUGIN_GROUP}'):")
+        for p in plugins:
+            state = (f"error: {p['error']}" if p["error"] else
+                     "models: " + (", ".join(p["models"]) or "none new"))
+            print(f"  {p['name']} = {p['value']}   {state}")
+    else:
+        print(f"plug-ins: none installed (a package adds models through the entry-point "
+              f"group '{PLUGIN_GROUP}'; see docs/cli.md)")

@@ -1,0 +1,279 @@
+"""The ``vhfit`` argument parser: every command, flag and value check.
+
+Values are checked here, at the front door, with one-line messages that name the flag
+and the fix (argparse then reports them as :class:`UsageError`, exit code 2).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from typing import Any
+
+from vhfit import __version__
+from vhfit.cli._common import UsageError
+from vhfit.cli._export import cmd_export
+from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
+from vhfit.cli._models import cmd_models
+from vhfit.cli._plugins import PLUGIN_GROUP
+from vhfit.cli._simulate import cmd_simulate
+
+__all__ = ["build_parser", "glue_windows"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit code 2)."""
+
+    def error(self, message: str):  # noqa: D401 - argparse API
+        raise UsageError(f"{message} (see '{self.prog} --help')")
+
+
+# ============================================================== value checks
+def _whole(text: str, least: int, not_int: str, too_small: str) -> int:
+    """``text`` as an int >= ``least``; the messages say which flag and the fix."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(not_int) from None
+    if n < least:
+        raise argparse.ArgumentTypeError(too_small.format(n=n))
+    return n
+
+
+def _points(text: str) -> int | None:
+    if text.lower() in ("all", "none"):
+        return None
+    return _whole(text, 2, f"--points {text!r}: give a whole number >= 2 or 'all'",
+                  "--points {n}: give at least 2 (or 'all')")
+
+
+def _ramp_points(text: str) -> int:
+    n = _points(text)
+    if n is None:
+        raise argparse.ArgumentTypeError("--points: give a whole number >= 2")
+    return n
+
+
+def _prony(text: str) -> int | str:
+    if text.lower() == "auto":
+        return "auto"
+    return _whole(text, 0, f"--prony {text!r}: give the number of Prony terms (e.g. 3) or 'auto'",
+                  "--prony {n}: give a whole number >= 0 or 'auto'")
+
+
+def _window(what: str) -> Callable[[str], tuple[float | None, float | None] | None]:
+    def conv(text: str) -> tuple[float | None, float | None] | None:
+        lo, sep, hi = text.partition(":")
+        if not sep:
+            raise argparse.ArgumentTypeError(
+                f"{what} {text!r}: give LOW:HIGH, either side may be empty (e.g. :120)")
+        number = _float(what)
+        out = tuple(number(v) if v.strip() else None for v in (lo, hi))
+        if out[0] is not None and out[1] is not None and not out[0] < out[1]:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: LOW must be below HIGH")
+        return None if out == (None, None) else out
+
+    return conv
+
+
+def _positive(kind: type, what: str) -> Callable[[str], Any]:
+    def conv(text: str):
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: not a {kind.__name__}") from None
+        if not v > 0:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: must be > 0")
+        return v
+
+    return conv
+
+
+def _float(what: str) -> Callable[[str], float]:
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: not a number") from None
+        if not math.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{what} {text!r}: must be finite")
+        return v
+
+    return conv
+
+
+def glue_windows(argv: list[str]) -> list[str]:
+    """``--trim-strain -0.3:`` -> ``--trim-strain=-0.3:`` (argparse takes -0.3: for a flag)."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in ("--trim-strain", "--trim-time") and i + 1 < len(argv):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(a)
+            i += 1
+    return out
+
+
+# ================================================================== commands
+def build_parser() -> argparse.ArgumentParser:
+    """The ``vhfit`` argument parser (all sub-commands).
+
+    Examples
+    --------
+    >>> from vhfit.cli import build_parser
+    >>> args = build_parser().parse_args(["fit", "a.csv", "--prony", "auto"])
+    >>> args.command, args.curves, args.prony, args.model
+    ('fit', ['a.csv'], 'auto', 'mooney_rivlin')
+    """
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--debug", action="store_true",
+                        help="show a traceback instead of a one-line error")
+    parser = _Parser(
+        prog="vhfit", parents=[common],
+        description="Calibrate visco-hyperelastic models (hyperelastic law + Prony series) to "
+                    "stress-strain curves at several strain rates.",
+        epilog="Start with 'vhfit demo'. Exit codes: 0 success, 1 fit failed or interrupted, "
+               "2 bad input. Docs: docs/cli.md.",
+    )
+    parser.add_argument("--version", action="version", version=f"vhfit {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    _add_fit(sub, common)
+    _add_demo(sub, common)
+    _add_simulate(sub, common)
+    _add_export(sub, common)
+    _add_models(sub, common)
+    return parser
+
+
+def _add_fit(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("fit", parents=[common], help="calibrate a model to CSV curves",
+                       description="Calibrate a model to stress-strain curves (CSV) and write "
+                                   "results JSON, fitted curves, solver cards and plots.")
+    p.add_argument("curves", nargs="+", metavar="CURVES",
+                   help="CSV files: one curve per file, or long files with a strain_rate column")
+    p.add_argument("--rate", type=_float("--rate"), action="append", metavar="R",
+                   help="strain rate in 1/s for files without one (once for all, or once "
+                        "per file)")
+    p.add_argument("--measure", choices=("engineering", "true"),
+                   help="stress measure when the file does not say (default engineering)")
+    p.add_argument("--points", type=_points, default=10, metavar="N|all",
+                   help="objective points per curve (default 10, the paper's; 'all' = every "
+                        "sample)")
+    p.add_argument("--trim-strain", type=_window("--trim-strain"), metavar="LOW:HIGH",
+                   action="append",
+                   help="compare model and data only where LOW <= strain <= HIGH (signed; "
+                        "either side may be empty, e.g. -0.4: ); once for all files or once "
+                        "per file; the history keeps all data")
+    p.add_argument("--trim-time", type=_window("--trim-time"), metavar="LOW:HIGH",
+                   action="append",
+                   help="compare only where LOW <= time (s) <= HIGH, e.g. :120 to leave out "
+                        "a slack end of unloading; once for all files or once per file")
+    _add_fit_options(p, demo=False)
+    p.set_defaults(func=cmd_fit)
+
+
+def _add_demo(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("demo", parents=[common],
+                       help="calibrate the bundled synthetic SEBS set end to end",
+                       description="Calibrate Mooney-Rivlin + 4 Prony terms (semifree) to the "
+                                   "bundled synthetic SEBS curves (generated from the paper's "
+                                   "Table 5 parameters at -0.0018, -0.18, -59.5, -820 1/s) and "
+                                   "write every output into a fresh folder.")
+    _add_fit_options(p, demo=True)
+    p.set_defaults(func=cmd_demo)
+
+
+def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
+    """The search and output flags of ``fit`` and ``demo``."""
+    if not demo:
+        p.add_argument("--model", default="mooney_rivlin",
+                       help="hyperelastic model (default mooney_rivlin; see 'vhfit models')")
+    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else 2, metavar="N|auto",
+                   help=f"number of Prony terms, or 'auto' to scan N = 1..--max-prony "
+                        f"(default {DEMO_PRONY if demo else 2})")
+    p.add_argument("--max-prony", type=int, default=5, metavar="N",
+                   help="largest N of --prony auto (default 5)")
+    if not demo:
+        p.add_argument("--strategy", default="free",
+                       help="tau strategy: free, semifree or fixed (default free; "
+                            "see 'vhfit models')")
+    p.add_argument("--method", choices=("separable", "full"), default="separable",
+                   help="separable (DE over tau + NNLS for moduli, default) or full "
+                        "(the paper's all-parameter DE)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="random seed of the search (default 0: runs are reproducible)")
+    p.add_argument("--out", metavar="DIR",
+                   help="output folder (default ./vhfit-{}, or -2, -3... if taken)".format(
+                       "demo" if demo else "results"))
+    p.add_argument("--force", action="store_true", help="write into a non-empty --out")
+    p.add_argument("--resume", action="store_true",
+                   help="continue an interrupted fit from the checkpoint in --out "
+                        "(same command otherwise)")
+    p.add_argument("--popsize", type=_positive(int, "--popsize"),
+                   help="population size (absolute; default 64 separable, 60 full)")
+    p.add_argument("--maxiter", type=_positive(int, "--maxiter"),
+                   help="generation cap (default 1000 separable, 100000 full)")
+    p.add_argument("--max-time", type=_positive(float, "--max-time"), metavar="SECONDS",
+                   help="stop the search after this many seconds with the best so far")
+    p.add_argument("--target", type=_float("--target"), default=1e-4, metavar="PERCENT",
+                   help="stop as soon as RMSAPE <= this (percent, default 1e-4)")
+    p.add_argument("--g-inf-min", type=_float("--g-inf-min"), default=1e-6,
+                   help="floor on g_inf (FE solvers reject 0; default 1e-6)")
+    p.add_argument("--workers", type=_positive(int, "--workers"), default=1,
+                   help="parallel processes for the full method (default 1)")
+    p.add_argument("--no-polish", action="store_true",
+                   help="skip the final least-squares polish")
+    p.add_argument("--checkpoint-every", type=_positive(float, "--checkpoint-every"),
+                   default=5.0, metavar="SECONDS",
+                   help="seconds between checkpoints for --resume (default 5)")
+    p.add_argument("--no-plot", action="store_true", help="do not draw plots")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
+
+
+def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("simulate", parents=[common], help="stress-strain curves of a material",
+                       description="Stress of a material along constant-rate ramps or measured "
+                                   "histories, as CSV.")
+    p.add_argument("--results", metavar="RESULTS.json", help="material from a results file")
+    p.add_argument("--model", help="hyperelastic model (with --param)")
+    p.add_argument("--param", action="append", metavar="NAME=VALUE[,NAME=VALUE...]",
+                   help="a constant (repeatable): C10=0.1, G1=1, tau1=0.01 ...; overrides "
+                        "--results")
+    p.add_argument("--rate", type=_float("--rate"), action="append", metavar="R",
+                   help="constant engineering strain rate in 1/s (repeatable)")
+    p.add_argument("--strain-max", type=_float("--strain-max"), metavar="E",
+                   help="final engineering strain of the ramps (default -0.5 or 0.5, the "
+                        "rate's sign)")
+    p.add_argument("--points", type=_ramp_points, default=50, metavar="N",
+                   help="points per ramp, from rest (default 50)")
+    p.add_argument("--history", action="append", metavar="FILE.csv",
+                   help="a strain history with time (s) and strain columns (repeatable)")
+    p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
+                   help="stress measure (default engineering)")
+    p.add_argument("--out", metavar="FILE.csv", help="output CSV (default: standard output)")
+    p.set_defaults(func=cmd_simulate)
+
+
+def _add_export(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("export", parents=[common], help="solver card of a results file",
+                       description="Write the material card of a results file for an FE "
+                                   "solver.")
+    p.add_argument("results", metavar="RESULTS.json")
+    p.add_argument("--to", required=True, choices=SOLVERS + ("json",),
+                   help="abaqus, lsdyna, ansys or json")
+    p.add_argument("--name", help="material name in the card")
+    p.add_argument("--out", metavar="FILE", help="output file (default: standard output)")
+    p.set_defaults(func=cmd_export)
+
+
+def _add_models(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("models", parents=[common],
+                       help="registered hyperelastic models and tau strategies",
+                       description="List the hyperelastic models (built-in and plug-ins of "
+                                   f"the '{PLUGIN_GROUP}' entry-point group) and tau "
+                                   "strategies.")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_models)
