@@ -1,19 +1,10 @@
-"""The curve: one measured uniaxial test, its loading history, and its objective points.
+"""The curve: :class:`Curve`, one measured uniaxial test, its stretch history and its
+objective points.
 
-A :class:`Curve` holds one uniaxial test as measured — strain, stress, and either a
-nominal constant strain rate or the time of every sample — plus the *objective points*
-where the model is compared with it (paper: 10 points a curve, evenly spaced in strain).
-It knows the stretch history the model must follow (:attr:`Curve.history`) and the
-target stresses there (:attr:`Curve.target_stress`).
-
-Conventions (docs/theory.md §1): compression is negative (strain, strain rate and
-stress); units MPa, s, 1/s; engineering strain ε = λ − 1; true stress = engineering
-stress × λ.
-
-Every problem with the data raises :class:`DataError` (a ``ValueError``) whose one-line
-message names the file, the curve, the row or column, and the fix. What is *inferred*
-rather than declared (e.g. compression given as positive numbers) is done with a
-:class:`DataWarning` that says exactly what was assumed.
+The constructor runs the checks and inferences of :mod:`vhfit.data._samples` in order;
+the objective points are placed by :mod:`vhfit.data._points` and the history is
+simplified by :mod:`vhfit.data._paths`. Conventions and errors: see :mod:`vhfit.data`.
+:func:`_curves_from_table` builds the curves of a table (the readers' last step).
 """
 
 from __future__ import annotations
@@ -189,6 +180,7 @@ class Curve:
         rows: Sequence[Any] | None = None,
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
+        # the arguments, checked at the front door in the order their messages are tested
         name = _default_name(name, strain_rate)
         src = None if source is None else str(source)
         where = _Where(name, src, rows)
@@ -203,6 +195,7 @@ class Curve:
             )
         n_points, by = _check_points_args(n_points, by, where)
         _check_deformed(eps, where)
+        # the samples: duplicates merged, then signs and mode, then kinematics
         eps, sig, t, keep = _clean_samples(eps, sig, t, where)
         tol = _sign_tolerance(eps, where)
         declared = mode is not None or compression_positive
@@ -215,7 +208,6 @@ class Curve:
         rate_estimated = rate is None
         if rate is None:
             rate = _nominal_rate(t, eps, mode, tol, where)
-
 
         self._strain = _frozen(eps)
         self._stress = _frozen(sig)

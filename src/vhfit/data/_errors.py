@@ -132,7 +132,7 @@ class _Labels:
 
 
 def _warn(msg: str, stacklevel: int = 4) -> None:
-    """Issue a DataWarning; ``stacklevel`` counts from the caller of this function + 1."""
+    """Issue a DataWarning; ``stacklevel`` as for :func:`warnings.warn` called here."""
     warnings.warn(msg, DataWarning, stacklevel=stacklevel)
 
 
