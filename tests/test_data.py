@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-import vhfit._paths
 import vhfit.data
-from vhfit._paths import _simplify_idx
+import vhfit.data._paths
+import vhfit.data._samples
 from vhfit.data import (
     DEFAULT_N_POINTS,
     MAX_BREAKPOINTS,
@@ -23,8 +23,10 @@ from vhfit.data import (
     curves_from_arrays,
     engineering_to_true,
     read_csv,
+    read_history,
     true_to_engineering,
 )
+from vhfit.data._paths import _simplify_idx
 
 
 def write(tmp_path, text, name="test.csv", encoding="utf-8"):
@@ -378,13 +380,13 @@ def test_max_breakpoints_is_the_documented_knob(monkeypatch):
     clean = np.where(t < 100, 0.01 * t, 2.0 - 0.01 * t)
     eps = clean + 3e-3 * np.random.default_rng(3).standard_normal(n)
     bins = []
-    real = vhfit._paths._bin_means
+    real = vhfit.data._paths._bin_means
 
     def spy(t, e, k):
         bins.append(k)
         return real(t, e, k)
 
-    monkeypatch.setattr(vhfit._paths, "_bin_means", spy)
+    monkeypatch.setattr(vhfit.data._paths, "_bin_means", spy)
     monkeypatch.setattr(vhfit.data, "MAX_BREAKPOINTS", 50)
     c = Curve(eps, 2.0 * clean, time=t)
     with pytest.warns(DataWarning, match=r"50-bin average"):
@@ -795,3 +797,98 @@ def test_every_data_error_is_a_value_error():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         Curve(EPS, EPS, strain_rate=-1.0)  # clean data: no warnings
+
+
+def test_setting_a_tolerance_on_the_package_reaches_the_module_that_reads_it(monkeypatch):
+    """vhfit.data.SIGN_RTOL (read by the curve's sign checks) behaves as a module global."""
+    eps = np.linspace(0.0, -0.5, 51)
+    eps[1] = 0.004  # an offset of the wrong sign, 0.8 % of the largest strain: noise
+    assert Curve(eps, 10 * eps, time=np.linspace(0, 1, 51)).mode == "compression"
+    monkeypatch.setattr(vhfit.data, "SIGN_RTOL", 0.001)
+    assert vhfit.data._samples.SIGN_RTOL == 0.001
+    assert Curve(eps, 10 * eps, time=np.linspace(0, 1, 51)).mode == "mixed"
+
+
+# ================================================================ read_history
+@pytest.mark.parametrize("text, t, e", [
+    ("time_s,strain\n0,0\n1,-0.2\n2,0\n", [0, 1, 2], [0, -0.2, 0]),
+    ("# ramp-hold\nTime [s],Force,Strain_eng\n\n1,5,-0.2\n4,3,-0.2\n", [0, 1, 4], [0, -0.2, -0.2]),
+    ("t,strain_rate,strain\n0.5,-0.1,-0.05\n1,-0.1,-0.1\n", [0, 0.5, 1], [0, -0.05, -0.1]),
+    ("\ufeff0,0\n2,0.3\n", [0, 2], [0, 0.3]),  # no header: the first two columns
+])
+def test_read_history_columns_and_start_from_rest(tmp_path, text, t, e):
+    got_t, got_e = read_history(write(tmp_path, text))
+    np.testing.assert_array_equal(got_t, t)
+    np.testing.assert_array_equal(got_e, e)
+
+
+@pytest.mark.parametrize("text, parts", [
+    ("", ["empty; give a CSV with time and strain columns"]),
+    ("# only a comment\n\n", ["empty;"]),
+    ("seconds,strain\n0,0\n1,1\n", ["header ['seconds', 'strain'] has no 'time' and 'strain' "
+                                    "columns; name them so"]),
+    ("time,strain\n0,0\n1,abc\n2,0.1\n", ["data row 3 ['1', 'abc'] is not two numbers "
+                                          "(time, strain); fix or remove it"]),
+    ("0,0\n1\n", ["data row 2 ['1'] is not two numbers"]),
+    ("time,strain\n1,0.1\n", ["needs at least 2 (time, strain) rows"]),
+    (b"time,strain\n0,0\n1,\xff\n", ["is not UTF-8 text", "save it as a UTF-8 CSV"]),
+])
+def test_read_history_errors_name_the_file_and_the_fix(tmp_path, text, parts):
+    p = write(tmp_path, text)
+    with raises(str(p), *parts):
+        read_history(p)
+
+
+def test_read_history_missing_file_and_folder(tmp_path):
+    with raises("cannot read (No such file or directory); check the path"):
+        read_history(tmp_path / "nope.csv")
+    with raises(str(tmp_path), "cannot read"):
+        read_history(tmp_path)
+
+
+def test_read_history_feeds_the_model(tmp_path):
+    from vhfit.history import History
+
+    h = History.piecewise_linear(*read_history(write(tmp_path, "time_s,strain\n1,-0.1\n2,0\n")))
+    np.testing.assert_array_equal(h.time, [0.0, 1.0, 2.0])
+    np.testing.assert_allclose(h.stretch, [1.0, 0.9, 1.0])
+
+
+# ============================================================ package layout
+_DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_columns", "_table",
+                 "_specs", "_curve", "_readers"]
+
+
+def test_the_data_package_imports_one_way():
+    """Each private module imports only those before it in the package's stated order
+    (so the readers import the curve, never the reverse), at module level only."""
+    import ast
+    from pathlib import Path
+
+    pkg = Path(vhfit.data.__file__).parent
+    assert sorted(p.stem for p in pkg.glob("_*.py") if p.stem != "__init__") == sorted(
+        _DATA_MODULES)
+    for i, mod in enumerate(_DATA_MODULES):
+        tree = ast.parse((pkg / f"{mod}.py").read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                target = node.module
+            elif isinstance(node, ast.Import):
+                target = node.names[0].name
+            else:
+                continue
+            assert node.col_offset == 0, f"{mod}: function-local import of {target}"
+            if target.startswith("vhfit.data"):
+                assert target != "vhfit.data", f"{mod} imports the package façade"
+                dep = target.split(".")[2]
+                assert dep in _DATA_MODULES[:i], f"{mod} imports {dep}, which comes after it"
+
+
+@pytest.mark.parametrize("mod", ["__init__", *_DATA_MODULES])
+def test_docstring_examples_of_the_data_package_run(mod):
+    import doctest
+    import importlib
+
+    name = "vhfit.data" if mod == "__init__" else f"vhfit.data.{mod}"
+    out = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
+    assert out.failed == 0

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from vhfit.history import History
+from vhfit.history import History, from_rest
 
 # ----------------------------------------------------------------- strategies
 
@@ -179,3 +179,27 @@ def test_grid_contains_breakpoints_and_outputs_and_bounds_the_step(h, dlog):
     # and the steps are uniform in ln λ): 1 + 2 · 0.25 · e^dlog.
     bound = dlog * (1 + 0.5 * np.exp(dlog))
     assert np.max(np.abs(np.diff(np.log(lam)))) <= bound * (1 + 1e-9)
+
+
+# ------------------------------------------------------------------ from rest
+def test_from_rest_prepends_the_rest_point_only_when_the_record_starts_later():
+    t, e = from_rest([0.5, 1.0, 2.0], [-0.1, -0.2, -0.1])
+    np.testing.assert_array_equal(t, [0.0, 0.5, 1.0, 2.0])
+    np.testing.assert_array_equal(e, [0.0, -0.1, -0.2, -0.1])
+    t0, e0 = np.array([0.0, 1.0]), np.array([0.05, 0.3])  # a jump at t = 0 stays a jump
+    t, e = from_rest(t0, e0)
+    assert t is t0 and e is e0  # float arrays pass through untouched (no copy)
+    t, e = from_rest([0, 2], [0, 1])  # integers come back as floats
+    assert t.dtype == e.dtype == np.float64
+
+
+def test_from_rest_feeds_piecewise_linear():
+    h = History.piecewise_linear(*from_rest([1.0, 3.0], [-0.2, -0.2]))
+    np.testing.assert_array_equal(h.time, [0.0, 1.0, 3.0])
+    np.testing.assert_allclose(h.stretch, [1.0, 0.8, 0.8])
+
+
+@pytest.mark.parametrize("t, e", [([], []), ([0.0, 1.0], [0.0]), ([[0.0, 1.0]], [[0.0, 1.0]])])
+def test_from_rest_rejects_mismatched_or_empty_paths(t, e):
+    with pytest.raises(ValueError, match="from_rest: t has shape .* same, non-zero length"):
+        from_rest(t, e)

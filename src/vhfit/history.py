@@ -1,11 +1,12 @@
-"""Stretch histories λ(t) of a homogeneous uniaxial test (SPEC §1).
+"""Stretch histories λ(t) of a homogeneous uniaxial test (docs/theory.md §1).
 
 A :class:`History` is a piecewise-linear stretch path through breakpoints
 ``(time[k], stretch[k])`` plus the times at which the stress is wanted. A constant
 engineering strain rate ramp, ``λ(t) = 1 + r t``, is the two-breakpoint case; a
 measured loading-unloading, ramp-hold or Hopkinson-bar history is the general case.
 
-Engineering strain ε = λ − 1; compression is negative (strain, rate and stress).
+Engineering strain ε = λ − 1; compression is negative (strain, rate and stress). The
+material is at rest before t = 0: :func:`from_rest` starts a measured path there.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["History"]
+__all__ = ["History", "from_rest"]
 
 
 def _as_1d(name: str, values, *, allow_empty: bool = False) -> np.ndarray:
@@ -32,6 +33,50 @@ def _as_1d(name: str, values, *, allow_empty: bool = False) -> np.ndarray:
             f"{name}[{i}] = {float(arr[i])!r} is not finite: remove or repair that point"
         )
     return arr
+
+
+def from_rest(t, strain) -> tuple[np.ndarray, np.ndarray]:
+    """A measured (time, strain) path started from rest: ``(0, 0)`` prepended when the
+    first sample comes later.
+
+    The material is at rest at ε = 0 before t = 0 (docs/theory.md §1), so a record that
+    starts at t > 0 is reached by a linear ramp from (0, 0). A path that starts at t = 0
+    is returned as it is (a non-zero strain there is a jump at t = 0).
+
+    Parameters
+    ----------
+    t : array_like, shape (k,)
+        Sample times in s (k >= 1).
+    strain : array_like, shape (k,)
+        Engineering strain at each sample.
+
+    Returns
+    -------
+    t, strain : ndarray
+        As float arrays, with ``(0, 0)`` in front if ``t[0] > 0``.
+
+    Raises
+    ------
+    ValueError
+        If ``t`` and ``strain`` are not 1-D arrays of the same, non-zero length.
+
+    Examples
+    --------
+    >>> from_rest([1.0, 2.0], [-0.1, -0.2])
+    (array([0., 1., 2.]), array([ 0. , -0.1, -0.2]))
+    >>> from_rest([0.0, 1.0], [0.0, 0.3])
+    (array([0., 1.]), array([0. , 0.3]))
+    """
+    t = np.asarray(t, dtype=np.float64)
+    e = np.asarray(strain, dtype=np.float64)
+    if t.ndim != 1 or t.shape != e.shape or t.size == 0:
+        raise ValueError(
+            f"from_rest: t has shape {t.shape} and strain {e.shape}: give two 1-D arrays of "
+            "the same, non-zero length"
+        )
+    if t[0] > 0.0:
+        return np.concatenate([[0.0], t]), np.concatenate([[0.0], e])
+    return t, e
 
 
 @dataclass(frozen=True, eq=False)
@@ -60,7 +105,7 @@ class History:
     # ------------------------------------------------------------------ builders
     @classmethod
     def constant_rate(cls, strain, strain_rate: float) -> History:
-        """Constant engineering strain-rate ramp from ε = 0 (SPEC §1, paper Eq. 3).
+        """Constant engineering strain-rate ramp from ε = 0 (docs/theory.md §1; paper Eq. 3).
 
         Parameters
         ----------

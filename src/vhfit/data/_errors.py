@@ -3,8 +3,8 @@ they name.
 
 ``_Where`` formats "curve 'x' (file.csv, line 17, column 'stress')" for messages and checks
 arrays; ``_Subset`` and ``_Labels`` are lazy row labels; ``_norm_measure`` and ``_norm_mode``
-read the stress measure and loading mode. Shared by :mod:`vhfit.data` (the curve) and
-:mod:`vhfit._csv` (the readers' table layer) without an import cycle. The public names are
+read the stress measure and loading mode. The bottom of the data package: every other
+module of it may import this one, and it imports none of them. The public names are
 re-exported by :mod:`vhfit.data`.
 """
 
@@ -131,8 +131,9 @@ class _Labels:
         return f"{self.word} {int(self.numbers[i])}"
 
 
-def _warn(msg: str) -> None:
-    warnings.warn(msg, DataWarning, stacklevel=4)
+def _warn(msg: str, stacklevel: int = 4) -> None:
+    """Issue a DataWarning; ``stacklevel`` as for :func:`warnings.warn` called here."""
+    warnings.warn(msg, DataWarning, stacklevel=stacklevel)
 
 
 def _norm_key(s: Any) -> str:
@@ -157,3 +158,9 @@ def _norm_mode(mode: Any, where: _Where) -> str:
             "'mixed'"
         )
     return m
+
+
+def _short(name: str, width: int = 40) -> str:
+    """repr of a column name for a message, cut to ``width`` characters."""
+    r = repr(name)
+    return r if len(r) <= width else r[: width - 4] + "...'"

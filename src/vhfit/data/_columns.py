@@ -1,0 +1,330 @@
+"""Column recognition: what a header says (role, unit, stress measure) and which columns
+feed a curve.
+
+``_classify`` reads one header (``stress_kPa``, ``Stress (Pa)``, ``true_strain``,
+``time_ms``, ``nominal_strain_rate_per_s``, ...); ``_resolve_columns`` picks the strain
+(or stretch), stress, time and rate columns of a table, honouring the user's ``columns=``
+and ``units=``, and returns a ``_Plan`` with the unit factors to MPa, s and 1/s.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from vhfit.data._errors import DataError, _norm_key, _short
+
+# ========================================================= column recognition
+_STRESS_UNITS = {
+    "": 1.0,
+    "mpa": 1.0,
+    "n/mm2": 1.0,
+    "pa": 1e-6,
+    "n/m2": 1e-6,
+    "kpa": 1e-3,
+    "kn/m2": 1e-3,
+    "gpa": 1e3,
+    "n/cm2": 1e-2,
+    "bar": 0.1,
+    "psi": 6.894757293168361e-3,
+    "ksi": 6.894757293168361,
+    "kgf/cm2": 0.0980665,
+    "kg/cm2": 0.0980665,
+}
+_STRAIN_UNITS = {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "in/in": 1.0,
+                 "ratio": 1.0, "%": 0.01, "percent": 0.01, "pct": 0.01}
+_STRETCH_UNITS = {"": 1.0, "-": 1.0, "1": 1.0, "mm/mm": 1.0, "m/m": 1.0, "ratio": 1.0}
+_TIME_UNITS = {"": 1.0, "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0,
+               "ms": 1e-3, "us": 1e-6, "min": 60.0, "mins": 60.0, "h": 3600.0, "hr": 3600.0,
+               "hour": 3600.0, "hours": 3600.0}
+_RATE_UNITS = {"": 1.0, "1/s": 1.0, "/s": 1.0, "s-1": 1.0, "1/sec": 1.0, "/sec": 1.0,
+               "mm/mm/s": 1.0, "1/ms": 1e3, "1/min": 1 / 60, "/min": 1 / 60, "min-1": 1 / 60,
+               "1/h": 1 / 3600, "/h": 1 / 3600, "%/s": 0.01, "%/min": 0.01 / 60}
+_UNITS = {"stress": _STRESS_UNITS, "strain": _STRAIN_UNITS, "stretch": _STRETCH_UNITS,
+          "time": _TIME_UNITS, "rate": _RATE_UNITS}
+_UNIT_HINT = {
+    "stress": "Pa, kPa, MPa, GPa, N/mm2, psi, kgf/cm2",
+    "strain": "none, -, mm/mm or %",
+    "stretch": "none",
+    "time": "s, ms, min or h",
+    "rate": "1/s, 1/min, %/s or %/min",
+}
+
+_STRESS_WORDS = {"stress", "sigma", "σ", "spannung"}
+_STRAIN_WORDS = {"strain", "epsilon", "eps", "ε", "dehnung"}
+_STRETCH_WORDS = {"stretch", "lambda", "λ", "lam", "lambda1", "λ1"}
+_TIME_WORDS = {"time", "zeit", "t"}
+_RATE_NAMES = {"strainrate", "epsdot", "eps_dot", "de/dt", "dε/dt", "edot"}
+_ENG_WORDS = {"engineering", "eng", "nominal", "nom", "piola", "pk1", "first", "1st"}
+_TRUE_WORDS = {"true", "cauchy"}
+_LOG_WORDS = {"true", "log", "logarithmic", "hencky", "natural"}
+_AXIAL_WORDS = {"axial", "uniaxial"}
+_ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate")
+_GROUP_NAMES = {"curve", "test", "specimen", "name"}
+
+
+def _norm_unit(u: str) -> str:
+    s = u.strip().lower().replace("µ", "u").replace("μ", "u").replace("²", "2")
+    s = s.replace("**", "^").replace("^", "").replace(" ", "")
+    s = re.sub(r"(^|_)per_", lambda m: "1/" if not m.group(1) else "/", s)
+    return s.replace("_", "/")
+
+
+def _plain(header: str) -> str:
+    return header.replace("\ufeff", "").strip().lower()
+
+
+def _unit_factor(role: str, unit: str) -> float | None:
+    return _UNITS[role].get(_norm_unit(unit))
+
+
+@dataclass
+class _Col:
+    """What a header says about its column."""
+
+    index: int
+    header: str
+    role: str  # strain | stretch | stress | time | rate
+    rank: float  # lower is a better match
+    unit: str  # as written ("" if none)
+    kind: str = ""  # strain: "eng" | "log"; stress: "engineering" | "true" | ""
+
+
+def _split_header(h: str) -> tuple[list[str], str | None]:
+    h = h.replace("\ufeff", "").strip().strip("\"'").strip()
+    unit = None
+    m = re.match(r"^(?P<name>.*?)\s*[\[\(\{](?P<unit>[^\]\)\}]*)[\]\)\}]\s*$", h)
+    if m and m["name"]:
+        h, unit = m["name"], m["unit"].strip()
+    base = re.sub(r"(?<=[a-zα-ω])-(?=[a-zα-ω])", "_", h.lower())
+    return [tok for tok in re.split(r"[\s_]+", base) if tok], unit
+
+
+def _classify(index: int, header: str) -> _Col | None:
+    tokens, unit = _split_header(header)
+    if not tokens:
+        return None
+    joined = "_".join(tokens)
+
+    def after_unit(k: int, qualifiers: set[str]) -> tuple[list[str], str]:
+        """Qualifier tokens after the keyword, and the unit (bracketed, or the rest)."""
+        rest = tokens[k + 1 :]
+        if unit is not None:
+            return rest, unit
+        quals = []
+        while rest and rest[0] in qualifiers:
+            quals.append(rest.pop(0))
+        return quals, "_".join(rest)
+
+    # rate: "strain_rate", "rate [1/s]", "nominal_strain_rate_per_s" (not "..._from_rate")
+    if ("rate" in tokens and "from" not in tokens) or joined in _RATE_NAMES:
+        k = tokens.index("rate") if "rate" in tokens else len(tokens) - 1
+        if any(t in tokens[:k] for t in ("stress", "load", "force", "heating", "sampling")):
+            return None
+        quals, u = after_unit(k, set())
+        return _Col(index, header, "rate", float(k > 0 and tokens[k - 1] not in
+                                                 _STRAIN_WORDS | _STRETCH_WORDS | _ENG_WORDS),
+                    u)
+    # time: "time_s", "t [ms]", "test time (min)"
+    for k, tok in enumerate(tokens):
+        if tok in _TIME_WORDS and (tok != "t" or k == 0):
+            quals, u = after_unit(k, set())
+            if tok == "t" and _unit_factor("time", u) is None:
+                break
+            return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
+    for k, tok in enumerate(tokens):
+        before = set(tokens[:k])
+        if tok in _STRESS_WORDS:
+            quals, u = after_unit(k, _ENG_WORDS | _TRUE_WORDS)
+            q = before | set(quals)
+            kind = ("true" if q & _TRUE_WORDS else "engineering" if q & _ENG_WORDS else "")
+            other = q - _ENG_WORDS - _TRUE_WORDS
+            return _Col(index, header, "stress", 2.0 if other else 0.0, u, kind)
+        if tok in _STRAIN_WORDS:
+            quals, u = after_unit(k, _ENG_WORDS | _LOG_WORDS | _AXIAL_WORDS)
+            q = before | set(quals)
+            kind = "log" if q & _LOG_WORDS else "eng"
+            other = q - _ENG_WORDS - _LOG_WORDS - _AXIAL_WORDS
+            return _Col(index, header, "strain", 2.0 if other else (1.0 if kind == "log" else 0.0),
+                        u, kind)
+        if tok in _STRETCH_WORDS:
+            rest = tokens[k + 1 :]
+            u = unit if unit is not None else ""
+            if unit is None and rest and _unit_factor("stretch", "_".join(rest)) is not None:
+                rest = []
+            other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS
+            return _Col(index, header, "stretch", 0.5 + (1.5 if other else 0.0), u)
+    return None
+
+
+@dataclass
+class _Plan:
+    """Which columns feed a curve, and how to convert them."""
+
+    deform: _Col
+    stress: _Col
+    time: _Col | None
+    rate: _Col | None
+    factors: dict[str, float] = field(default_factory=dict)
+    measure: str | None = None  # from the header
+
+
+
+def _resolve_columns(
+    names: list[str],
+    columns: Mapping[str, Any] | None,
+    units: Mapping[str, str] | None,
+    measure: str | None,
+    src: str,
+) -> _Plan:
+    """The columns that feed a curve and their unit factors, or a DataError saying why not."""
+    cols = [_classify(j, h) for j, h in enumerate(names)]
+    explicit = _explicit_columns(names, cols, columns, src)
+    deform = _deform_column(cols, explicit, src)
+    stress = _best_column(cols, explicit, ("stress",), "stress", src, prefer_measure=measure)
+    time = _best_column(cols, explicit, ("time",), "time", src)
+    rate = _best_column(cols, explicit, ("rate",), "strain rate", src)
+    header_list = ", ".join(map(_short, names[:12])) + (
+        f" and {len(names) - 12} more" if len(names) > 12 else "")
+    if deform is None:
+        raise DataError(
+            f"{src}: no strain or stretch column among {header_list}: name one 'strain' "
+            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'}"
+        )
+    if stress is None:
+        raise DataError(
+            f"{src}: no stress column among {header_list}: name one 'stress_MPa' (or "
+            "'stress [kPa]', ...), or pass columns={'stress': '<header>'}; force and "
+            "displacement must first be converted with the specimen's area and gauge length"
+        )
+    plan = _Plan(deform, stress, time, rate)
+    for role, col in (("deform", deform), ("stress", stress), ("time", time), ("rate", rate)):
+        if col is not None:
+            plan.factors[role] = _column_factor(col, units, src)
+    if stress.kind:
+        plan.measure = stress.kind
+    return plan
+
+
+def _explicit_columns(
+    names: list[str], cols: list[_Col | None], columns: Mapping[str, Any] | None, src: str
+) -> dict[str, _Col | None]:
+    """Role -> column (None: ignore the role) from the user's ``columns=`` mapping."""
+    explicit: dict[str, _Col | None] = {}
+    for key, val in (columns or {}).items():
+        role = _norm_key(key)
+        role = {"strain_rate": "rate", "stretch_ratio": "stretch"}.get(role, role)
+        if role not in _ROLE_KEYS:
+            raise DataError(
+                f"{src}: columns={{{key!r}: ...}}: unknown role; use {', '.join(_ROLE_KEYS)}"
+            )
+        if val is None:
+            explicit[role] = None
+            continue
+        j = _explicit_index(key, val, names, src)
+        c = cols[j]
+        if c is None or c.role != role:
+            tokens, u = _split_header(names[j])
+            c = _Col(j, names[j], role, 0.0, u if u is not None else "",
+                     "eng" if role == "strain" else "")
+            if role in ("stress", "time", "rate", "strain") and u is None and len(tokens) > 1:
+                # "stress_kPa" mapped by hand: the last token may still be the unit
+                if _unit_factor(role, tokens[-1]) is not None:
+                    c.unit = tokens[-1]
+        explicit[role] = c
+    return explicit
+
+
+def _explicit_index(key: Any, val: Any, names: list[str], src: str) -> int:
+    """The column a ``columns=`` entry names: a 0-based index or a header."""
+    if isinstance(val, (int, np.integer)) and not isinstance(val, bool):
+        j = int(val)
+        if not 0 <= j < len(names):
+            raise DataError(f"{src}: columns={{{key!r}: {j}}}: there are {len(names)} columns")
+        return j
+    wanted = str(val).strip().lower()
+    hits = [j for j, h in enumerate(names) if _plain(h) == wanted]
+    if not hits:
+        raise DataError(
+            f"{src}: columns={{{key!r}: {val!r}}}: no such column; the header has "
+            f"{', '.join(map(repr, names))}"
+        )
+    return hits[0]
+
+
+def _deform_column(
+    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str
+) -> _Col | None:
+    """The strain column, else the stretch column (a given one first)."""
+    if "strain" in explicit and explicit["strain"] is not None:
+        return explicit["strain"]
+    if "stretch" in explicit and explicit["stretch"] is not None:
+        return explicit["stretch"]
+    roles = tuple(r for r in ("strain", "stretch") if r not in explicit)
+    return _best_column(cols, explicit, roles, "strain or stretch", src) if roles else None
+
+
+def _best_column(
+    cols: list[_Col | None],
+    explicit: dict[str, _Col | None],
+    roles: tuple[str, ...],
+    what: str,
+    src: str,
+    prefer_measure: str | None = None,
+) -> _Col | None:
+    """The given column of one of ``roles``, else the best-ranked recognised one."""
+    for r in roles:
+        if r in explicit:
+            return explicit[r]
+    cands = [c for c in cols if c is not None and c.role in roles]
+    if what == "stress":
+        cands = _stress_candidates(cands, prefer_measure)
+    if not cands:
+        return None
+    top = min(c.rank for c in cands)
+    cands = [c for c in cands if c.rank == top]
+    if len(cands) > 1 and what == "stress" and all(c.unit for c in cands):
+        # the same stress in two units (e.g. kgf/cm2 and MPa): take the MPa one
+        mpa = [c for c in cands if _norm_unit(c.unit) in ("mpa", "n/mm2")]
+        if len(mpa) == 1:
+            cands = mpa
+    if len(cands) > 1:
+        raise DataError(
+            f"{src}: several columns could be the {what}: "
+            f"{', '.join(repr(c.header) for c in cands)}: say which with "
+            f"columns={{'{roles[0]}': '<header>'}}"
+        )
+    return cands[0]
+
+
+def _stress_candidates(cands: list[_Col], prefer_measure: str | None) -> list[_Col]:
+    """Stress columns of the wanted measure; by default engineering/unqualified before true."""
+    if prefer_measure:
+        matching = [c for c in cands if c.kind == prefer_measure]
+        if matching:
+            return matching
+        return [c for c in cands if c.kind in ("", prefer_measure)] or cands
+    cands = sorted(cands, key=lambda c: (c.rank, c.kind == "true"))
+    if cands:
+        cands = [c for c in cands if (c.rank, c.kind == "true") ==
+                 (cands[0].rank, cands[0].kind == "true")]
+    return cands
+
+
+def _column_factor(col: _Col, units: Mapping[str, str] | None, src: str) -> float:
+    """Factor from the column's unit (the header's, or ``units=``) to MPa, s or 1/s."""
+    r = col.role
+    u = (units or {}).get(r, (units or {}).get("strain_rate") if r == "rate" else None)
+    u = col.unit if u is None else u
+    f = _unit_factor(r, u)
+    if f is None:
+        raise DataError(
+            f"{src}, column {col.header!r}: unit {u!r} is not understood for {r}: use "
+            f"{_UNIT_HINT[r]} (e.g. '{r}_{'MPa' if r == 'stress' else 's'}'), or pass "
+            f"units={{'{r}': ...}}"
+        )
+    return f

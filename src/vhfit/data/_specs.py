@@ -1,0 +1,356 @@
+"""Table -> curves: which rows make which curve, and with what name, rate and options.
+
+``_curve_specs`` reads a table's ``# key: value`` lines, resolves its columns, keeps the
+selected rows, splits them into curves (a group column, ``group_by=``, or one curve per
+nominal rate) and yields, curve by curve, the keyword arguments of
+:class:`vhfit.data.Curve` in SI units. It never builds a curve itself, so that the curve
+can use it (``Curve.from_array``) and the readers can build curves from it, without a
+cycle.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vhfit.data._columns import (
+    _GROUP_NAMES,
+    _UNITS,
+    _plain,
+    _Plan,
+    _resolve_columns,
+    _split_header,
+    _unit_factor,
+)
+from vhfit.data._errors import DataError, _norm_measure, _Where
+from vhfit.data._points import DEFAULT_N_POINTS
+from vhfit.data._table import _Table
+
+_META_KEYS = {
+    "strain_rate": "rate", "rate": "rate", "nominal_strain_rate": "rate",
+    "engineering_strain_rate": "rate", "measure": "measure", "stress_measure": "measure",
+    "mode": "mode", "loading_mode": "mode", "name": "name", "curve": "name",
+    "weight": "weight", "compression_positive": "compression_positive",
+}
+
+
+@dataclass
+class _Options:
+    """What holds for every curve of a table: its columns and its declared options."""
+
+    plan: _Plan
+    measure: str
+    mode: str | None
+    compression_positive: bool
+    weight: float
+    meta_rate: float | None
+    known: dict[str, str]  # the recognised '# key: value' lines, by option
+    meta: dict[str, str]  # all '# key: value' lines
+
+
+@dataclass
+class _Groups:
+    """The rows of a table split into curves."""
+
+    rows: np.ndarray  # the selected rows
+    rate_vals: np.ndarray | None  # the rate column at those rows, in 1/s
+    n_named: int  # how many of key_cols come from group columns (the rest: the rate)
+    key_cols: list[np.ndarray]  # the texts that tell the curves apart, one per key
+    by_rate: bool  # one curve per distinct rate of the rate column
+    members: list[np.ndarray]  # positions in rows of each curve, in order of appearance
+
+
+def _curve_specs(
+    table: _Table,
+    *,
+    rate: float | None = None,
+    measure: str | None = None,
+    mode: str | None = None,
+    compression_positive: bool | None = None,
+    columns: Mapping[str, Any] | None = None,
+    units: Mapping[str, str] | None = None,
+    group_by: str | Sequence[str] | None = None,
+    select: Mapping[str, Any] | None = None,
+    sort: bool = False,
+    n_points: int | None = DEFAULT_N_POINTS,
+    by: str | None = None,
+    name: str | None = None,
+) -> Iterator[dict[str, Any]]:
+    """Keyword arguments of :class:`~vhfit.data.Curve` for each curve of ``table``, in order.
+
+    A generator: a curve's data are checked only when it is asked for, so the errors come
+    in the order of the curves (the caller builds each curve before asking for the next).
+    Options as in :func:`vhfit.data.read_csv`.
+    """
+    opts = _table_options(table, measure, mode, compression_positive, columns, units)
+    grp = _split_rows(table, opts.plan, select, group_by, rate)
+    stem = Path(table.source).stem if table.source and not table.source.startswith("<") else (
+        table.source or "data")
+    for g in grp.members:
+        yield _group_spec(table, opts, grp, g, rate, name, stem, sort, n_points, by)
+
+
+def _table_options(
+    table: _Table,
+    measure: str | None,
+    mode: str | None,
+    compression_positive: bool | None,
+    columns: Mapping[str, Any] | None,
+    units: Mapping[str, str] | None,
+) -> _Options:
+    """Columns and options of a table: the arguments, else its '# key: value' lines."""
+    src = table.source
+    meta = dict(table.meta)
+    known = {_META_KEYS[k]: v for k, v in meta.items() if k in _META_KEYS}
+    units = dict(units or {})
+    for k, v in meta.items():
+        if k.endswith("_unit") and k[:-5] in _UNITS and k[:-5] not in units:
+            units[k[:-5]] = v
+    if measure is None and "measure" in known:
+        measure = known["measure"]
+    meas = None if measure is None else _norm_measure(measure, _Where(src, None, None))
+    try:
+        plan = _resolve_columns(table.names, columns, units, meas, src)
+    except DataError as exc:
+        if not table.note:
+            raise
+        raise DataError(f"{exc}{table.note}") from None
+    if meas is not None and plan.measure is not None and plan.measure != meas:
+        raise DataError(
+            f"{src}, column {plan.stress.header!r}: the header says {plan.measure} stress but "
+            f"measure={meas!r} was given: drop measure=, or name the right column with "
+            "columns={'stress': ...}"
+        )
+    if mode is None and "mode" in known:
+        mode = known["mode"]
+    if compression_positive is None:
+        compression_positive = (_meta_bool(known["compression_positive"], src,
+                                           "compression_positive")
+                                if "compression_positive" in known else False)
+    try:
+        weight = float(known["weight"]) if "weight" in known else 1.0
+    except ValueError:
+        raise DataError(f"{src}: '# weight: {known['weight']}' is not a number: write e.g. "
+                        "'# weight: 2'") from None
+    meta_rate = _meta_rate(known["rate"], src) if "rate" in known else None
+    return _Options(plan, meas or plan.measure or "engineering", mode, compression_positive,
+                    weight, meta_rate, known, meta)
+
+
+def _meta_rate(val: str, src: str) -> float:
+    m = re.fullmatch(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*",
+                     val.replace(",", "."))
+    f = None if m is None else _unit_factor("rate", m.group(2))
+    if m is None or f is None:
+        raise DataError(f"{src}: '# strain_rate: {val}' is not a rate: write e.g. "
+                        "'# strain_rate: -100' (1/s) or '# strain_rate: -6000 1/min'")
+    return float(m.group(1)) * f
+
+
+def _meta_bool(val: str, src: str, key: str) -> bool:
+    v = val.strip().lower()
+    if v in ("1", "true", "yes", "y", "on"):
+        return True
+    if v in ("0", "false", "no", "n", "off"):
+        return False
+    raise DataError(f"{src}: '# {key}: {val}': write true or false")
+
+
+def _col_index(table: _Table, h: str) -> int:
+    """The column with header ``h`` (case-insensitive, without its unit)."""
+    want = str(h).strip().lower()
+    for j, nm in enumerate(table.names):
+        if _plain(nm) == want:
+            return j
+    raise DataError(f"{table.source}: no column {h!r}; the header has "
+                    f"{', '.join(map(repr, table.names))}")
+
+
+def _split_rows(
+    table: _Table,
+    plan: _Plan,
+    select: Mapping[str, Any] | None,
+    group_by: str | Sequence[str] | None,
+    rate: float | None,
+) -> _Groups:
+    """The selected rows, split into curves by group columns and by nominal rate."""
+    src = table.source
+    rows = _select_rows(table, select)
+    rate_vals = None
+    if plan.rate is not None:
+        rate_vals = table.floats(
+            plan.rate.index, rows,
+            empty="the strain rate is missing: fill it in (1/s, negative in compression), or "
+                  "ignore the column with columns={'rate': None}",
+        ) * plan.factors["rate"]
+    gcols = _group_columns(table, group_by, rows)
+    key_cols = [table.texts(j)[rows] for j in gcols]
+    by_rate = (rate_vals is not None and rate is None
+               and plan.rate.index not in gcols and len(np.unique(rate_vals)) > 1)
+    if by_rate:
+        key_cols.append(_rate_key(table, plan, rows, rate_vals))
+    if key_cols:
+        combo = np.array(["\x1f".join(map(str, t)) for t in zip(*key_cols)], dtype=object)
+        _, first, inv = np.unique(combo, return_index=True, return_inverse=True)
+        order = np.argsort(first)
+        members = [np.flatnonzero(inv == g) for g in order]
+    else:
+        members = [np.arange(rows.size)]
+    if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
+        raise DataError(
+            f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
+            f"rates but rate={rate!r} was given: drop rate= to get one curve per rate"
+        )
+    return _Groups(rows, rate_vals, len(gcols), key_cols, by_rate, members)
+
+
+def _select_rows(table: _Table, select: Mapping[str, Any] | None) -> np.ndarray:
+    """Rows whose columns hold the wanted values (``select=``); all rows without it."""
+    rows = np.arange(table.n_rows)
+    for h, want in (select or {}).items():
+        j = _col_index(table, h)
+        wants = want if isinstance(want, (list, tuple, set)) else [want]
+        vals = table.texts(j)[rows]
+        ok = np.zeros(rows.size, dtype=bool)
+        for w in wants:
+            if isinstance(w, (int, float)) and not isinstance(w, bool):
+                ok |= np.array([_try_float(v) for v in vals]) == float(w)
+            else:
+                ok |= np.array([v.lower() == str(w).strip().lower() for v in vals], dtype=bool)
+        rows = rows[ok]
+        if rows.size == 0:
+            raise DataError(f"{table.source}: select={{{h!r}: {want!r}}} keeps no rows; the "
+                            f"column holds {', '.join(sorted(set(map(str, vals)))[:6])}")
+    return rows
+
+
+def _group_columns(
+    table: _Table, group_by: str | Sequence[str] | None, rows: np.ndarray
+) -> list[int]:
+    """Columns telling curves apart: ``group_by``, else a 'test'/'curve'/... column that varies."""
+    if group_by is not None:
+        return [_col_index(table, g)
+                for g in ([group_by] if isinstance(group_by, str) else group_by)]
+    gcols = []
+    for j, h in enumerate(table.names):
+        toks, _ = _split_header(h)
+        if len(toks) == 1 and toks[0] in _GROUP_NAMES:
+            if len(set(table.texts(j)[rows])) > 1:
+                gcols.append(j)
+    return gcols
+
+
+def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarray) -> np.ndarray:
+    """The rate of each row as a group key; each rate must have at least 2 rows."""
+    uniq, first_k, counts = np.unique(rate_vals, return_index=True, return_counts=True)
+    if counts.min() < 2:
+        k = int(first_k[np.argmin(counts)])
+        raise DataError(
+            f"{table.source}, column {plan.rate.header!r}: {uniq.size} different rates in "
+            f"{rows.size} rows, {table.label(int(rows[k]))} alone at {rate_vals[k]:g}: if "
+            "this is a measured rate channel, not the nominal rate of each test, ignore "
+            "it with columns={'rate': None} (and give rate= or a time column); otherwise "
+            "give each rate at least 2 rows"
+        )
+    return np.array([f"{v:.12g}" for v in rate_vals], dtype=object)
+
+
+def _group_spec(
+    table: _Table,
+    opts: _Options,
+    grp: _Groups,
+    g: np.ndarray,
+    rate: float | None,
+    name: str | None,
+    stem: str,
+    sort: bool,
+    n_points: int | None,
+    by: str | None,
+) -> dict[str, Any]:
+    """Keyword arguments of the curve made of rows ``grp.rows[g]``."""
+    src, plan = table.source, opts.plan
+    r = grp.rows[g]
+    parts = [str(kc[g[0]]) for kc in grp.key_cols[: grp.n_named]]
+    crate = _group_rate(table, opts, grp, g, rate)
+    if grp.by_rate:
+        parts.append(f"rate {grp.rate_vals[g][0]:g}/s")
+    if name is not None:
+        cname = name if len(grp.members) == 1 else f"{name} [{', '.join(parts)}]"
+    elif "name" in opts.known and len(grp.members) == 1:
+        cname = opts.known["name"]
+    else:
+        cname = stem if not parts else f"{stem} [{', '.join(parts)}]"
+    if crate is None and plan.time is None:
+        raise DataError(
+            f"{_Where(cname, src, None)()}: no strain rate and no time column: add a "
+            "'strain_rate' column, a '# strain_rate: -100' line (1/s, negative in "
+            "compression), or pass rate=..."
+        )
+    d, s, t, labels = _group_samples(table, plan, r, sort)
+    cmeta = dict(opts.meta)
+    if parts:
+        cmeta["group"] = ", ".join(parts)
+    cmeta["columns"] = {
+        "strain": plan.deform.header, "stress": plan.stress.header,
+        "time": None if plan.time is None else plan.time.header,
+        "rate": None if plan.rate is None else plan.rate.header,
+    }
+    return dict(
+        strain=d, stress=s, strain_rate=crate, time=t, measure=opts.measure, mode=opts.mode,
+        name=cname, weight=opts.weight, n_points=n_points, by=by,
+        compression_positive=opts.compression_positive, source=src, rows=labels,
+        metadata=cmeta,
+    )
+
+
+def _group_rate(
+    table: _Table, opts: _Options, grp: _Groups, g: np.ndarray, rate: float | None
+) -> float | None:
+    """A curve's nominal rate: ``rate=``, else its rate column (one value), else the '#' line."""
+    if grp.rate_vals is not None:
+        gr = grp.rate_vals[g]
+        if np.ptp(gr) != 0:
+            k = int(np.flatnonzero(gr != gr[0])[0])
+            raise DataError(
+                f"{table.source}, {table.label(int(grp.rows[g][k]))}, column "
+                f"{opts.plan.rate.header!r}: the rate changes from {gr[0]:g} to {gr[k]:g} "
+                "inside one curve: give each test its own rate, or a 'test' column to tell "
+                "them apart"
+            )
+    if rate is not None:
+        return rate
+    return float(grp.rate_vals[g][0]) if grp.rate_vals is not None else opts.meta_rate
+
+
+def _group_samples(
+    table: _Table, plan: _Plan, r: np.ndarray, sort: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, Any]:
+    """Engineering strain, stress (MPa), time (s) and row labels of rows ``r``."""
+    d = table.floats(plan.deform.index, r) * plan.factors["deform"]
+    if plan.deform.role == "stretch":
+        d = d - 1.0
+    elif plan.deform.kind == "log":
+        d = np.expm1(d)
+    s = table.floats(plan.stress.index, r) * plan.factors["stress"]
+    t = None
+    if plan.time is not None:
+        t = table.floats(plan.time.index, r) * plan.factors["time"]
+    labels = table.labels[r]
+    if sort:
+        key = t if t is not None else np.abs(d)
+        o = np.argsort(key, kind="stable")
+        d, s, labels = d[o], s[o], labels[o]
+        t = None if t is None else t[o]
+    return d, s, t, labels
+
+
+def _try_float(v: Any) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return float("nan")
