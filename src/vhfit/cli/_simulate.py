@@ -11,6 +11,7 @@ import numpy as np
 
 from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, load_results, one_line
 from vhfit.cli._plugins import resolve_model_name
+from vhfit.data import DataError, read_history
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 
@@ -87,7 +88,10 @@ def _loads(args) -> list[tuple[str, float, History]]:
             raise UsageError(f"--rate {r:g} --strain-max {emax:g}: {one_line(exc)}") from None
         loads.append((f"rate {r:g} 1/s", r, h))
     for path in args.history or []:
-        t, e = _read_history(path)
+        try:
+            t, e = read_history(path)
+        except DataError as exc:
+            raise UsageError(str(exc)) from None
         try:
             h = History.piecewise_linear(t, e)
         except ValueError as exc:
@@ -112,54 +116,3 @@ def parse_params(item: str) -> dict[str, float]:
         except ValueError:
             raise UsageError(f"--param {part!r}: {val!r} is not a number") from None
     return out
-
-
-def _read_history(path: str) -> tuple[np.ndarray, np.ndarray]:
-    """(time, strain) columns of a history CSV: named ``time*``/``strain*``, else the first two.
-
-    The material is at rest at t = 0: a history that starts later gets a ramp from
-    (0, 0) to its first sample.
-    """
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as f:
-            rows = [r for r in csv.reader(line for line in f if not line.lstrip().startswith("#"))
-                    if any(c.strip() for c in r)]
-    except OSError as exc:
-        raise UsageError(f"{path}: cannot read ({exc.strerror}); check the path") from None
-    if not rows:
-        raise UsageError(f"{path}: empty; give a CSV with time and strain columns")
-    head = [c.strip().lower() for c in rows[0]]
-
-    def numeric(r):
-        try:
-            [float(c) for c in r]
-        except ValueError:
-            return False
-        return True
-
-    it, ie, data = 0, 1, rows
-    if not numeric(rows[0]):
-        data = rows[1:]
-        t_cols = [j for j, h in enumerate(head) if h.startswith("time") or h in ("t", "t_s")]
-        e_cols = [j for j, h in enumerate(head) if h.startswith("strain") and "rate" not in h]
-        if not t_cols or not e_cols:
-            raise UsageError(f"{path}: header {rows[0]} has no 'time' and 'strain' columns; "
-                             "name them so (time in s, engineering strain)")
-        it, ie = t_cols[0], e_cols[0]
-    try:
-        arr = np.array([[float(r[it]), float(r[ie])] for r in data])
-    except (ValueError, IndexError):
-        for k, r in enumerate(data):
-            try:
-                float(r[it]), float(r[ie])
-            except (ValueError, IndexError):
-                line = k + (2 if data is not rows else 1)
-                raise UsageError(f"{path}: data row {line} {r} is not two numbers "
-                                 "(time, strain); fix or remove it") from None
-        raise
-    if arr.shape[0] < 2:
-        raise UsageError(f"{path}: needs at least 2 (time, strain) rows")
-    t, e = arr[:, 0], arr[:, 1]
-    if t[0] > 0:  # the material is at rest at t = 0: ramp to the first sample
-        t, e = np.concatenate([[0.0], t]), np.concatenate([[0.0], e])
-    return t, e
