@@ -10,14 +10,13 @@ The public API (SPEC §7)::
 """
 
 from vhfit import export, hyperelastic, viscoelastic
+from vhfit._version import __version__
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 from vhfit.objective import Objective, per_curve_rmsape, rmsape
 from vhfit.parallel import Job, JobResult, calibrate_many
-
-__version__ = "0.1.0"
 
 
 def __getattr__(name: str):

@@ -23,7 +23,7 @@ def _versions() -> dict[str, str]:
     import numba
     import scipy
 
-    from vhfit import __version__
+    from vhfit._version import __version__
 
     return {
         "vhfit": __version__,

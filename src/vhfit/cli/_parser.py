@@ -11,7 +11,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from vhfit import __version__
+from vhfit._version import __version__
 from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
 from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit

@@ -112,6 +112,41 @@ def _parse_bounds(bounds: Any) -> tuple[np.ndarray, np.ndarray] | None:
     return lb, ub
 
 
+def _apply_preset(preset: str, given: dict) -> dict:
+    """The arguments with a preset's settings where the caller left SciPy's default
+    (vhfit's extras: where the caller left None)."""
+    out = dict(given)
+    for key, value in preset_settings(preset).items():
+        if key in EXTRA_KEYS:
+            if out[key] is None:
+                out[key] = value
+        elif _is_default(out[key], SCIPY_DEFAULTS[key]):
+            out[key] = value
+    return out
+
+
+def _check_bounds_and_x0(parsed, x0):
+    """Refuse reversed bounds and an x0 that does not fit them; x0 as a flat array."""
+    lb, ub = parsed
+    reversed_ = np.flatnonzero(lb > ub)
+    if reversed_.size:
+        i = int(reversed_[0])
+        raise ValueError(
+            f"bounds: lower bound above upper bound for parameter {i} "
+            f"({lb[i]!r} > {ub[i]!r}); give (min, max) pairs")
+    if x0 is None:
+        return None
+    try:
+        x0_arr = np.asarray(x0, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"x0 must be an array of {lb.size} numbers") from None
+    if x0_arr.size != lb.size:
+        raise ValueError(f"x0 has {x0_arr.size} entries but bounds define {lb.size} parameters")
+    if not np.all(np.isfinite(x0_arr)):
+        raise ValueError("x0 must be finite")
+    return x0_arr.reshape(lb.size)
+
+
 class DifferentialEvolutionSolver(_SciPySolver):
     """SciPy's differential evolution solver, with vhfit's extras.
 
@@ -143,26 +178,19 @@ integrality, vectorized
                  updating="immediate", workers=1, constraints=(), x0=None, *,
                  integrality=None, vectorized=False, population_size=None, stop=None,
                  history=False, snapshots=0, preset=None, repair=None):
-        # ---------------------------------------------------------------- preset
         if preset is not None:
-            settings = preset_settings(preset)
             given = {"strategy": strategy, "maxiter": maxiter, "popsize": popsize, "tol": tol,
                      "mutation": mutation, "recombination": recombination, "polish": polish,
-                     "init": init, "atol": atol, "updating": updating}
-            extras = {"population_size": population_size, "stop": stop, "repair": repair}
-            for key, value in settings.items():
-                if key in EXTRA_KEYS:
-                    if extras[key] is None:
-                        extras[key] = value
-                elif _is_default(given[key], SCIPY_DEFAULTS[key]):
-                    given[key] = value
+                     "init": init, "atol": atol, "updating": updating,
+                     "population_size": population_size, "stop": stop, "repair": repair}
+            given = _apply_preset(preset, given)
             strategy, maxiter, popsize, tol = (given["strategy"], given["maxiter"],
                                                given["popsize"], given["tol"])
             mutation, recombination, polish = (given["mutation"], given["recombination"],
                                                given["polish"])
             init, atol, updating = given["init"], given["atol"], given["updating"]
-            population_size, stop, repair = (extras["population_size"], extras["stop"],
-                                             extras["repair"])
+            population_size, stop, repair = (given["population_size"], given["stop"],
+                                             given["repair"])
 
         # ---------------------------------------------------------------- extras
         if population_size is not None:
@@ -188,27 +216,9 @@ integrality, vectorized
                 f"{list(_SCIPY_STRATEGIES) + list(adaptive_strategies())}, or a callable "
                 "strategy(candidate, population, rng=None)")
 
-        # ---------------------------------------------------------------- bad input
         parsed = _parse_bounds(bounds)
         if parsed is not None:
-            lb, ub = parsed
-            reversed_ = np.flatnonzero(lb > ub)
-            if reversed_.size:
-                i = int(reversed_[0])
-                raise ValueError(
-                    f"bounds: lower bound above upper bound for parameter {i} "
-                    f"({lb[i]!r} > {ub[i]!r}); give (min, max) pairs")
-            if x0 is not None:
-                try:
-                    x0_arr = np.asarray(x0, dtype=float)
-                except (TypeError, ValueError):
-                    raise ValueError(f"x0 must be an array of {lb.size} numbers") from None
-                if x0_arr.size != lb.size:
-                    raise ValueError(
-                        f"x0 has {x0_arr.size} entries but bounds define {lb.size} parameters")
-                if not np.all(np.isfinite(x0_arr)):
-                    raise ValueError("x0 must be finite")
-                x0 = x0_arr.reshape(lb.size)
+            x0 = _check_bounds_and_x0(parsed, x0)
 
         real_init = None
         if population_size is not None:
