@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from vhfit import hyperelastic as hyp
+from vhfit import model as vmodel
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 
@@ -738,6 +739,37 @@ def test_invalid_number_of_prony_terms(n):
 def test_invalid_rtol(rtol):
     with pytest.raises(ValueError, match=r"rtol = .* must lie in \(0, 1\)"):
         ViscoHyperelastic("mooney_rivlin", 1, rtol=rtol)
+
+
+@pytest.mark.parametrize("rtol", ["1e-6", None, True, float("nan"), float("inf")])
+def test_rtol_that_is_not_a_number_is_named(rtol):
+    with pytest.raises(ValueError, match=r"^rtol = .* must lie in \(0, 1\)[^\n]*$"):
+        ViscoHyperelastic("mooney_rivlin", 1, rtol=rtol)
+
+
+@pytest.mark.parametrize("model", [None, 3, ["mooney_rivlin"]])
+def test_model_that_is_not_a_name_is_named(model):
+    with pytest.raises(ValueError, match=r"^hyperelastic = .* must be a model name such as "
+                                         r"'mooney_rivlin'[^\n]*$"):
+        ViscoHyperelastic(model, 1)
+
+
+@pytest.mark.parametrize("n", [np.int64(2), 0, 7])
+def test_whole_numbers_of_prony_terms_are_accepted(n):
+    m = ViscoHyperelastic("mooney_rivlin", n)
+    assert m.n_prony == int(n) and isinstance(m.n_prony, int)
+    assert len(m.param_names) == 2 + 2 * int(n)
+
+
+def test_bad_arguments_fail_before_anything_is_computed(monkeypatch):
+    # the front door checks every argument before the model lookup or the grid step
+    calls = []
+    monkeypatch.setattr(vmodel, "_dlog", lambda r: calls.append(r) or 0.1)
+    monkeypatch.setattr(vmodel._hyper, "get", lambda name: calls.append(name))
+    for kwargs in (dict(n_prony=-1), dict(n_prony=1.5), dict(rtol="x"), dict(hyperelastic=3)):
+        with pytest.raises(ValueError):
+            ViscoHyperelastic(**kwargs)
+    assert calls == []
 
 
 EPS = np.linspace(0, -0.5, 6)

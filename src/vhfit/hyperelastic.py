@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit._derivatives import central, invariant_gradient, outside_domain, stretch_gradient
+
 __all__ = [
     "Hyperelastic",
     "register",
@@ -37,8 +39,6 @@ __all__ = [
     "unregister",
     "invariants",
 ]
-
-_H = 1e-30  # complex step: no subtractive cancellation, so any tiny step is exact
 
 _INVARIANT_ARGS = ("I1", "I2")
 _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
@@ -105,16 +105,7 @@ class Hyperelastic:
         return [p[..., k, None] for k in range(self.n_params)], p.shape[:-1]
 
     def _dW_invariant(self, I1, I2, cols):
-        if self.derivatives is not None:
-            return self.derivatives(I1, I2, *cols)
-        try:
-            W1 = np.imag(self.energy(I1 + 1j * _H, I2, *cols)) / _H
-            W2 = np.imag(self.energy(I1, I2 + 1j * _H, *cols)) / _H
-        except TypeError:  # energy not written for complex input: 4th-order differences
-            W1 = _central(lambda d: self.energy(I1 + d, I2, *cols))
-            W2 = _central(lambda d: self.energy(I1, I2 + d, *cols))
-        bad = _outside_domain(self.energy, I1, I2, *cols)
-        return np.where(bad, np.nan, W1), np.where(bad, np.nan, W2)
+        return invariant_gradient(self.energy, self.derivatives, I1, I2, cols)
 
     def _stress_raw(self, lam: np.ndarray, cols) -> np.ndarray:
         if self.kind == "invariant":
@@ -122,14 +113,9 @@ class Hyperelastic:
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
         l2 = lam**-0.5
-        try:
-            dW1 = np.imag(self.energy(lam + 1j * _H * lam, l2, l2, *cols)) / _H
-            dW2 = np.imag(self.energy(lam, l2 + 1j * _H * l2, l2, *cols)) / _H
-        except TypeError:
-            dW1 = _central(lambda d: self.energy(lam * (1 + d), l2, l2, *cols))
-            dW2 = _central(lambda d: self.energy(lam, l2 * (1 + d), l2, *cols))
-        # steps were relative, so dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2 already
-        return np.where(_outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
+        # relative steps: dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
+        dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1))
+        return np.where(outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
 
     # ------------------------------------------------------------------- public
     def stress(self, stretch, params) -> np.ndarray:
@@ -175,7 +161,7 @@ class Hyperelastic:
             mu = 2.0 * (np.asarray(W1) + np.asarray(W2))
         else:
             # E∞ = dσ_h/dλ at λ = 1, by 4th-order central differences (σ_h(1) = 0)
-            mu = _central(lambda d: self._stress_raw(np.array([1.0 + d]), cols)) / 3.0
+            mu = central(lambda d: self._stress_raw(np.array([1.0 + d]), cols)) / 3.0
         return np.broadcast_to(mu, lead + (1,))[..., 0].copy()
 
     def check(self, params) -> np.ndarray:
@@ -206,22 +192,6 @@ class Hyperelastic:
         if not self.linear:
             raise ValueError(f"model {self.name!r} is not linear in its constants")
         return self.stress(stretch, np.eye(self.n_params))
-
-
-def _outside_domain(energy: Callable, *args) -> np.ndarray:
-    """Where the real energy is not finite (e.g. Gent past its locking stretch).
-
-    The complex step continues W analytically past the edge of its real domain (the
-    complex log of a negative number is finite), so its derivatives there would be
-    finite garbage; they are NaN instead.
-    """
-    with np.errstate(all="ignore"):
-        return ~np.isfinite(energy(*args))
-
-
-def _central(f: Callable[[float], np.ndarray], h: float = 1e-3) -> np.ndarray:
-    """Fourth-order central difference f'(0) for energies that reject complex input."""
-    return (8.0 * (f(h) - f(-h)) - (f(2 * h) - f(-2 * h))) / (12.0 * h)
 
 
 # ---------------------------------------------------------------------- registry

@@ -33,8 +33,22 @@ def _dlog(rtol: float) -> float:
     independent quadrature in tests/test_model.py.
     """
     if not 0 < rtol < 1:
-        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1)")
+        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1), e.g. 1e-6 (the default)")
     return min(0.1, 0.6 * rtol**0.25)
+
+
+def _check_arguments(hyperelastic, n_prony, rtol) -> None:
+    """The front door of :class:`ViscoHyperelastic`: one-line errors, nothing computed."""
+    if not isinstance(hyperelastic, (str, _hyper.Hyperelastic)):
+        raise ValueError(
+            f"hyperelastic = {hyperelastic!r} must be a model name such as 'mooney_rivlin' "
+            "(see vhfit.hyperelastic.available()) or a registered Hyperelastic"
+        )
+    if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
+        raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
+        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1): give a number such as 1e-6")
+    _dlog(float(rtol))
 
 
 def _history_of(item) -> History:
@@ -73,9 +87,8 @@ class ViscoHyperelastic:
     """
 
     def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6):
+        _check_arguments(hyperelastic, n_prony, rtol)
         self.hyperelastic = _hyper.get(hyperelastic)
-        if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
-            raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
         self.n_prony = int(n_prony)
         self.rtol = float(rtol)
         self._dlog = _dlog(self.rtol)
