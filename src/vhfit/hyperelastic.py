@@ -12,7 +12,7 @@ Invariant models take ``(I1, I2, *constants)``; principal-stretch models take
 ``(l1, l2, l3, *constants)``. The derivatives the stress needs are taken by the
 complex step (exact to rounding for any energy written with numpy's analytic
 functions) unless the model gives them. On the incompressible uniaxial path
-λ1 = λ, λ2 = λ3 = λ^(-1/2) (SPEC §1–2):
+λ1 = λ, λ2 = λ3 = λ^(-1/2) (docs/theory.md §1–2):
 
 * invariant models: σ_h = 2 (λ² − 1/λ) (∂W/∂I1 + ∂W/∂I2 / λ)
 * stretch models:   σ_h = λ1 ∂W/∂λ1 − λ2 ∂W/∂λ2

@@ -1,6 +1,6 @@
 """The visco-hyperelastic model: one hyperelastic law plus N Prony terms (paper Eq. 19).
 
-Stress of the corrected, conditioned Eq. 19 (SPEC §3):
+Stress of the corrected, conditioned Eq. 19 (docs/theory.md §4–5):
 
     σ(t) = σ_h(λ(t)) + Σ_i G_i h_i(t),
 
@@ -164,7 +164,7 @@ class ViscoHyperelastic:
         return float(E) if np.ndim(E) == 0 else E
 
     def prony_g(self, params) -> tuple[np.ndarray, float]:
-        """Dimensionless (g_i, g∞) of one parameter set (SPEC §3)."""
+        """Dimensionless (g_i, g∞) of one parameter set (docs/theory.md §3)."""
         x = self.check(params)
         return prony_g(self.long_term_modulus(x), self.split(x)[1])
 
@@ -324,7 +324,7 @@ class Batch:
         (P, N), returns (``s_hat``, ``h``) with shapes (P, n_points) and
         (P, N, n_points) such that the stress is ``E∞ s_hat + Σ_i G_i h[:, i]``
         (in each curve's measure). For fixed shape and τ the model is linear in
-        (E∞, G_i): the basis of the separable calibration (SPEC §4). ``parallel``
+        (E∞, G_i): the basis of the separable calibration (docs/theory.md §5, §10). ``parallel``
         chooses numba's threaded kernel (None: by problem size).
         """
         hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))

@@ -1,4 +1,4 @@
-"""Prony series in the paper's parameterisation (SPEC §3) and its conversions.
+"""Prony series in the paper's parameterisation (docs/theory.md §3) and its conversions.
 
 The paper's Prony moduli G_i are uniaxial (Young's-type) moduli beside the long-term
 uniaxial modulus E∞ = 3 μ0 of the hyperelastic law:
