@@ -124,6 +124,13 @@ def test_no_prony_terms_means_no_rate_dependence():
     assert rate_sensitivity(diff, "mooney_rivlin", 1) == []
 
 
+@pytest.mark.parametrize("n", [-1, 1.5, True, "two"])
+def test_bad_number_of_prony_terms_is_named(n):
+    eps = np.linspace(-0.05, -0.5, 10)
+    with pytest.raises(ValueError, match=r"^n_prony = .* must be a whole number >= 0$"):
+        rate_ratio_bounds("mooney_rivlin", eps, -1.0, -10.0, n_prony=n)
+
+
 def test_pairs_skip_equal_rates_other_modes_and_time_histories():
     eps = np.linspace(-0.05, -0.5, 10)
     s = -np.linspace(0.1, 1.0, 10)

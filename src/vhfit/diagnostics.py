@@ -113,10 +113,10 @@ def _model_of(model_or_name, n_prony) -> tuple[_hyper.Hyperelastic, int]:
     else:
         hm = _hyper.get(model_or_name)
         n = 1 if n_prony is None else n_prony
-    if isinstance(n, str):  # "auto": any N >= 1 gives the same bound
+    if n == "auto":  # any N >= 1 gives the same bound
         n = 1
-    if int(n) < 0:
-        raise ValueError(f"n_prony = {n_prony!r} must be >= 0")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
     return hm, int(n)
 
 
