@@ -45,7 +45,14 @@ _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", 
 
 
 def invariants(stretch) -> tuple[np.ndarray, np.ndarray]:
-    """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path."""
+    """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path.
+
+    Examples
+    --------
+    >>> I1, I2 = invariants([1.0, 2.0])
+    >>> I1.tolist(), I2.tolist()
+    ([3.0, 5.0], [3.0, 4.25])
+    """
     lam = np.asarray(stretch, dtype=np.float64)
     return lam**2 + 2.0 / lam, 2.0 * lam + 1.0 / lam**2
 
@@ -165,7 +172,17 @@ class Hyperelastic:
         return np.broadcast_to(mu, lead + (1,))[..., 0].copy()
 
     def check(self, params) -> np.ndarray:
-        """Validate one set of constants against the physical bounds; return it as an array."""
+        """Validate one set of constants against the physical bounds; return it as an array.
+
+        Examples
+        --------
+        >>> get("neo_hooke").check([0.1]).tolist()
+        [0.1]
+        >>> get("neo_hooke").check([-0.1])
+        Traceback (most recent call last):
+        ...
+        ValueError: C10 = -0.1 is outside its physical range [0, inf] for model 'neo_hooke'
+        """
         p = np.asarray(params, dtype=np.float64)
         if p.shape != (self.n_params,):
             raise ValueError(
@@ -188,6 +205,11 @@ class Hyperelastic:
         Returns
         -------
         ndarray, shape (n_params, m)
+
+        Examples
+        --------
+        >>> get("mooney_rivlin").basis([2.0]).tolist()   # 2(λ² − 1/λ), 2(λ − 1/λ²)
+        [[7.0], [3.5]]
         """
         if not self.linear:
             raise ValueError(f"model {self.name!r} is not linear in its constants")
@@ -313,7 +335,16 @@ def _validate(model: Hyperelastic, strict: bool) -> None:
 
 
 def get(model: str | Hyperelastic) -> Hyperelastic:
-    """Look up a registered model by name (a :class:`Hyperelastic` passes through)."""
+    """Look up a registered model by name (a :class:`Hyperelastic` passes through).
+
+    Examples
+    --------
+    >>> mr = get("mooney_rivlin")
+    >>> mr.param_names, mr.kind, mr.linear
+    (('C10', 'C01'), 'invariant', True)
+    >>> get(mr) is mr
+    True
+    """
     if isinstance(model, Hyperelastic):
         return model
     try:
@@ -326,7 +357,13 @@ def get(model: str | Hyperelastic) -> Hyperelastic:
 
 
 def available() -> list[str]:
-    """Names of the registered models."""
+    """Names of the registered models.
+
+    Examples
+    --------
+    >>> {"mooney_rivlin", "neo_hooke", "ogden"} <= set(available())
+    True
+    """
     return sorted(_REGISTRY)
 
 

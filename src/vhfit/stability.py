@@ -91,6 +91,15 @@ class StabilityReport:
     unstable: dict
 
     def describe(self) -> str:
+        """One line: stable over the checked range, or the unstable intervals per mode.
+
+        Examples
+        --------
+        >>> StabilityReport(True, (0.2, 5.0), {}).describe()
+        'Drucker-stable in uniaxial, equibiaxial and planar modes for 0.2 <= λ <= 5'
+        >>> StabilityReport(False, (0.2, 5.0), {"uniaxial": [(0.2, 0.498)]}).describe()
+        'Drucker-UNSTABLE in uniaxial: 0.2 <= λ <= 0.498'
+        """
         lo, hi = self.stretch_range
         if self.stable:
             return (
