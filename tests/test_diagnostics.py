@@ -10,7 +10,10 @@ from vhfit.diagnostics import rate_pairs, rate_ratio_bounds, rate_sensitivity
 
 
 def linear_ve(strain, rate, E_inf, G, tau):
-    """Closed form at small strain (SPEC §3): σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i))."""
+    """Closed form at small strain (docs/theory.md §4).
+
+    σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)).
+    """
     t = np.asarray(strain) / rate
     s = E_inf * rate * t
     for g, ta in zip(G, tau):

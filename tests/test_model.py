@@ -1,8 +1,9 @@
 """Tests of vhfit.model: the corrected Eq. 19 against quadrature, its limits and properties.
 
-The reference below is written from SPEC §3 directly — closed-form σ_h (SPEC §2), the
-stretch path λ(u), and ``scipy.integrate.quad`` of the hereditary integral with break
-points near u = t (at t − kτ) and at the history's breakpoints — and shares nothing
+The reference below is written from docs/theory.md §4 directly — closed-form σ_h
+(docs/theory.md §2), the stretch path λ(u), and ``scipy.integrate.quad`` of the
+hereditary integral with break points near u = t (at t − kτ) and at the history's
+breakpoints — and shares nothing
 with vhfit's grid, recursion or hyperelastic code.
 """
 
@@ -32,7 +33,7 @@ QUAD_EXAMPLES = max(4, settings.default.max_examples // 2)
 
 # ================================================================= reference
 def sigma_h_ref(name: str, lam: float, c) -> float:
-    """Closed-form uniaxial true stress of SPEC §2."""
+    """Closed-form uniaxial true stress of docs/theory.md §2."""
     if name == "mooney_rivlin":
         C10, C01 = c
         return 2 * C10 * (lam * lam - 1 / lam) + 2 * C01 * (lam - 1 / lam**2)
@@ -86,7 +87,7 @@ def _quad(f, t, tau, breaks, scale):
 
 
 def reference_stress(name, c, G, tau, time, stretch, t_out, form="conditioned"):
-    """σ(t) of the corrected Eq. 19 (SPEC §3) at each time in ``t_out``.
+    """σ(t) of the corrected Eq. 19 (docs/theory.md §4) at each time in ``t_out``.
 
     form="printed": σ0(t) − Σ (g_i/τ_i) ∫_0^t e^(−(t−u)/τ_i) σ0(u) K(u, t) du, σ0 = σ_h/g∞.
     form="conditioned": σ_h(t) + Σ G_i h_i(t),
@@ -520,7 +521,7 @@ def small_strain_cases(draw):
 
 @given(small_strain_cases())
 def test_small_strain_closed_form(case):
-    """σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)) (SPEC §3), pointwise to first order.
+    """σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)) (docs/theory.md §4), pointwise to first order.
 
     Tolerance, derived for Mooney–Rivlin with κ = C01/(C10 + C01) ∈ [0, 1]:
     ŝ = ε − κε² + O(ε³) and K(u, t) − 1 = ε(t) − ε(u) + O(ε²). On a monotone ramp every
