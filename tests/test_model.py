@@ -3,8 +3,7 @@
 The reference below is written from docs/theory.md §4 directly — closed-form σ_h
 (docs/theory.md §2), the stretch path λ(u), and ``scipy.integrate.quad`` of the
 hereditary integral with break points near u = t (at t − kτ) and at the history's
-breakpoints — and shares nothing
-with vhfit's grid, recursion or hyperelastic code.
+breakpoints — and shares nothing with vhfit's grid, recursion or hyperelastic code.
 """
 
 from __future__ import annotations
