@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_calibrate.py [--seeds 5] [--paper-time 60]
 
-Prints, for every synthetic case of SPEC §6 (curves generated from known parameters
+Prints, for every synthetic case of the paper (curves generated from known parameters
 at the paper's rates) and 5 seeds, the final RMSAPE, wall time, generations, model
 evaluations and the worst relative error of the recovered constants; the noise study
 (Random_3 ±5 %, 5 trials) beside the RMSAPE of the true parameters on the same noisy

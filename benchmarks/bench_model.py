@@ -78,7 +78,7 @@ def split(X):
 
 
 def mr_basis(lam):
-    """σ_h = C10 φ10 + C01 φ01 (SPEC §2)."""
+    """σ_h = C10 φ10 + C01 φ01 (docs/theory.md §2)."""
     return 2 * (lam**2 - 1 / lam), 2 * (lam - 1 / lam**2)
 
 
@@ -94,7 +94,7 @@ def curve_errors(S, ref, n_points=N_POINTS) -> float:
 
 # ---------------------------------------------------------------- reference
 def reference(x, rates=SEBS_RATES) -> np.ndarray:
-    """Corrected Eq. 19 (SPEC §3, conditioned form) by adaptive quadrature."""
+    """Corrected Eq. 19 (docs/theory.md §5, conditioned form) by adaptive quadrature."""
     C10, C01 = x[0], x[1]
     G, tau = x[2::2], x[3::2]
     E = 6 * (C10 + C01)

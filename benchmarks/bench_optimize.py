@@ -16,7 +16,7 @@ Part 2 - convergence on calibration-like problems. For 2, 3 and 4 Prony terms an
 several seeds, a random Mooney-Rivlin + Prony material in the paper's style
 (Random_1..5: rates -1, -10, -100, -1000 1/s, compression to strain -0.5) generates
 10 points per curve; each method then fits [C10, C01, G_i, log10 tau_i] (semi-free
-tau bounds, Eq. 22; SPEC §5 upper limits) minimising the RMSAPE (Eq. 20, percent)
+tau bounds, Eq. 22; upper limits of docs/theory.md §11) minimising the RMSAPE (Eq. 20, percent)
 until RMSAPE < 0.01 % or an evaluation budget. Reported: median generations and
 objective evaluations to the target over the seeds (runs that miss the target count
 as the budget, so a median is a lower bound when more than half miss), and how many
@@ -116,7 +116,7 @@ class Problem:
         return X
 
     def _bounds(self, tb: np.ndarray) -> list[tuple[float, float]]:
-        """SPEC §5 upper limits: one term alone puts every stress over the targets."""
+        """Upper limits of docs/theory.md §11: one term alone puts every stress over the targets."""
         lam = 1.0 + np.tile(STRAIN, len(RATES))
         y = np.abs(self.target)
         c10 = float(np.max(y / np.abs(2 * (lam**2 - 1 / lam))))

@@ -1,4 +1,4 @@
-"""Synthetic calibration cases of the paper (SPEC §6), shared by the benchmarks.
+"""Synthetic calibration cases of the paper, shared by the benchmarks.
 
 The paper's experimental curves are not public; curves generated from its published
 parameters at its rates are stand-ins, labelled as such. The five random materials

@@ -12,7 +12,7 @@ Re-render the document from a saved run without recomputing::
 
     python benchmarks/paper_study.py --from-json results.json
 
-Items (issue 7): (1) τ strategies × Prony terms (paper Figs. 6-7), (2) population size
+Items: (1) τ strategies × Prony terms (paper Figs. 6-7), (2) population size
 (Figs. 8-9), (3) noise (Table 4), (4) SEBS and gelatin stand-ins (Tables 5-6),
 (5) gelatin's rate-stiffening limit, (6) a summary table for the README. Every number
 and every verdict in the generated document comes from this run; nothing is typed in.
@@ -62,7 +62,7 @@ STRATEGIES = ("free", "semifree", "fixed")
 NP_LIST = (5, 10, 15, 20, 30, 40, 50, 60, 80, 100)
 FLOOR = 1e-8  # RMSAPE plotted at this floor when lower (percent)
 
-# the paper's published figures (SPEC §6, paper Tables 4-6 and text)
+# the paper's published figures (its Tables 4-6 and text)
 PAPER = {
     "random3": dict(rmsape=0.0491, gens="1303", time="103 min"),
     "noise": dict(rmsape="3.1168-3.1196", gens="543-707", time="29-46 min",
@@ -114,7 +114,7 @@ def paper_init(curves, n, strategy, npop, seed):
 
     The paper's NP is absolute; SciPy sizes a population as a multiple of the number of
     parameters, so the study passes the initial population explicitly, drawn over the
-    same bounds calibrate uses (Eq. 22 τ bounds and the SPEC §5 modulus bounds).
+    same bounds calibrate uses (Eq. 22 τ bounds and the modulus bounds of docs/theory.md §11).
     """
     from scipy.stats import qmc
 
@@ -731,7 +731,7 @@ Three ways of calibrating are compared, on the same evaluator of the corrected E
   replaces its parent at once, as in the Rodríguez-Mier code the paper builds on; item 1c
   also shows calibrate's default batched variant, one evaluation batch per generation,
   which is faster per generation), the paper's four stopping criteria, τ bounds of Eq. 22 and the
-  modulus bounds of SPEC §5, and an initial Latin-hypercube population of exactly NP
+  modulus bounds of docs/theory.md §11, and an initial Latin-hypercube population of exactly NP
   individuals (NP = 50 for the random materials as in the paper's Table 1, 60 for SEBS
   and gelatin as in its Tables 2-3). **Budget:** it is capped at
   **{a['paper_gens']} generations in items 1-2** and at {a['long_gens']} generations in
@@ -1269,7 +1269,7 @@ shows that the rate enters a Prony term only through a = |r| τ, so raising the 
 on each term exactly like raising its τ ×k. A term's overstress at strain ε is
 φ(a) = ∫ e^(−s/a) w′(ε − s) ds with w = ŝ K the weighted instantaneous stress, and
 φ(ka)/φ(a) runs from 1 (elastic limit, a → ∞) to k (viscous limit, a → 0); in the small-
-strain limit φ(a) = a (1 − e^(−ε/a)), the closed form of SPEC §3. The total stress at a
+strain limit φ(a) = a (1 − e^(−ε/a)), the closed form of docs/theory.md §4. The total stress at a
 strain is a sum of such terms plus the long-term term (ratio 1), and a ratio of sums of
 same-sign terms lies between the smallest and the largest term ratio (mediant
 inequality). Hence, for **any** E∞, G_i ≥ 0, τ_i and any N,
@@ -1646,8 +1646,10 @@ def main(argv=None) -> None:
         import scipy
 
         loads = sampler.samples
+        # file arguments as base names: the document must not carry this machine's paths
         cmd = "python benchmarks/paper_study.py" + ("".join(
-            " " + a for a in (argv if argv is not None else sys.argv[1:])))
+            " " + (os.path.basename(a) if os.path.isabs(a) else a)
+            for a in (argv if argv is not None else sys.argv[1:])))
         meta = dict(
             command=cmd, date=_dt.datetime.now().strftime("%Y-%m-%d %H:%M"), cpu=_cpu(),
             cores=os.cpu_count(), load=[min(loads), float(np.median(loads)), max(loads)],

@@ -4,7 +4,7 @@ Case (the paper's verification against Abaqus): Mooney–Rivlin C10 = 0, C01 = 5
 one Prony term with g1 = 0.5 (G1 = E∞ g1 / g∞ = 30 MPa), τ1 ∈ {1e-10, 1e-6, 1e-5,
 1e-4, 1} s, constant engineering strain rate −5700 1/s down to λ = 0.45.
 
-The reference integrates the corrected Eq. 19 exactly as printed in SPEC §3,
+The reference integrates the corrected Eq. 19 exactly as stated in docs/theory.md §4,
 
     σ(t) = σ0(t) − (g1/τ1) ∫_0^t e^(−(t−u)/τ1) σ0(u) [(2/3)(λ(t)/λ(u))² + (1/3) λ(u)/λ(t)] du,
 

@@ -10,7 +10,10 @@ from vhfit.diagnostics import rate_pairs, rate_ratio_bounds, rate_sensitivity
 
 
 def linear_ve(strain, rate, E_inf, G, tau):
-    """Closed form at small strain (SPEC §3): σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i))."""
+    """Closed form at small strain (docs/theory.md §4).
+
+    σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)).
+    """
     t = np.asarray(strain) / rate
     s = E_inf * rate * t
     for g, ta in zip(G, tau):
@@ -122,6 +125,13 @@ def test_no_prony_terms_means_no_rate_dependence():
     (msg,) = rate_sensitivity(diff, "mooney_rivlin", 0)
     assert "'a'" in msg and "'b'" in msg and "n_prony" in msg
     assert rate_sensitivity(diff, "mooney_rivlin", 1) == []
+
+
+@pytest.mark.parametrize("n", [-1, 1.5, True, "two"])
+def test_bad_number_of_prony_terms_is_named(n):
+    eps = np.linspace(-0.05, -0.5, 10)
+    with pytest.raises(ValueError, match=r"^n_prony = .* must be a whole number >= 0$"):
+        rate_ratio_bounds("mooney_rivlin", eps, -1.0, -10.0, n_prony=n)
 
 
 def test_pairs_skip_equal_rates_other_modes_and_time_histories():

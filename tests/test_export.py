@@ -201,7 +201,10 @@ def test_abaqus_known_answer():
 
 
 def test_abaqus_paper_verification_case():
-    """SPEC §6: C10 = 0, C01 = 5 MPa, g1 = 0.5 is G1 = E_inf = 30 MPa."""
+    """The paper's verification material (its §3.2): C10 = 0, C01 = 5 MPa, g1 = 0.5.
+
+    That is G1 = E_inf = 30 MPa.
+    """
     p = dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-6)
     assert "0.5, 0.0, 1e-06" in to_abaqus(MR, p).splitlines()
 

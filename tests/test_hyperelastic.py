@@ -1,6 +1,6 @@
 """Tests of vhfit.hyperelastic: kinematics, built-in laws, user energies, registry errors.
 
-Closed forms are those of SPEC §2, written out here by hand; stresses are true
+Closed forms are those of docs/theory.md §2, written out here by hand; stresses are true
 (Cauchy) stresses on the incompressible uniaxial path λ1 = λ, λ2 = λ3 = λ^(-1/2).
 """
 

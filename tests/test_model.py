@@ -1,9 +1,9 @@
 """Tests of vhfit.model: the corrected Eq. 19 against quadrature, its limits and properties.
 
-The reference below is written from SPEC §3 directly — closed-form σ_h (SPEC §2), the
-stretch path λ(u), and ``scipy.integrate.quad`` of the hereditary integral with break
-points near u = t (at t − kτ) and at the history's breakpoints — and shares nothing
-with vhfit's grid, recursion or hyperelastic code.
+The reference below is written from docs/theory.md §4 directly — closed-form σ_h
+(docs/theory.md §2), the stretch path λ(u), and ``scipy.integrate.quad`` of the
+hereditary integral with break points near u = t (at t − kτ) and at the history's
+breakpoints — and shares nothing with vhfit's grid, recursion or hyperelastic code.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from vhfit import hyperelastic as hyp
+from vhfit import model as vmodel
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 
@@ -31,7 +32,7 @@ QUAD_EXAMPLES = max(4, settings.default.max_examples // 2)
 
 # ================================================================= reference
 def sigma_h_ref(name: str, lam: float, c) -> float:
-    """Closed-form uniaxial true stress of SPEC §2."""
+    """Closed-form uniaxial true stress of docs/theory.md §2."""
     if name == "mooney_rivlin":
         C10, C01 = c
         return 2 * C10 * (lam * lam - 1 / lam) + 2 * C01 * (lam - 1 / lam**2)
@@ -85,7 +86,7 @@ def _quad(f, t, tau, breaks, scale):
 
 
 def reference_stress(name, c, G, tau, time, stretch, t_out, form="conditioned"):
-    """σ(t) of the corrected Eq. 19 (SPEC §3) at each time in ``t_out``.
+    """σ(t) of the corrected Eq. 19 (docs/theory.md §4) at each time in ``t_out``.
 
     form="printed": σ0(t) − Σ (g_i/τ_i) ∫_0^t e^(−(t−u)/τ_i) σ0(u) K(u, t) du, σ0 = σ_h/g∞.
     form="conditioned": σ_h(t) + Σ G_i h_i(t),
@@ -519,7 +520,7 @@ def small_strain_cases(draw):
 
 @given(small_strain_cases())
 def test_small_strain_closed_form(case):
-    """σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)) (SPEC §3), pointwise to first order.
+    """σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)) (docs/theory.md §4), pointwise to first order.
 
     Tolerance, derived for Mooney–Rivlin with κ = C01/(C10 + C01) ∈ [0, 1]:
     ŝ = ε − κε² + O(ε³) and K(u, t) − 1 = ε(t) − ε(u) + O(ε²). On a monotone ramp every
@@ -738,6 +739,37 @@ def test_invalid_number_of_prony_terms(n):
 def test_invalid_rtol(rtol):
     with pytest.raises(ValueError, match=r"rtol = .* must lie in \(0, 1\)"):
         ViscoHyperelastic("mooney_rivlin", 1, rtol=rtol)
+
+
+@pytest.mark.parametrize("rtol", ["1e-6", None, True, float("nan"), float("inf")])
+def test_rtol_that_is_not_a_number_is_named(rtol):
+    with pytest.raises(ValueError, match=r"^rtol = .* must lie in \(0, 1\)[^\n]*$"):
+        ViscoHyperelastic("mooney_rivlin", 1, rtol=rtol)
+
+
+@pytest.mark.parametrize("model", [None, 3, ["mooney_rivlin"]])
+def test_model_that_is_not_a_name_is_named(model):
+    with pytest.raises(ValueError, match=r"^hyperelastic = .* must be a model name such as "
+                                         r"'mooney_rivlin'[^\n]*$"):
+        ViscoHyperelastic(model, 1)
+
+
+@pytest.mark.parametrize("n", [np.int64(2), 0, 7])
+def test_whole_numbers_of_prony_terms_are_accepted(n):
+    m = ViscoHyperelastic("mooney_rivlin", n)
+    assert m.n_prony == int(n) and isinstance(m.n_prony, int)
+    assert len(m.param_names) == 2 + 2 * int(n)
+
+
+def test_bad_arguments_fail_before_anything_is_computed(monkeypatch):
+    # the front door checks every argument before the model lookup or the grid step
+    calls = []
+    monkeypatch.setattr(vmodel, "_dlog", lambda r: calls.append(r) or 0.1)
+    monkeypatch.setattr(vmodel._hyper, "get", lambda name: calls.append(name))
+    for kwargs in (dict(n_prony=-1), dict(n_prony=1.5), dict(rtol="x"), dict(hyperelastic=3)):
+        with pytest.raises(ValueError):
+            ViscoHyperelastic(**kwargs)
+    assert calls == []
 
 
 EPS = np.linspace(0, -0.5, 6)

@@ -1,4 +1,4 @@
-"""Tests of vhfit.viscoelastic: the paper's Prony parameterisation (SPEC §3)."""
+"""Tests of vhfit.viscoelastic: the paper's Prony parameterisation (docs/theory.md §3)."""
 
 from __future__ import annotations
 

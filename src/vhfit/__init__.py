@@ -1,6 +1,6 @@
 """vhfit: calibrate visco-hyperelastic material models to multi-rate stress-strain curves.
 
-The public API (SPEC §7)::
+The public API::
 
     import vhfit
     m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=2)

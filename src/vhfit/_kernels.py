@@ -1,6 +1,6 @@
 """The hot loop: Prony overstress of the corrected Eq. 19 by an O(n·N) recursion.
 
-Integration by parts of the conditioned form of SPEC §3 gives the overstress of
+Integration by parts of the conditioned form (docs/theory.md §5) gives the overstress of
 branch i as
 
     h_i(t) = (2/3) λ(t)² P_i(t) + (1/3) λ(t)⁻¹ Q_i(t),

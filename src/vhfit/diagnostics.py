@@ -8,7 +8,7 @@ gelatin argument, made exact for the model).
 The bound
 ---------
 For a constant-rate ramp from rest, λ(u) = 1 + r u, substitute the strain e = r u in the
-corrected Eq. 19 (SPEC §3). At strain ε the stress is
+corrected Eq. 19 (docs/theory.md §4). At strain ε the stress is
 
     σ(ε; r) = E∞ ŝ(ε) + Σ_i G_i φ(|r| τ_i; ε),
     φ(a; ε) = ∫_0^ε e^(−(ε−e)/a) ∂w/∂e de,   w(e) = ŝ(e) K(e, ε),
@@ -24,7 +24,7 @@ so for all E∞, G_i ≥ 0 and τ_i > 0, and any number of terms N ≥ 1:
     min(1, inf_a φ(ka)/φ(a))  ≤  σ(ε; r2) / σ(ε; r1)  ≤  max(1, sup_a φ(ka)/φ(a)).
 
 In the small-strain limit ŝ = ε and K = 1, so φ(a) = a (1 − e^(−ε/a)) — the closed form
-σ = E∞ ε + Σ G_i r τ_i (1 − e^(−ε/(r τ_i))) of SPEC §3 — and φ(ka)/φ(a) rises from 1
+σ = E∞ ε + Σ G_i r τ_i (1 − e^(−ε/(r τ_i))) of docs/theory.md §4 — and φ(ka)/φ(a) rises from 1
 (a → ∞, the elastic limit) to exactly k (a → 0, the viscous limit): **doubling the rate
 at most doubles the stress**, and only when E∞ → 0 and every τ_i ≪ ε / r (the paper's
 argument for gelatin). The same holds at large strain whenever ∂w/∂e is non-negative and
@@ -113,10 +113,10 @@ def _model_of(model_or_name, n_prony) -> tuple[_hyper.Hyperelastic, int]:
     else:
         hm = _hyper.get(model_or_name)
         n = 1 if n_prony is None else n_prony
-    if isinstance(n, str):  # "auto": any N >= 1 gives the same bound
+    if n == "auto":  # any N >= 1 gives the same bound
         n = 1
-    if int(n) < 0:
-        raise ValueError(f"n_prony = {n_prony!r} must be >= 0")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
     return hm, int(n)
 
 

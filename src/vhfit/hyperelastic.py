@@ -12,7 +12,7 @@ Invariant models take ``(I1, I2, *constants)``; principal-stretch models take
 ``(l1, l2, l3, *constants)``. The derivatives the stress needs are taken by the
 complex step (exact to rounding for any energy written with numpy's analytic
 functions) unless the model gives them. On the incompressible uniaxial path
-λ1 = λ, λ2 = λ3 = λ^(-1/2) (SPEC §1–2):
+λ1 = λ, λ2 = λ3 = λ^(-1/2) (docs/theory.md §1–2):
 
 * invariant models: σ_h = 2 (λ² − 1/λ) (∂W/∂I1 + ∂W/∂I2 / λ)
 * stretch models:   σ_h = λ1 ∂W/∂λ1 − λ2 ∂W/∂λ2
@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit._derivatives import central, invariant_gradient, outside_domain, stretch_gradient
+
 __all__ = [
     "Hyperelastic",
     "register",
@@ -38,14 +40,19 @@ __all__ = [
     "invariants",
 ]
 
-_H = 1e-30  # complex step: no subtractive cancellation, so any tiny step is exact
-
 _INVARIANT_ARGS = ("I1", "I2")
 _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
 
 
 def invariants(stretch) -> tuple[np.ndarray, np.ndarray]:
-    """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path."""
+    """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path.
+
+    Examples
+    --------
+    >>> I1, I2 = invariants([1.0, 2.0])
+    >>> I1.tolist(), I2.tolist()
+    ([3.0, 5.0], [3.0, 4.25])
+    """
     lam = np.asarray(stretch, dtype=np.float64)
     return lam**2 + 2.0 / lam, 2.0 * lam + 1.0 / lam**2
 
@@ -105,16 +112,7 @@ class Hyperelastic:
         return [p[..., k, None] for k in range(self.n_params)], p.shape[:-1]
 
     def _dW_invariant(self, I1, I2, cols):
-        if self.derivatives is not None:
-            return self.derivatives(I1, I2, *cols)
-        try:
-            W1 = np.imag(self.energy(I1 + 1j * _H, I2, *cols)) / _H
-            W2 = np.imag(self.energy(I1, I2 + 1j * _H, *cols)) / _H
-        except TypeError:  # energy not written for complex input: 4th-order differences
-            W1 = _central(lambda d: self.energy(I1 + d, I2, *cols))
-            W2 = _central(lambda d: self.energy(I1, I2 + d, *cols))
-        bad = _outside_domain(self.energy, I1, I2, *cols)
-        return np.where(bad, np.nan, W1), np.where(bad, np.nan, W2)
+        return invariant_gradient(self.energy, self.derivatives, I1, I2, cols)
 
     def _stress_raw(self, lam: np.ndarray, cols) -> np.ndarray:
         if self.kind == "invariant":
@@ -122,14 +120,9 @@ class Hyperelastic:
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
         l2 = lam**-0.5
-        try:
-            dW1 = np.imag(self.energy(lam + 1j * _H * lam, l2, l2, *cols)) / _H
-            dW2 = np.imag(self.energy(lam, l2 + 1j * _H * l2, l2, *cols)) / _H
-        except TypeError:
-            dW1 = _central(lambda d: self.energy(lam * (1 + d), l2, l2, *cols))
-            dW2 = _central(lambda d: self.energy(lam, l2 * (1 + d), l2, *cols))
-        # steps were relative, so dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2 already
-        return np.where(_outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
+        # relative steps: dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
+        dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1))
+        return np.where(outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
 
     # ------------------------------------------------------------------- public
     def stress(self, stretch, params) -> np.ndarray:
@@ -175,11 +168,21 @@ class Hyperelastic:
             mu = 2.0 * (np.asarray(W1) + np.asarray(W2))
         else:
             # E∞ = dσ_h/dλ at λ = 1, by 4th-order central differences (σ_h(1) = 0)
-            mu = _central(lambda d: self._stress_raw(np.array([1.0 + d]), cols)) / 3.0
+            mu = central(lambda d: self._stress_raw(np.array([1.0 + d]), cols)) / 3.0
         return np.broadcast_to(mu, lead + (1,))[..., 0].copy()
 
     def check(self, params) -> np.ndarray:
-        """Validate one set of constants against the physical bounds; return it as an array."""
+        """Validate one set of constants against the physical bounds; return it as an array.
+
+        Examples
+        --------
+        >>> get("neo_hooke").check([0.1]).tolist()
+        [0.1]
+        >>> get("neo_hooke").check([-0.1])
+        Traceback (most recent call last):
+        ...
+        ValueError: C10 = -0.1 is outside its physical range [0, inf] for model 'neo_hooke'
+        """
         p = np.asarray(params, dtype=np.float64)
         if p.shape != (self.n_params,):
             raise ValueError(
@@ -202,26 +205,15 @@ class Hyperelastic:
         Returns
         -------
         ndarray, shape (n_params, m)
+
+        Examples
+        --------
+        >>> get("mooney_rivlin").basis([2.0]).tolist()   # 2(λ² − 1/λ), 2(λ − 1/λ²)
+        [[7.0], [3.5]]
         """
         if not self.linear:
             raise ValueError(f"model {self.name!r} is not linear in its constants")
         return self.stress(stretch, np.eye(self.n_params))
-
-
-def _outside_domain(energy: Callable, *args) -> np.ndarray:
-    """Where the real energy is not finite (e.g. Gent past its locking stretch).
-
-    The complex step continues W analytically past the edge of its real domain (the
-    complex log of a negative number is finite), so its derivatives there would be
-    finite garbage; they are NaN instead.
-    """
-    with np.errstate(all="ignore"):
-        return ~np.isfinite(energy(*args))
-
-
-def _central(f: Callable[[float], np.ndarray], h: float = 1e-3) -> np.ndarray:
-    """Fourth-order central difference f'(0) for energies that reject complex input."""
-    return (8.0 * (f(h) - f(-h)) - (f(2 * h) - f(-2 * h))) / (12.0 * h)
 
 
 # ---------------------------------------------------------------------- registry
@@ -343,7 +335,16 @@ def _validate(model: Hyperelastic, strict: bool) -> None:
 
 
 def get(model: str | Hyperelastic) -> Hyperelastic:
-    """Look up a registered model by name (a :class:`Hyperelastic` passes through)."""
+    """Look up a registered model by name (a :class:`Hyperelastic` passes through).
+
+    Examples
+    --------
+    >>> mr = get("mooney_rivlin")
+    >>> mr.param_names, mr.kind, mr.linear
+    (('C10', 'C01'), 'invariant', True)
+    >>> get(mr) is mr
+    True
+    """
     if isinstance(model, Hyperelastic):
         return model
     try:
@@ -356,7 +357,13 @@ def get(model: str | Hyperelastic) -> Hyperelastic:
 
 
 def available() -> list[str]:
-    """Names of the registered models."""
+    """Names of the registered models.
+
+    Examples
+    --------
+    >>> {"mooney_rivlin", "neo_hooke", "ogden"} <= set(available())
+    True
+    """
     return sorted(_REGISTRY)
 
 

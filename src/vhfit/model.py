@@ -1,6 +1,6 @@
 """The visco-hyperelastic model: one hyperelastic law plus N Prony terms (paper Eq. 19).
 
-Stress of the corrected, conditioned Eq. 19 (SPEC §3):
+Stress of the corrected, conditioned Eq. 19 (docs/theory.md §4–5):
 
     σ(t) = σ_h(λ(t)) + Σ_i G_i h_i(t),
 
@@ -33,8 +33,22 @@ def _dlog(rtol: float) -> float:
     independent quadrature in tests/test_model.py.
     """
     if not 0 < rtol < 1:
-        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1)")
+        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1), e.g. 1e-6 (the default)")
     return min(0.1, 0.6 * rtol**0.25)
+
+
+def _check_arguments(hyperelastic, n_prony, rtol) -> None:
+    """The front door of :class:`ViscoHyperelastic`: one-line errors, nothing computed."""
+    if not isinstance(hyperelastic, (str, _hyper.Hyperelastic)):
+        raise ValueError(
+            f"hyperelastic = {hyperelastic!r} must be a model name such as 'mooney_rivlin' "
+            "(see vhfit.hyperelastic.available()) or a registered Hyperelastic"
+        )
+    if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
+        raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
+        raise ValueError(f"rtol = {rtol!r} must lie in (0, 1): give a number such as 1e-6")
+    _dlog(float(rtol))
 
 
 def _history_of(item) -> History:
@@ -73,9 +87,8 @@ class ViscoHyperelastic:
     """
 
     def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6):
+        _check_arguments(hyperelastic, n_prony, rtol)
         self.hyperelastic = _hyper.get(hyperelastic)
-        if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
-            raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
         self.n_prony = int(n_prony)
         self.rtol = float(rtol)
         self._dlog = _dlog(self.rtol)
@@ -99,7 +112,14 @@ class ViscoHyperelastic:
 
     # ------------------------------------------------------------- parameters
     def as_array(self, params) -> np.ndarray:
-        """Parameters as an array in ``param_names`` order (from a dict or a sequence)."""
+        """Parameters as an array in ``param_names`` order (from a dict or a sequence).
+
+        Examples
+        --------
+        >>> m = ViscoHyperelastic("mooney_rivlin", 1)
+        >>> m.as_array(dict(tau1=0.01, G1=2.0, C01=0.05, C10=0.1)).tolist()
+        [0.1, 0.05, 2.0, 0.01]
+        """
         if isinstance(params, Mapping):
             missing = [n for n in self.param_names if n not in params]
             extra = [k for k in params if k not in self.param_names]
@@ -118,17 +138,41 @@ class ViscoHyperelastic:
         return x
 
     def as_dict(self, x) -> dict[str, float]:
-        """Parameters as a dict name -> value."""
+        """Parameters as a dict name -> value.
+
+        Examples
+        --------
+        >>> ViscoHyperelastic("neo_hooke", 1).as_dict([0.1, 2.0, 0.01])
+        {'C10': 0.1, 'G1': 2.0, 'tau1': 0.01}
+        """
         return dict(zip(self.param_names, map(float, self.as_array(x))))
 
     def split(self, x) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(hyperelastic constants, G, tau) from parameter array(s) of shape (..., n_params)."""
+        """(hyperelastic constants, G, tau) from parameter array(s) of shape (..., n_params).
+
+        Examples
+        --------
+        >>> hyper, G, tau = ViscoHyperelastic("mooney_rivlin", 2).split([0.1, 0.05, 2, 1e-3, 1, 1])
+        >>> hyper.tolist(), G.tolist(), tau.tolist()
+        ([0.1, 0.05], [2.0, 1.0], [0.001, 1.0])
+        """
         x = np.asarray(x, dtype=np.float64)
         nh = self.hyperelastic.n_params
         return x[..., :nh], x[..., nh::2], x[..., nh + 1::2]
 
     def check(self, params) -> np.ndarray:
-        """Validate one parameter set; raise ValueError naming the bad parameter."""
+        """Validate one parameter set; raise ValueError naming the bad parameter.
+
+        Examples
+        --------
+        >>> m = ViscoHyperelastic("mooney_rivlin", 1)
+        >>> m.check([0.1, 0.05, 2.0, 0.01]).tolist()
+        [0.1, 0.05, 2.0, 0.01]
+        >>> m.check([0.1, 0.05, -2.0, 0.01])
+        Traceback (most recent call last):
+        ...
+        ValueError: G1 = -2.0: Prony moduli must be finite and >= 0 MPa
+        """
         x = self.as_array(params)
         if x.ndim != 1:
             raise ValueError(f"expected one parameter set, got shape {x.shape}")
@@ -145,13 +189,28 @@ class ViscoHyperelastic:
         return x
 
     def long_term_modulus(self, x) -> np.ndarray | float:
-        """E∞ = 3 μ0 of the hyperelastic law, MPa."""
+        """E∞ = 3 μ0 of the hyperelastic law, MPa.
+
+        Examples
+        --------
+        >>> ViscoHyperelastic("mooney_rivlin", 1).long_term_modulus([0.0, 5.0, 30.0, 1e-4])
+        30.0
+        """
         hyper = self.split(x)[0]
         E = 3.0 * self.hyperelastic.initial_shear_modulus(hyper)
         return float(E) if np.ndim(E) == 0 else E
 
     def prony_g(self, params) -> tuple[np.ndarray, float]:
-        """Dimensionless (g_i, g∞) of one parameter set (SPEC §3)."""
+        """Dimensionless (g_i, g∞) of one parameter set (docs/theory.md §3).
+
+        Examples
+        --------
+        The paper's verification material, C01 = 5 MPa and g1 = 0.5:
+
+        >>> g, g_inf = ViscoHyperelastic("mooney_rivlin", 1).prony_g([0.0, 5.0, 30.0, 1e-4])
+        >>> g.tolist(), g_inf
+        ([0.5], 0.5)
+        """
         x = self.check(params)
         return prony_g(self.long_term_modulus(x), self.split(x)[1])
 
@@ -230,6 +289,17 @@ class ViscoHyperelastic:
         -------
         Batch
             ``batch(X)`` with X of shape (P, n_params) gives (P, n_points) stresses.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vhfit.history import History
+        >>> m = ViscoHyperelastic("mooney_rivlin", 1)
+        >>> b = m.batch([History.constant_rate(np.linspace(0, -0.3, 4), -1.0)])
+        >>> X = [[0.1, 0.05, 2.0, 0.01], [0.1, 0.05, -1.0, 0.01]]   # the second is invalid
+        >>> s = b(X)
+        >>> s.shape, bool(np.all(s[0, 1:] < 0)), bool(np.all(np.isinf(s[1])))
+        ((2, 4), True, True)
         """
         return Batch(self, histories, measure)
 
@@ -237,6 +307,18 @@ class ViscoHyperelastic:
         """Model minus measured stress at every objective point of every curve, MPa.
 
         The curves are Curve objects (``.history``, ``.target_stress``, ``.measure``).
+
+        Examples
+        --------
+        >>> import numpy as np, vhfit
+        >>> m = ViscoHyperelastic("mooney_rivlin", 1)
+        >>> p = [0.1, 0.05, 2.0, 0.01]
+        >>> eps = np.linspace(-0.05, -0.3, 10)   # the curve's 10 objective points
+        >>> c = vhfit.Curve(strain=eps, stress=m.stress(p, strain=eps, strain_rate=-1.0,
+        ...                 measure="engineering"), strain_rate=-1.0)
+        >>> r = m.residual(p, [c])
+        >>> r.shape, bool(np.max(np.abs(r)) < 1e-12)
+        ((10,), True)
         """
         x = self.check(params)
         b = self.batch(curves)
@@ -311,7 +393,7 @@ class Batch:
         (P, N), returns (``s_hat``, ``h``) with shapes (P, n_points) and
         (P, N, n_points) such that the stress is ``E∞ s_hat + Σ_i G_i h[:, i]``
         (in each curve's measure). For fixed shape and τ the model is linear in
-        (E∞, G_i): the basis of the separable calibration (SPEC §4). ``parallel``
+        (E∞, G_i): the basis of the separable calibration (docs/theory.md §5, §10). ``parallel``
         chooses numba's threaded kernel (None: by problem size).
         """
         hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))

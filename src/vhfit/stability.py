@@ -19,7 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vhfit.hyperelastic import _H, Hyperelastic, _central
+from vhfit._derivatives import invariant_gradient, stretch_gradient
+from vhfit.hyperelastic import Hyperelastic
 
 __all__ = ["drucker", "StabilityReport"]
 
@@ -36,21 +37,38 @@ def _stretches(mode: str, lam: np.ndarray):
     raise ValueError(f"unknown mode {mode!r}; choose from {MODES}")
 
 
+def _columns(model: Hyperelastic, params) -> list[np.ndarray]:
+    """The law's constants as columns (..., 1) that broadcast against the stretches."""
+    p = np.asarray(params, dtype=np.float64)
+    if p.ndim == 0 or p.shape[-1] != model.n_params:
+        raise ValueError(
+            f"params: model {model.name!r} takes {model.n_params} constants "
+            f"{list(model.param_names)}, got shape {p.shape}"
+        )
+    return [p[..., k, None] for k in range(model.n_params)]
+
+
 def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
-    """σ1 − σ3 (true stress, MPa) of an incompressible hyperelastic law."""
-    cols, _ = model._columns(np.asarray(params, dtype=np.float64))
+    """σ1 − σ3 (true stress, MPa) of an incompressible hyperelastic law.
+
+    With the pressure eliminated, σa − σb = λa ∂W/∂λa − λb ∂W/∂λb; for an invariant
+    energy that is 2 W1 (λ1² − λ3²) + 2 W2 (I1 (λ1² − λ3²) − (λ1⁴ − λ3⁴)).
+
+    Examples
+    --------
+    >>> from vhfit import hyperelastic
+    >>> nh = hyperelastic.get("neo_hooke")          # σ1 − σ3 = 2 C10 (λ1² − λ3²)
+    >>> float(principal_difference(nh, [0.5], 2.0, 2.0**-0.5, 2.0**-0.5)[0])
+    3.5
+    """
+    cols = _columns(model, params)
     if model.kind == "invariant":
         I1 = l1**2 + l2**2 + l3**2
         I2 = (l1 * l2) ** 2 + (l2 * l3) ** 2 + (l3 * l1) ** 2
-        W1, W2 = model._dW_invariant(I1, I2, cols)
+        W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         a, c = l1**2, l3**2
         return 2 * W1 * (a - c) + 2 * W2 * (I1 * (a - c) - (a**2 - c**2))
-    try:
-        d1 = np.imag(model.energy(l1 * (1 + 1j * _H), l2, l3, *cols)) / _H
-        d3 = np.imag(model.energy(l1, l2, l3 * (1 + 1j * _H), *cols)) / _H
-    except TypeError:
-        d1 = _central(lambda d: model.energy(l1 * (1 + d), l2, l3, *cols))
-        d3 = _central(lambda d: model.energy(l1, l2, l3 * (1 + d), *cols))
+    d1, d3 = stretch_gradient(model.energy, l1, l2, l3, cols, axes=(0, 2))
     return d1 - d3
 
 
@@ -73,6 +91,15 @@ class StabilityReport:
     unstable: dict
 
     def describe(self) -> str:
+        """One line: stable over the checked range, or the unstable intervals per mode.
+
+        Examples
+        --------
+        >>> StabilityReport(True, (0.2, 5.0), {}).describe()
+        'Drucker-stable in uniaxial, equibiaxial and planar modes for 0.2 <= λ <= 5'
+        >>> StabilityReport(False, (0.2, 5.0), {"uniaxial": [(0.2, 0.498)]}).describe()
+        'Drucker-UNSTABLE in uniaxial: 0.2 <= λ <= 0.498'
+        """
         lo, hi = self.stretch_range
         if self.stable:
             return (

@@ -1,4 +1,4 @@
-"""Prony series in the paper's parameterisation (SPEC §3) and its conversions.
+"""Prony series in the paper's parameterisation (docs/theory.md §3) and its conversions.
 
 The paper's Prony moduli G_i are uniaxial (Young's-type) moduli beside the long-term
 uniaxial modulus E∞ = 3 μ0 of the hyperelastic law:
@@ -24,7 +24,18 @@ __all__ = [
 
 
 def check_prony(G, tau) -> tuple[np.ndarray, np.ndarray]:
-    """Validate Prony moduli G_i ≥ 0 (MPa) and relaxation times τ_i > 0 (s)."""
+    """Validate Prony moduli G_i ≥ 0 (MPa) and relaxation times τ_i > 0 (s).
+
+    Examples
+    --------
+    >>> G, tau = check_prony([30.0, 1.0], [1e-4, 1.0])
+    >>> G.tolist(), tau.tolist()
+    ([30.0, 1.0], [0.0001, 1.0])
+    >>> check_prony([1.0], [0.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: tau1 = 0.0: relaxation times must be > 0 s
+    """
     G = np.atleast_1d(np.asarray(G, dtype=np.float64))
     tau = np.atleast_1d(np.asarray(tau, dtype=np.float64))
     if G.shape != tau.shape or G.ndim != 1:

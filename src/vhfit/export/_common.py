@@ -2,7 +2,7 @@
 
 Every exporter goes through :class:`Material`: the calibrated model reduced to what a
 solver card holds — the long-term hyperelastic constants, the dimensionless Prony
-weights g_i = G_i / G0 and the relaxation times τ_i (SPEC §3) — and every parser
+weights g_i = G_i / G0 and the relaxation times τ_i (docs/theory.md §3) — and every parser
 builds a :class:`Material` back from the card's fields and turns it into vhfit
 parameters with :meth:`Material.to_params`. The two directions share no state: a
 parser sees only the text.
@@ -119,7 +119,7 @@ class Material:
     constants : dict of str to float
         Hyperelastic constants, vhfit (Abaqus) convention, LONG-TERM values.
     g : tuple of float
-        Dimensionless Prony weights g_i = G_i / G0 (SPEC §3).
+        Dimensionless Prony weights g_i = G_i / G0 (docs/theory.md §3).
     tau : tuple of float
         Relaxation times τ_i, s.
     """
@@ -180,7 +180,7 @@ class Material:
         """The constants with every stress-like (MPa) constant multiplied by ``factor``.
 
         σ_h is linear in the MPa constants of every built-in model, so ``factor = 1/g∞``
-        gives the instantaneous constants (SPEC §3: σ0 = σ_h / g∞).
+        gives the instantaneous constants (docs/theory.md §3: σ0 = σ_h / g∞).
         """
         h = _hyper.get(self.hyperelastic)
         units = dict(zip(h.param_names, h.units))

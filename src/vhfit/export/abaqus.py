@@ -10,7 +10,7 @@ Conventions (see docs/export.md for the sources):
 * Data lines: the constants, then D1..DN (0 = incompressible, Abaqus/Standard with
   hybrid elements), at most 8 values a line.
 * ``*VISCOELASTIC, TIME=PRONY`` data lines ``g_i, k_i, tau_i`` with g_i = G_i / G0 the
-  dimensionless shear relaxation modulus (SPEC §3) and k_i = 0 (no bulk relaxation).
+  dimensionless shear relaxation modulus (docs/theory.md §3) and k_i = 0 (no bulk relaxation).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ Conventions (see docs/export.md for the sources and what is verified):
 * Ansys normalises the shear relaxation as G(t)/G0 = a∞ + Σ a_i exp(−t/τ_i) with
   G0 the modulus of the elastic (here hyperelastic) input, so the ``TB,HYPER``
   constants are the INSTANTANEOUS ones: long-term / g∞. The relative moduli are
-  a_i = g_i = G_i / G0 (SPEC §3), data order a1, t1, a2, t2, ...
+  a_i = g_i = G_i / G0 (docs/theory.md §3), data order a1, t1, a2, t2, ...
 * ``TB,HYPER`` options: MOONEY (2 parameters: c10, c01, d), NEO (μ = 2 C10, d),
   YEOH (c10, c20, c30, d1..d3), POLY N=2/3 (c10, c01, c20, c11, c02[, c30, c21,
   c12, c03], d1..dN), OGDEN N (μ1, α1, ..., d1..dN). Ansys's Ogden energy is
