@@ -86,7 +86,7 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "conventions": (
             "hyperelastic constants long-term (Abaqus Cij / Ogden 2mu/alpha^2 forms); "
             "G_i uniaxial Prony moduli: E(t) = E_inf + sum G_i exp(-t/tau_i); "
-            "g_i = G_i/G0, G0 = E_inf + sum G_i (SPEC section 3)"
+            "g_i = G_i/G0, G0 = E_inf + sum G_i (docs/theory.md section 3)"
         ),
         "derived": {
             "E_inf": E_inf,
