@@ -65,6 +65,38 @@ def _names(width: int, names: list[str]) -> str:
     return "$#" + "".join(cells)[2:]
 
 
+def _check_card(mat, mid, poisson, name, density, long_format) -> None:
+    """Refuse what MAT_077_H/O cannot hold or what would not run, one line each."""
+    kind = mat.hyperelastic
+    if kind not in SUPPORTED:
+        raise unsupported(SOLVER, kind, SUPPORTED)
+    if kind == "polynomial3":
+        extra = {k: mat.constants[k] for k in ("C21", "C12", "C03") if mat.constants[k] != 0.0}
+        if extra:
+            raise unsupported(
+                SOLVER, kind, SUPPORTED,
+                f"MAT_077_H holds only {', '.join(_POLY)}; this parameter set has {extra}",
+            )
+    if not (isinstance(mid, int) and 0 < mid < 10**8):
+        raise ValueError(f"mid = {mid!r} must be a positive integer")
+    if not 0.0 <= poisson < 0.5:
+        raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
+    if not name or len(name) > 80 or "\n" in name:
+        raise ValueError(f"material title {name!r}: 1-80 characters on one line")
+    if density is not None and not (math.isfinite(density) and density > 0):
+        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
+    keyword = "OGDEN_RUBBER" if kind in _OGDEN_MODELS else "HYPERELASTIC_RUBBER"
+    if mat.n_prony > MAX_PRONY[keyword]:
+        raise ValueError(
+            f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} Prony terms; "
+            f"this model has {mat.n_prony}: prune or refit with fewer terms"
+        )
+    w = 20 if long_format else 10
+    if parse_number(fixed_number(poisson, w)) >= 0.5:
+        raise ValueError(f"PR = {poisson!r} rounds to 0.5 in {w}-character fields "
+                         "(infinite bulk modulus): use long_format=True or a smaller PR")
+
+
 def to_lsdyna(
     model,
     params=None,
@@ -122,35 +154,11 @@ def to_lsdyna(
     """
     model, params = resolve(model, params)
     mat = Material.from_model(model, params)
+    _check_card(mat, mid, poisson, name, density, long_format)
     kind = mat.hyperelastic
-    if kind not in SUPPORTED:
-        raise unsupported(SOLVER, kind, SUPPORTED)
-    if kind == "polynomial3":
-        extra = {k: mat.constants[k] for k in ("C21", "C12", "C03") if mat.constants[k] != 0.0}
-        if extra:
-            raise unsupported(
-                SOLVER, kind, SUPPORTED,
-                f"MAT_077_H holds only {', '.join(_POLY)}; this parameter set has {extra}",
-            )
-    if not (isinstance(mid, int) and 0 < mid < 10**8):
-        raise ValueError(f"mid = {mid!r} must be a positive integer")
-    if not 0.0 <= poisson < 0.5:
-        raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
-    if not name or len(name) > 80 or "\n" in name:
-        raise ValueError(f"material title {name!r}: 1-80 characters on one line")
-    if density is not None and not (math.isfinite(density) and density > 0):
-        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
     ogden = kind in _OGDEN_MODELS
     keyword = "OGDEN_RUBBER" if ogden else "HYPERELASTIC_RUBBER"
-    if mat.n_prony > MAX_PRONY[keyword]:
-        raise ValueError(
-            f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} Prony terms; "
-            f"this model has {mat.n_prony}: prune or refit with fewer terms"
-        )
     w = 20 if long_format else 10
-    if parse_number(fixed_number(poisson, w)) >= 0.5:
-        raise ValueError(f"PR = {poisson!r} rounds to 0.5 in {w}-character fields "
-                         "(infinite bulk modulus): use long_format=True or a smaller PR")
 
     mu_inst = mat.mu0 / mat.g_inf
     K = 2.0 * mat.mu0 * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
