@@ -6,7 +6,7 @@ their differential evolution (``popsize``, ``maxiter``, ``de_options``):
 
 * :class:`SeparableSpace`: for fixed relaxation times and a fixed shape of the
   hyperelastic law the stress of the corrected Eq. 19 is linear in the long-term
-  modulus E∞ and the Prony moduli G_i (docs/theory.md §5). The search covers only
+  modulus E∞ and the Prony moduli G_i (docs/theory.md §10). The search covers only
   the law's shape and log10 τ_i; each evaluation solves the moduli exactly by
   non-negative least squares (variable projection).
 * :class:`FullSpace`: the paper's all-parameter search (hyperelastic constants, G_i,

@@ -100,7 +100,7 @@ def calibrate(
         Number of Prony terms; "auto" fits N = 1..``max_prony`` and keeps the smallest
         N whose error is within ``order_tol`` (relative) of the best.
     tau_strategy : {"free", "semifree", "fixed"} or callable
-        How the τ bounds are cut from the Eq. 22 range (the paper's §2.2). Default "free".
+        How the τ bounds are cut from the Eq. 22 range (docs/theory.md §11). Default "free".
     bounds : "auto" or dict
         Search bounds; a dict overrides the automatic ones per parameter
         (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
@@ -120,13 +120,16 @@ def calibrate(
     maxiter : int, optional
         Generation cap (default 1000 separable, 100 000 full).
     tol : float
-        Relative best–mean gap of the population that ends the search (default 1e-6;
-        1e-5, the paper's 0.001 %, for the full method).
+        Best–mean gap of a generation, relative to its mean, that ends the search
+        (:class:`vhfit.optimize.BestMeanGap`; default 1e-6; 1e-5, the paper's 0.001 %,
+        for the full method).
     stall : (float, int)
         The paper's first criterion: stop when the mean error improved by less than
-        this fraction over this many generations.
+        this fraction over this many generations (:class:`vhfit.optimize.MeanImprovement`).
     target : float
-        RMSAPE (percent) that ends the search at once.
+        Objective value (RMSAPE in percent) below which the search stops at once
+        (:class:`vhfit.optimize.TargetValue`). The stopping criteria are those of
+        docs/theory.md §12; ``max_time`` adds :class:`vhfit.optimize.MaxTime`.
     polish : bool
         Refine all parameters by bounded least squares afterwards.
     g_inf_min : float
