@@ -27,7 +27,7 @@ def tau_bounds_log10(rates, n, strategy, below, above) -> np.ndarray:
 
 
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
-    """Upper search limits (docs/theory.md §11): one term alone puts every model stress over the data.
+    """Upper search limits (docs/theory.md §11): one term alone reaches every target stress.
 
     For each hyperelastic modulus and each G_i, the smallest value that makes that
     term alone (all others zero; a Prony term at the shortest τ of its bounds
