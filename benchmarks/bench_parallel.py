@@ -92,7 +92,7 @@ def main() -> None:
     import numba
     from numba.np.ufunc import parallel as nb_parallel
 
-    from vhfit.parallel import _context
+    from vhfit._pools import get_context
 
     print(f"vhfit {vhfit.__version__}, numpy {np.__version__}, numba {numba.__version__}, "
           f"python {platform.python_version()}, {os.cpu_count()} CPUs, "
@@ -108,7 +108,7 @@ def main() -> None:
         serial, _, T = run("serial, in process", jobs)
         ref = ref or constants(serial)
         # the calibrations above never start numba's thread pool, so "auto" forks
-        start = _context("auto").get_start_method()
+        start = get_context("auto").get_start_method()
         pool, t_pool, _ = run(f"process pool, {args.workers} workers ({start})", jobs,
                               args.workers)
         _, t_spawn, _ = run(f"process pool, {args.workers} workers (spawn)", jobs,

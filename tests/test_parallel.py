@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 import vhfit
+from vhfit._pools import fork_is_safe, get_context, process_pool, worker_map
 from vhfit.calibration import CalibrationWarning
 from vhfit.parallel import Job, JobResult, calibrate_many
 
@@ -159,20 +160,144 @@ def test_base_seed_gives_each_job_its_own_repeatable_seed():
 
 
 @pytest.mark.parametrize(
-    "executor, kw, err",
+    "executor, kw, err, says",
     [
-        ("cluster", {}, ValueError),
-        (0, {}, ValueError),
-        (True, {}, TypeError),
-        (3.5, {}, TypeError),
-        (None, {"max_workers": 0}, ValueError),
-        (None, {"threads_per_job": 0}, ValueError),
-        (None, {"max_pending": 0}, ValueError),
+        ("cluster", {}, ValueError, "executor = 'cluster'"),
+        (0, {}, ValueError, "executor = 0"),
+        (True, {}, TypeError, "executor = True"),
+        (3.5, {}, TypeError, "executor is a float"),
+        (None, {"max_workers": 0}, ValueError, "max_workers = 0"),
+        (None, {"max_workers": 2.0}, ValueError, "max_workers = 2.0"),
+        (None, {"threads_per_job": 0}, ValueError, "threads_per_job = 0"),
+        (None, {"threads_per_job": 1.5}, ValueError, "threads_per_job = 1.5"),
+        (None, {"max_pending": 0}, ValueError, "max_pending = 0"),
+        (None, {"seed": -1}, ValueError, "seed = -1"),
+        (None, {"seed": 1.5}, ValueError, "seed = 1.5"),
+        (None, {"seed": []}, ValueError, "seed = []"),
+        (None, {"seed": [1, "a"]}, ValueError, "seed = [1, 'a']"),
+        (2, {"mp_context": "threads"}, ValueError, "mp_context = 'threads'"),
+        (2, {"mp_context": 2}, ValueError, "mp_context is a int"),
+        (2, {"initializer": "numpy"}, ValueError, "initializer is a str"),
+        (2, {"initializer": print, "initargs": 1}, ValueError, "initargs is a int"),
+        (2, {"max_workers": 3}, ValueError, "max_workers = 3 contradicts executor = 2"),
+        (map, {"max_workers": 2}, ValueError, "max_workers sizes the pools created here"),
+        (map, {"initializer": print}, ValueError, "initializer runs in the pools"),
+        (None, {"initializer": print}, ValueError, "initializer runs in worker processes"),
     ],
 )
-def test_bad_executor_arguments_are_refused_at_once(executor, kw, err):
-    with pytest.raises(err):
-        calibrate_many([], executor, **kw)
+def test_bad_arguments_are_refused_at_once_in_one_line(executor, kw, err, says):
+    started = set(multiprocessing.active_children())
+    with pytest.raises(err) as info:
+        calibrate_many(small_jobs(1), executor, **kw)  # raises before the first next()
+    msg = str(info.value)
+    assert msg.startswith(says) and "\n" not in msg and "give" in msg
+    assert set(multiprocessing.active_children()) == started  # no pool was started
+
+
+@pytest.mark.parametrize("jobs", [{"curves": []}, "jobs.csv", 3,
+                                  Job("one", curves=[], kwargs={})])
+def test_jobs_that_are_not_a_list_of_jobs_are_refused(jobs):
+    with pytest.raises(ValueError, match=r"^jobs is a \w+: give a list"):
+        calibrate_many(jobs)
+
+
+def test_good_arguments_pass_the_front_door():
+    ctx = multiprocessing.get_context("spawn")
+    for executor, kw in [(None, {}), (None, {"max_workers": 1}), (2, {"max_workers": 2}),
+                         ("thread", {"max_workers": 2, "initializer": print}),
+                         (2, {"mp_context": ctx, "seed": [1, 2], "threads_per_job": None}),
+                         (map, {"seed": np.int64(3), "max_pending": 4})]:
+        calibrate_many([], executor, **kw).close()  # a generator: nothing has started
+
+
+# --------------------------------------------------------- the pools module
+def square(x):
+    return x * x
+
+
+def numba_threads(_):
+    import numba
+
+    return numba.get_num_threads()
+
+
+@pytest.mark.parametrize("workers", [0, -2, True, 2.0, "2", None])
+def test_worker_map_refuses_what_calibrate_refuses(workers):
+    with pytest.raises(ValueError, match=r"^workers = .*: give") as info:
+        with worker_map(workers):
+            pass
+    assert "\n" not in str(info.value)
+
+
+def test_worker_map_serial_map_like_and_all_cpus(monkeypatch):
+    with worker_map(1) as (mapper, chunks):
+        assert (mapper, chunks) == (None, 1)
+    with worker_map(np.int64(1)) as (mapper, chunks):
+        assert (mapper, chunks) == (None, 1)
+
+    def my_map(f, xs):
+        return map(f, xs)
+
+    with worker_map(my_map) as (mapper, chunks):
+        assert mapper is my_map and chunks == 2 * (os.cpu_count() or 2)
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)  # -1 = one worker per CPU
+    with worker_map(-1) as (mapper, chunks):
+        assert (mapper, chunks) == (None, 1)
+
+
+@pytest.mark.parametrize("start", ["auto", "spawn"])
+def test_worker_map_pool_maps_in_order_with_one_numba_thread_per_worker(start):
+    before = set(multiprocessing.active_children())
+    with worker_map(2, start) as (mapper, chunks):
+        assert chunks == 2
+        assert list(mapper(square, range(7))) == [k * k for k in range(7)]
+        assert set(mapper(numba_threads, range(4))) == {1}
+    assert set(multiprocessing.active_children()) <= before  # shut down on exit
+
+
+def test_worker_map_pool_gives_calibrate_the_in_process_objective_values():
+    # what calibrate sends through the map: batches of parameter vectors
+    c = curves()
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    batch = m.batch(c)
+    X = np.random.default_rng(0).uniform([0.1, 0.05, 0.5, 1e-3], [0.3, 0.2, 2.0, 1e-1],
+                                         (8, 4))
+    chunks = np.array_split(X, 2)
+    with worker_map(2) as (mapper, _):
+        got = np.concatenate(list(mapper(batch, chunks)))
+    assert np.array_equal(got, batch(X))  # bit for bit
+
+
+def set_env(key, value):
+    os.environ[key] = value
+
+
+def get_env(key):
+    return os.environ.get(key)
+
+
+def test_process_pool_runs_the_initializer_after_the_thread_cap():
+    with process_pool(1, "spawn", numba_threads=1, initializer=set_env,
+                      initargs=("VHFIT_TEST_INIT", "yes")) as pool:
+        assert pool.submit(get_env, "VHFIT_TEST_INIT").result() == "yes"
+        assert pool.submit(numba_threads, None).result() == 1
+
+
+def test_importing_the_warm_module_runs_nothing():
+    code = textwrap.dedent("""
+        import vhfit
+
+        def boom(*args, **kwargs):
+            raise AssertionError("a calibration ran at import")
+
+        vhfit.calibrate = boom  # what vhfit._warm calls
+        import vhfit._warm
+        print(vhfit._warm.calibrate is boom)
+    """)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["True"]
 
 
 # ------------------------------------------------------------------- executors
@@ -242,16 +367,14 @@ def test_own_pool_isolates_a_job_that_kills_its_worker(serial, start):
 
 
 def test_auto_start_method_forks_only_a_single_threaded_process():
-    from vhfit.parallel import _context, _fork_is_safe
-
-    assert _context("spawn").get_start_method() == "spawn"
+    assert get_context("spawn").get_start_method() == "spawn"
     done = threading.Event()
     t = threading.Thread(target=done.wait)
     t.start()
     try:
-        assert not _fork_is_safe()  # another thread might hold a lock across the fork
+        assert not fork_is_safe()  # another thread might hold a lock across the fork
         expected = "forkserver" if sys.platform.startswith("linux") else "spawn"
-        assert _context("auto").get_start_method() == expected
+        assert get_context("auto").get_start_method() == expected
     finally:
         done.set()
         t.join()
@@ -270,14 +393,14 @@ def test_calibration_keeps_numba_thread_pool_unstarted_so_pools_can_fork():
         import warnings; warnings.simplefilter("ignore")
         import numpy as np, vhfit
         from numba.np.ufunc import parallel as p
-        from vhfit.parallel import _context
+        from vhfit._pools import get_context
         m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
         eps = np.linspace(-0.05, -0.5, 10)
         curves = [vhfit.Curve(strain=eps, strain_rate=r, name=str(r),
                               stress=m.stress({TRUTH!r}, strain=eps, strain_rate=r))
                   for r in {RATES!r}]
         vhfit.calibrate(curves, n_prony=1, seed=0)
-        print(p._is_initialized, _context("auto").get_start_method())
+        print(p._is_initialized, get_context("auto").get_start_method())
     """)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300)

@@ -1,28 +1,243 @@
-"""Process pools: one place that creates them."""
+"""Process pools of vhfit: the one place that creates them.
+
+Both :func:`vhfit.calibrate` (``workers=``) and :func:`vhfit.parallel.calibrate_many`
+get their process pools here, so the start method, the cap on numba's threads in each
+worker and the warm-up of the fork server are decided once.
+
+Start method ``"auto"``: *fork* where that is safe — Linux, a single Python thread, and
+numba's threading layer not started in this process (its OpenMP layer aborts a child
+forked after it has run) — so workers start at once with vhfit imported and its kernels
+compiled; otherwise, on Linux, a *fork server* that has imported and warmed vhfit once
+per session (:mod:`vhfit._preload`), and elsewhere *spawn* (fresh interpreters).
+
+Nothing here runs at import: the warm-up is the function :func:`vhfit._warm.warm_up`,
+called only in the fork server.
+"""
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import contextlib
+import multiprocessing
 import os
+import sys
+import threading
+from collections.abc import Callable, Iterator
+from typing import Any
 
 import numpy as np
 
-__all__ = ["worker_map"]
+__all__ = ["START_METHODS", "cap_numba_threads", "check_start_method", "fork_is_safe",
+           "get_context", "process_pool", "worker_map"]
+
+#: Start methods accepted by :func:`get_context`; "auto" picks one of the others.
+START_METHODS = ("auto", "fork", "forkserver", "spawn")
+
+#: The module the fork server imports: importing it warms the server (multiprocessing
+#: runs no function there, it only imports the modules of its preload list).
+PRELOAD = "vhfit._preload"
 
 
-def _single_thread_worker() -> None:
-    # two processes x two numba threads would oversubscribe two cores
+def fork_is_safe() -> bool:
+    """True in a single-threaded Linux process whose numba thread pool never started.
+
+    Examples
+    --------
+    >>> isinstance(fork_is_safe(), bool)
+    True
+    """
+    if not sys.platform.startswith("linux") or threading.active_count() > 1:
+        return False
+    try:
+        from numba.np.ufunc import parallel as nb_parallel
+    except ImportError:  # pragma: no cover - numba is a dependency
+        return False
+    return getattr(nb_parallel, "_is_initialized", True) is False
+
+
+def check_start_method(mp_context: Any, name: str = "mp_context") -> None:
+    """Refuse, in one line naming ``name``, a start method this platform cannot use.
+
+    Parameters
+    ----------
+    mp_context : str or multiprocessing context
+        One of :data:`START_METHODS` available here, or a context object.
+    name : str
+        The argument's name in the message.
+
+    Examples
+    --------
+    >>> check_start_method("spawn")
+    >>> check_start_method("threads")
+    Traceback (most recent call last):
+    ...
+    ValueError: mp_context = 'threads': give 'auto', 'fork', 'forkserver', 'spawn' or a context
+    """
+    if isinstance(mp_context, str):
+        usable = ["auto", *multiprocessing.get_all_start_methods()]
+        if mp_context not in usable:
+            names = ", ".join(repr(m) for m in START_METHODS if m in usable)
+            raise ValueError(f"{name} = {mp_context!r}: give {names} or a context")
+    elif not callable(getattr(mp_context, "get_start_method", None)):
+        raise ValueError(
+            f"{name} is a {type(mp_context).__name__}: give 'auto', 'fork', 'forkserver', "
+            "'spawn' or a context")
+
+
+def get_context(mp_context: Any = "auto"):
+    """The multiprocessing context for ``mp_context`` ("auto" chooses, see the module).
+
+    A fork server chosen here is told to import (and so warm) vhfit when it starts.
+
+    Parameters
+    ----------
+    mp_context : str or multiprocessing context
+        "auto", "fork", "forkserver", "spawn", or a context (returned as it is).
+
+    Returns
+    -------
+    multiprocessing.context.BaseContext
+
+    Examples
+    --------
+    >>> get_context("spawn").get_start_method()
+    'spawn'
+    """
+    if not isinstance(mp_context, str):
+        return mp_context
+    if mp_context == "auto":
+        if fork_is_safe():
+            mp_context = "fork"
+        elif sys.platform.startswith("linux") and (
+            "forkserver" in multiprocessing.get_all_start_methods()
+        ):
+            mp_context = "forkserver"
+        else:
+            mp_context = "spawn"
+    ctx = multiprocessing.get_context(mp_context)
+    if mp_context == "forkserver":
+        _preload_vhfit(ctx)
+    return ctx
+
+
+def _preload_vhfit(ctx) -> None:
+    """Have the (single, per-session) fork server import and warm vhfit when it starts.
+
+    The server is a fresh single-threaded interpreter, so forking from it is safe
+    whatever this process runs; it is started once and reused by later pools. A
+    server already running keeps its preload list.
+    """
+    from multiprocessing import forkserver
+
+    server = getattr(forkserver, "_forkserver", None)
+    if server is None or getattr(server, "_forkserver_pid", None) is not None:
+        return
+    have = list(getattr(server, "_preload_modules", None) or [])
+    if PRELOAD not in have:
+        ctx.set_forkserver_preload(have + [PRELOAD])
+
+
+def cap_numba_threads(n: int) -> int | None:
+    """Limit numba's threads in this process to ``n``; return the previous number.
+
+    Workers × threads must not oversubscribe the cores. Returns None (and changes
+    nothing) when numba is missing or refuses the setting.
+
+    Examples
+    --------
+    >>> old = cap_numba_threads(1)
+    >>> cap_numba_threads(old) == 1
+    True
+    """
     try:
         import numba
 
-        numba.set_num_threads(1)
-    except (ImportError, ValueError):
-        pass
+        old = numba.get_num_threads()
+        numba.set_num_threads(max(1, min(int(n), numba.config.NUMBA_NUM_THREADS)))
+    except (ImportError, ValueError):  # pragma: no cover - numba is a dependency
+        return None
+    return old
+
+
+def _init_worker(numba_threads: int | None, initializer: Callable | None,
+                 initargs: tuple) -> None:
+    """First thing a pool worker runs: the thread cap, then the caller's initializer."""
+    if numba_threads is not None:
+        cap_numba_threads(numba_threads)
+    if initializer is not None:
+        initializer(*initargs)
+
+
+def process_pool(n: int, mp_context: Any = "auto", *, numba_threads: int | None = None,
+                 initializer: Callable | None = None,
+                 initargs: tuple = ()) -> cf.ProcessPoolExecutor:
+    """A process pool of ``n`` workers; the caller shuts it down.
+
+    Parameters
+    ----------
+    n : int
+        Number of worker processes.
+    mp_context : str or multiprocessing context, default "auto"
+        Start method, see :func:`get_context`.
+    numba_threads : int, optional
+        Cap on numba's threads in each worker (None: numba's default).
+    initializer, initargs
+        Run in every worker before its first task (after the thread cap).
+
+    Returns
+    -------
+    concurrent.futures.ProcessPoolExecutor
+
+    Examples
+    --------
+    >>> with process_pool(1, "spawn", numba_threads=1) as pool:
+    ...     pool.submit(abs, -2).result()
+    2
+    """
+    ctx = get_context(mp_context)
+    pool = cf.ProcessPoolExecutor(n, mp_context=ctx, initializer=_init_worker,
+                                  initargs=(numba_threads, initializer, tuple(initargs)))
+    if ctx.get_start_method() == "fork":
+        # fork every worker now, while it is known to be safe: the first task could
+        # come after this process has started numba's thread pool
+        pool.submit(int).result()
+    return pool
 
 
 @contextlib.contextmanager
-def worker_map(workers):
-    """(map, n_chunks) for ``workers``: 1 -> in process; int -> process pool; map-like."""
+def worker_map(workers: Any, mp_context: Any = "auto") -> Iterator[tuple[Callable | None, int]]:
+    """``(map, n_chunks)`` for the ``workers`` argument of :func:`vhfit.calibrate`.
+
+    Parameters
+    ----------
+    workers : int or map-like callable
+        1: evaluate in this process (yields ``(None, 1)``); -1: a process pool with one
+        worker per CPU; n > 1: a process pool of n workers, each capped to one numba
+        thread (yields ``(pool.map, n)``); a map-like callable ``f(func, iterable)``:
+        used as it is, with 2 × the number of CPUs chunks.
+    mp_context : str or multiprocessing context, default "auto"
+        Start method of the pool, see :func:`get_context`.
+
+    Yields
+    ------
+    (callable or None, int)
+        The map to evaluate a population with (None: in process) and the number of
+        chunks to split it into.
+
+    Raises
+    ------
+    ValueError
+        For anything else (a bool, 0, -2, a str, ...).
+
+    Examples
+    --------
+    >>> with worker_map(1) as (mapper, chunks):
+    ...     print(mapper, chunks)
+    None 1
+    >>> with worker_map(map) as (mapper, chunks):
+    ...     print(mapper is map, chunks == 2 * (os.cpu_count() or 2))
+    True True
+    """
     if callable(workers):
         yield workers, 2 * (os.cpu_count() or 2)
     elif isinstance(workers, (int, np.integer)) and not isinstance(workers, bool):
@@ -34,13 +249,8 @@ def worker_map(workers):
         if n == 1:
             yield None, 1
         else:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
-
-            # spawn, not fork: forking after numba's OpenMP threads started is unsafe
-            ctx = multiprocessing.get_context("spawn")
-            with ProcessPoolExecutor(n, mp_context=ctx, initializer=_single_thread_worker) as ex:
-                yield ex.map, n
+            with process_pool(n, mp_context, numba_threads=1) as pool:
+                yield pool.map, n
     else:
         raise ValueError(
             f"workers = {workers!r}: give an int (processes) or a map-like callable"

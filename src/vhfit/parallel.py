@@ -18,10 +18,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
-import multiprocessing
 import os
-import sys
-import threading
 import time
 import traceback as _tb
 import warnings as _warnings
@@ -30,6 +27,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from vhfit._pools import cap_numba_threads, check_start_method, process_pool
+from vhfit.calibration import calibrate
+from vhfit.data import read_csv
 
 __all__ = ["Job", "JobResult", "calibrate_many"]
 
@@ -165,20 +166,13 @@ def _run_task(task: tuple, threads: int | None = None, capture: bool = True) -> 
     caught: list = []
     try:
         if threads is not None:
-            import numba
-
-            old = numba.get_num_threads()
-            numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
-        from vhfit.calibration import calibrate
-
+            old = cap_numba_threads(threads)
         with _warnings.catch_warnings(record=True) if capture else _no_capture() as caught:
             if capture:
                 _warnings.simplefilter("always")
             if _is_path(curves) or (
                 isinstance(curves, Sequence) and curves and all(_is_path(c) for c in curves)
             ):
-                from vhfit.data import read_csv
-
                 curves = read_csv(curves)
             cal = calibrate(curves, **kwargs)
         return JobResult(name, index, cal, None, time.perf_counter() - t0,
@@ -189,9 +183,7 @@ def _run_task(task: tuple, threads: int | None = None, capture: bool = True) -> 
                          cpu_time=time.process_time() - c0)
     finally:
         if old is not None:
-            import numba
-
-            numba.set_num_threads(old)
+            cap_numba_threads(old)
 
 
 def _messages(caught) -> list[str]:
@@ -297,9 +289,13 @@ def calibrate_many(
 
     Raises
     ------
-    TypeError, ValueError
-        Only for a bad ``executor``/``max_workers``; problems of a job are reported in
-        its result.
+    ValueError
+        At once, before any job runs, for a bad argument of this function (``jobs``
+        not a list of jobs, ``max_workers``, ``seed``, ``threads_per_job``,
+        ``max_pending``, ``mp_context``, ``initializer``/``initargs``, or settings that
+        contradict each other); problems of a job are reported in its result.
+    TypeError
+        For an ``executor`` of the wrong type (a bool, a float, ...).
 
     Notes
     -----
@@ -333,23 +329,54 @@ def calibrate_many(
     N=2 True True
     broken False ValueError: n_prony = -1 must be a whole number >= 0
     """
-    if max_workers is not None and (
-        isinstance(max_workers, bool) or not isinstance(max_workers, (int, np.integer))
-        or max_workers < 1
-    ):
+    executor, max_workers = _check_arguments(
+        jobs, executor, max_workers, seed, threads_per_job, max_pending, mp_context,
+        initializer, initargs)
+    return _generate(jobs, executor, max_workers, seed, threads_per_job, max_pending,
+                     mp_context, initializer, initargs)
+
+
+def _whole(value: Any, least: int) -> bool:
+    """True for an int (not a bool) >= ``least``."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool) and (
+        value >= least)
+
+
+def _check_arguments(jobs, executor, max_workers, seed, threads, max_pending, mp_context,
+                     initializer, initargs) -> tuple:
+    """Refuse bad arguments of :func:`calibrate_many` in one line each; return
+    ``(executor, max_workers)`` normalised (an int executor becomes "process")."""
+    if isinstance(jobs, (str, bytes, Mapping, Job)) or not isinstance(jobs, Iterable):
+        raise ValueError(f"jobs is a {type(jobs).__name__}: give a list (or any iterable) of "
+                         "dicts of calibrate keywords or of vhfit.parallel.Job")
+    if max_workers is not None and not _whole(max_workers, 1):
         raise ValueError(f"max_workers = {max_workers!r}: give a whole number >= 1")
-    if threads_per_job is not None and int(threads_per_job) < 1:
-        raise ValueError(f"threads_per_job = {threads_per_job!r}: give a number >= 1 or None")
-    if max_pending is not None and int(max_pending) < 1:
-        raise ValueError(f"max_pending = {max_pending!r}: give a number >= 1 or None")
-    if executor is None and max_workers is not None and max_workers > 1:
-        executor = "process"
+    if threads is not None and not _whole(threads, 1):
+        raise ValueError(f"threads_per_job = {threads!r}: give a whole number >= 1 or None")
+    if max_pending is not None and not _whole(max_pending, 1):
+        raise ValueError(f"max_pending = {max_pending!r}: give a whole number >= 1 or None")
+    if seed is not None and not (_whole(seed, 0) or (
+        isinstance(seed, Sequence) and not isinstance(seed, str) and len(seed) > 0
+        and all(_whole(s, 0) for s in seed)
+    )):
+        raise ValueError(f"seed = {seed!r}: give a whole number >= 0, a non-empty list of "
+                         "them, or None")
+    check_start_method(mp_context)
+    if initializer is not None and not callable(initializer):
+        raise ValueError(f"initializer is a {type(initializer).__name__}: give a function "
+                         "(run once in every worker) or None")
+    if not isinstance(initargs, (tuple, list)):
+        raise ValueError(f"initargs is a {type(initargs).__name__}: give a tuple of the "
+                         "initializer's arguments")
     if isinstance(executor, bool):
         raise TypeError("executor = True/False: give None, a number of processes, or an executor")
     if isinstance(executor, (int, np.integer)):
         if executor < 1:
-            raise ValueError(f"executor = {executor!r}: a process pool needs >= 1 worker")
-        max_workers, executor = int(executor), "process"
+            raise ValueError(f"executor = {executor!r}: give a number of workers >= 1")
+        if max_workers is not None and max_workers != executor:
+            raise ValueError(f"max_workers = {max_workers!r} contradicts executor = "
+                             f"{executor!r}: give the number of workers once")
+        return "process", int(executor)
     if isinstance(executor, str) and executor not in ("process", "thread"):
         raise ValueError(f"executor = {executor!r}: give 'process', 'thread', a number, "
                          "an Executor or a map-like callable")
@@ -358,8 +385,19 @@ def calibrate_many(
             f"executor is a {type(executor).__name__}: give None, a number of processes, "
             "'process', 'thread', a concurrent.futures.Executor or a map-like callable"
         )
-    return _generate(jobs, executor, max_workers, seed, threads_per_job, max_pending,
-                     mp_context, initializer, initargs)
+    if executor is None and max_workers is not None and max_workers > 1:
+        executor = "process"
+    if executor is not None and not isinstance(executor, str):
+        if max_workers is not None:
+            raise ValueError("max_workers sizes the pools created here: give the size to your "
+                             "own executor, or pass executor='process' or 'thread'")
+        if initializer is not None:
+            raise ValueError("initializer runs in the pools created here: give it to your own "
+                             "executor, or pass executor='process' or a number of workers")
+    elif executor is None and initializer is not None:
+        raise ValueError("initializer runs in worker processes and jobs run here when "
+                         "executor=None: give executor='process' or a number of workers")
+    return executor, max_workers
 
 
 def _generate(jobs, executor, max_workers, seed, threads, max_pending, mp_context,
@@ -468,58 +506,7 @@ def _died(fut: cf.Future) -> bool:
 def _make_pool(kind: str, n: int, mp_context, initializer, initargs) -> cf.Executor:
     if kind == "thread":
         return cf.ThreadPoolExecutor(n, initializer=initializer, initargs=initargs)
-    ctx = _context(mp_context)
-    return cf.ProcessPoolExecutor(n, mp_context=ctx, initializer=initializer, initargs=initargs)
-
-
-def _fork_is_safe() -> bool:
-    """Fork only a single-threaded Linux process whose numba thread pool never started."""
-    if not sys.platform.startswith("linux") or threading.active_count() > 1:
-        return False
-    try:
-        from numba.np.ufunc import parallel as _nb_parallel
-    except ImportError:  # pragma: no cover - numba is a dependency
-        return False
-    return getattr(_nb_parallel, "_is_initialized", True) is False
-
-
-#: Modules the fork server imports once; its children then start with vhfit loaded.
-_PRELOAD = "vhfit._warm"
-
-
-def _context(mp_context):
-    if not isinstance(mp_context, str):
-        return mp_context
-    if mp_context == "auto":
-        if _fork_is_safe():
-            mp_context = "fork"
-        elif "forkserver" in multiprocessing.get_all_start_methods() and sys.platform.startswith(
-            "linux"
-        ):
-            mp_context = "forkserver"
-        else:
-            mp_context = "spawn"
-    ctx = multiprocessing.get_context(mp_context)
-    if mp_context == "forkserver":
-        _preload_vhfit(ctx)
-    return ctx
-
-
-def _preload_vhfit(ctx) -> None:
-    """Have the (single, per-session) fork server import and warm vhfit before it starts.
-
-    The server is a fresh single-threaded interpreter, so forking from it is safe
-    whatever this process runs; it is started once and reused by later pools. A
-    server already running keeps its preload list.
-    """
-    from multiprocessing import forkserver
-
-    server = getattr(forkserver, "_forkserver", None)
-    if server is None or getattr(server, "_forkserver_pid", None) is not None:
-        return
-    have = list(getattr(server, "_preload_modules", None) or [])
-    if _PRELOAD not in have:
-        ctx.set_forkserver_preload(have + [_PRELOAD])
+    return process_pool(n, mp_context, initializer=initializer, initargs=initargs)
 
 
 def _shutdown(pool: cf.Executor, abandon: bool) -> None:

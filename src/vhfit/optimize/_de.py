@@ -125,6 +125,35 @@ def _apply_preset(preset: str, given: dict) -> dict:
     return out
 
 
+def _adaptive_or_scipy(strategy) -> AdaptiveStrategy | None:
+    """The adaptive strategy named by ``strategy``, None for SciPy's; unknown names refused."""
+    adaptive = _resolve(strategy)
+    if adaptive is None and isinstance(strategy, str) and strategy not in _SCIPY_STRATEGIES:
+        raise ValueError(
+            f"strategy: unknown strategy {strategy!r}; available: "
+            f"{list(_SCIPY_STRATEGIES) + list(adaptive_strategies())}, or a callable "
+            "strategy(candidate, population, rng=None)")
+    return adaptive
+
+
+def _check_extras(population_size, history, snapshots, repair) -> tuple[int | None, int]:
+    """Validate vhfit's extra keywords; the population size and snapshot step as ints."""
+    if population_size is not None:
+        if (isinstance(population_size, bool) or not np.isscalar(population_size)
+                or int(population_size) != population_size or population_size < 5):
+            raise ValueError(
+                f"population_size must be an integer >= 5, got {population_size!r}")
+        population_size = int(population_size)
+    if history not in (True, False):
+        raise ValueError(f"history must be True or False, got {history!r}")
+    if (isinstance(snapshots, bool) or not np.isscalar(snapshots)
+            or int(snapshots) != snapshots or snapshots < 0):
+        raise ValueError(f"snapshots must be an integer >= 0, got {snapshots!r}")
+    if repair is not None and repair not in _REPAIRS:
+        raise ValueError(f"repair: unknown mode {repair!r}; available: {list(_REPAIRS)}")
+    return population_size, int(snapshots)
+
+
 def _check_bounds_and_x0(parsed, x0):
     """Refuse reversed bounds and an x0 that does not fit them; x0 as a flat array."""
     lb, ub = parsed
@@ -192,29 +221,10 @@ integrality, vectorized
             population_size, stop, repair = (given["population_size"], given["stop"],
                                              given["repair"])
 
-        # ---------------------------------------------------------------- extras
-        if population_size is not None:
-            if (isinstance(population_size, bool) or not np.isscalar(population_size)
-                    or int(population_size) != population_size or population_size < 5):
-                raise ValueError(
-                    f"population_size must be an integer >= 5, got {population_size!r}")
-            population_size = int(population_size)
+        population_size, snapshots = _check_extras(population_size, history, snapshots, repair)
         stop_c: StopCriterion | None = None if stop is None else as_criterion(stop)
-        if history not in (True, False):
-            raise ValueError(f"history must be True or False, got {history!r}")
-        if (isinstance(snapshots, bool) or not np.isscalar(snapshots)
-                or int(snapshots) != snapshots or snapshots < 0):
-            raise ValueError(f"snapshots must be an integer >= 0, got {snapshots!r}")
-        snapshots = int(snapshots)
-        if repair is not None and repair not in _REPAIRS:
-            raise ValueError(f"repair: unknown mode {repair!r}; available: {list(_REPAIRS)}")
 
-        adaptive = _resolve(strategy)
-        if adaptive is None and isinstance(strategy, str) and strategy not in _SCIPY_STRATEGIES:
-            raise ValueError(
-                f"strategy: unknown strategy {strategy!r}; available: "
-                f"{list(_SCIPY_STRATEGIES) + list(adaptive_strategies())}, or a callable "
-                "strategy(candidate, population, rng=None)")
+        adaptive = _adaptive_or_scipy(strategy)
 
         parsed = _parse_bounds(bounds)
         if parsed is not None:
@@ -247,20 +257,7 @@ integrality, vectorized
             vectorized=vectorized)
 
         if real_init is not None:
-            NP = population_size
-            self.num_population_members = NP
-            self.population_shape = (NP, self.parameter_count)
-            if real_init == "latinhypercube":
-                self.init_population_lhs()
-            elif real_init == "random":
-                self.init_population_random()
-            else:
-                self.init_population_qmc(qmc_engine=real_init)
-            if x0 is not None:
-                self.population[0] = self._unscale_parameters(x0)
-            self.constraint_violation = np.zeros((NP, 1))
-            self.feasible = np.ones(NP, bool)
-            self._random_population_index = np.arange(NP)
+            self._vh_initial_population(real_init, population_size, x0)
 
         self._vh_adaptive: AdaptiveStrategy | None = adaptive
         self._vh_astate = None
@@ -290,6 +287,22 @@ integrality, vectorized
         self._vh_resumed = False
         self._vh_nit_offset = 0
         self._vh_preconverged = False
+
+    def _vh_initial_population(self, init: str, size: int, x0) -> None:
+        """Draw the exact population ``size`` (SciPy would size it popsize x N)."""
+        self.num_population_members = size
+        self.population_shape = (size, self.parameter_count)
+        if init == "latinhypercube":
+            self.init_population_lhs()
+        elif init == "random":
+            self.init_population_random()
+        else:
+            self.init_population_qmc(qmc_engine=init)
+        if x0 is not None:
+            self.population[0] = self._unscale_parameters(x0)
+        self.constraint_violation = np.zeros((size, 1))
+        self.feasible = np.ones(size, bool)
+        self._random_population_index = np.arange(size)
 
     # ------------------------------------------------------------------ loop hooks
     def __next__(self):
