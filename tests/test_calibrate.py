@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 import pytest
+from scipy.stats import t as student_t
 
 import vhfit
 from vhfit.calibration import CalibrationWarning, auto_bounds, calibrate
@@ -232,6 +233,32 @@ def test_negligible_prony_terms_are_pruned():
     assert cal.rmsape < 1e-3
 
 
+@pytest.mark.parametrize("prune_tol, kept", [(0.3, 2), (0.4, 1)])
+def test_pruning_is_relative_to_the_sum_of_the_moduli(prune_tol, kept):
+    # τ fixed at the truth's: the linear fit recovers G1 = 1, G2 = 2 (ΣG = 3); a term is
+    # dropped when G_i <= prune_tol ΣG: 0.3 keeps both (0.9 < 1), 0.4 drops G1 (1 < 1.2)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+    curves = synthetic(truth, RANDOM_RATES)
+    cal = calibrate(curves, n_prony=2, seed=0, prune_tol=prune_tol, uncertainty=False,
+                    bounds={"tau1": (1e-3, 1e-3), "tau2": (1e-1, 1e-1)})
+    assert cal.model.n_prony == kept
+    assert cal.params[f"G{kept}"] == pytest.approx(2.0, rel=1e-6)
+    assert cal.params["tau1"] == pytest.approx(1e-3 if kept == 2 else 1e-1)
+
+
+def test_bounds_of_one_tau_apply_to_that_term_only():
+    # rates 1..1000 1/s with 2 decades below and 1 above: Eq. 22 gives log10 τ in
+    # [log10(1/1000) − 2, log10(1/1) + 1] = [−5, 1]; semifree cuts it into [−5, −2] and
+    # [−2, 1]. Fixing τ1 at 1e-4 s leaves τ2 its own piece [1e-2, 10] s.
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-4, G2=2.0, tau2=1.0)
+    curves = synthetic(truth, RANDOM_RATES)
+    cal = calibrate(curves, n_prony=2, seed=0, maxiter=3, polish=False, uncertainty=False,
+                    bounds={"tau1": (1e-4, 1e-4)}, tau_strategy="semifree",
+                    decades_below=2, decades_above=1)
+    assert cal.bounds["tau1"] == pytest.approx((1e-4, 1e-4))
+    assert cal.bounds["tau2"] == pytest.approx((1e-2, 10.0))
+
+
 def test_auto_order_picks_the_generating_number_of_terms():
     truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
     curves = synthetic(truth, RANDOM_RATES)
@@ -314,6 +341,67 @@ def test_unidentifiable_slow_tau_is_named():
     curves = synthetic(truth, (-1000.0, -100.0))  # ramps last milliseconds
     cal = calibrate(curves, n_prony=1, seed=0, bounds={"tau1": (1e2, 1e4)})
     assert any("tau1" in w for w in cal.warnings)
+
+
+@pytest.mark.parametrize("tau, expected", [
+    (0.06, {"slow", "floor"}), (0.04, {"floor"}), (6e-7, set()), (4e-7, {"fast"})])
+def test_time_window_warnings_fire_exactly_past_their_thresholds(tau, expected):
+    # ramps to ε = −0.5 at −1000 and −100 1/s last 0.5 ms and 5 ms; the first objective
+    # point (ε = −0.05) of the faster one is at 50 µs. A τ longer than 10 × 5 ms = 0.05 s
+    # is "slow", one shorter than 1 % of 50 µs = 5e-7 s is "fast". A τ fixed far above
+    # the ramps acts as elastic stiffness, so the fit puts all of it in G1 and g∞ sits on
+    # its floor (g_inf_min = 1e-6).
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01), (-1000.0, -100.0))
+    cal = calibrate(curves, n_prony=1, seed=0, bounds={"tau1": (tau, tau)}, uncertainty=False)
+    found = set()
+    for w in cal.warnings:
+        if "longer than 10x every curve's duration" in w:
+            found.add("slow")
+        elif "relaxes before the first objective point" in w:
+            found.add("fast")
+        elif "g_inf floor" in w:
+            found.add("floor")
+    assert found == expected
+    if "floor" in expected:
+        assert cal.g_inf == pytest.approx(1e-6, rel=1e-3)
+
+
+def test_confidence_interval_of_a_linear_fit_is_the_textbook_t_interval():
+    # neo-Hooke without Prony terms: true stress σ = C10 b, b = 2 (λ² − 1/λ), linear in
+    # C10. On one curve RMSAPE weighs every point alike, so the fit is least squares:
+    # Ĉ = Σ b y / Σ b², and the 95 % interval Ĉ ± t(0.975, n − 1) s / ‖b‖ with
+    # s² = Σ (y − Ĉ b)² / (n − 1).
+    rng = np.random.default_rng(1)
+    eps = np.linspace(-0.05, -0.5, 20)
+    lam = 1 + eps
+    y = 0.3 * 2 * (lam**2 - 1 / lam) * (1 + rng.normal(0, 0.02, eps.size))
+    curve = vhfit.Curve(strain=eps, stress=y, strain_rate=-1.0, measure="true")
+    cal = calibrate([curve], hyperelastic="neo_hooke", n_prony=0, seed=0)
+    y = np.asarray(curve.target_stress)  # the objective points the fit uses
+    lam = 1 + np.asarray(curve.target_strain)
+    b = 2 * (lam**2 - 1 / lam)
+    n = b.size
+    c_hat = (b @ y) / (b @ b)
+    half = student_t.ppf(0.975, n - 1) * math.sqrt((y - c_hat * b) @ (y - c_hat * b)
+                                                    / (n - 1) / (b @ b))
+    assert cal.params["C10"] == pytest.approx(c_hat, rel=1e-9)
+    lo, hi = cal.confidence["C10"]
+    assert lo == pytest.approx(c_hat - half, rel=1e-6)
+    assert hi == pytest.approx(c_hat + half, rel=1e-6)
+
+
+@pytest.mark.parametrize("stall, nit", [((1.0, 1), 1), ((1.0, 3), 3), ((0.0, 1), 6)])
+def test_stall_stops_after_its_window(stall, nit):
+    # stall = (rel, window): stop when the mean error improved by less than rel over the
+    # last `window` generations. Any improvement is < 100 %, so rel = 1 stops as soon as
+    # `window` generations exist; greedy selection never makes the mean worse, so rel = 0
+    # never stops, and the run goes on to maxiter = 6.
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01), (-1000.0, -100.0))
+    cal = calibrate(curves, n_prony=1, seed=0, stall=stall, tol=0.0, target=0.0, maxiter=6,
+                    uncertainty=False, polish=False)
+    assert cal.nit == nit
+    assert cal.stop_reason == ("maxiter" if nit == 6 else
+                               f"mean error improved < 100% over {nit} generations")
 
 
 def test_unstable_hyperelastic_law_is_reported():
@@ -433,6 +521,10 @@ def test_results_file_round_trip(tmp_path):
     assert back.per_curve_rmsape == cal.per_curve_rmsape
     assert back.history["best"] == cal.history["best"]
     assert back.stability.stable == cal.stability.stable
+    # the stability report is recomputed over the file's options.stability_range
+    data["options"]["stability_range"] = [0.5, 2.0]
+    path.write_text(json.dumps(data))
+    assert vhfit.Calibration.load(path).stability.stretch_range == (0.5, 2.0)
     fits = back.fitted_curves(curves, points=20)
     for f, c in zip(fits, curves):
         assert np.allclose(f["model"], cal.predict(c), rtol=1e-12, atol=0)
@@ -453,6 +545,7 @@ def test_load_refuses_a_file_that_is_not_a_results_file(tmp_path):
     (dict(workers=0), "workers"), (dict(popsize=3), "popsize"), (dict(maxiter=0), "maxiter"),
     (dict(tol=-1.0), "tol"), (dict(g_inf_min=1.0), "g_inf_min"), (dict(max_time=-1), "max_time"),
     (dict(max_prony=0), "max_prony"), (dict(rtol=0.0), "rtol"), (dict(stall=(0.02,)), "stall"),
+    (dict(stall=(0.02, 0)), "stall"),  # a window of 0 generations compares a mean with itself
     (dict(stability_range=(2.0, 1.0)), "stability_range"), (dict(target=float("nan")), "target"),
     (dict(callback=3), "callback"), (dict(de_options=["rand1bin"]), "de_options"),
     (dict(resume=True), "resume"), (dict(polish="yes"), "polish"),

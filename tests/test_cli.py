@@ -247,6 +247,8 @@ def test_simulate_from_parameters_and_history(tmp_path, capsys):
     (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0"], "give the loading"),
     (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--rate", "-1",
       "--strain-max", "0.5"], "opposite signs"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--rate", "-1",
+      "--strain-max", "0"], "opposite signs"),  # a ramp to ε = 0 has no strain to simulate
     (["simulate", "--model", "mooney_rivlin", "--param", "C10=abc", "--rate", "-1"],
      "not a number"),
     (["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"], "unknown model"),

@@ -174,3 +174,22 @@ def test_bad_arguments():
         rate_ratio_bounds("mooney_rivlin", [0.1], -1.0, -2.0)
     with pytest.raises(ValueError):
         rate_sensitivity([], "mooney_rivlin", -1)
+
+
+def test_a_term_that_changes_sign_between_the_rates_leaves_the_ratio_unbounded():
+    # In tension the overstress of a Mooney–Rivlin C01 shape changes sign at large
+    # stretch, at a smaller strain for the faster ramp (here τ = 0.1 s: positive at rate 1,
+    # negative at rate 2 at ε = 2.5, computed with the model). Where a term has opposite
+    # signs no mediant bound exists: the bounds are (−inf, inf). Everywhere else every term
+    # ratio is positive, so 0 < low <= 1 <= high.
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    with_g = dict(C10=0.0, C01=1.0, G1=1.0, tau1=0.1)
+    elastic = dict(with_g, G1=0.0)
+    over = [float((m.stress(with_g, strain=[2.5], strain_rate=r)
+                   - m.stress(elastic, strain=[2.5], strain_rate=r))[0]) for r in (1.0, 2.0)]
+    assert over[0] > 0 > over[1]
+    eps = np.linspace(0.05, 4.0, 80)
+    low, high = rate_ratio_bounds("mooney_rivlin", eps, 1.0, 2.0)
+    unbounded = np.isneginf(low) & np.isposinf(high)
+    assert unbounded[np.searchsorted(eps, 2.5)]
+    assert np.all(unbounded | ((low > 0) & (low <= 1) & (high >= 1)))

@@ -198,6 +198,10 @@ def test_abaqus_known_answer():
     inst = _data(to_abaqus(MR, MR_P, moduli="instantaneous", density=1e-9), "**")
     assert inst[1:4] == ["*DENSITY", "1e-09,", "*HYPERELASTIC, MOONEY-RIVLIN, MODULI=INSTANTANEOUS"]
     assert inst[4] == "0.4, 0.1, 0.0"  # long-term / g_inf
+    # D1 = 2 / K0, K0 = 2 μ_inst (1 + ν) / (3 (1 − 2ν)); μ0 = 2 (C10 + C01) = 0.5,
+    # g_inf = 1.5 / 3 = 0.5, μ_inst = 1: ν = 0.4 gives K0 = 2.8 / 0.6 = 14/3, D1 = 3/7
+    comp = _data(to_abaqus(MR, MR_P, poisson=0.4), "**")
+    assert [float(v) for v in comp[2].split(",")] == pytest.approx([0.2, 0.05, 3 / 7], rel=1e-15)
 
 
 def test_abaqus_paper_verification_case():
@@ -219,6 +223,27 @@ def test_ansys_known_answer():
     neo = vhfit.ViscoHyperelastic("neo_hooke", n_prony=1)
     lines = _data(to_ansys(neo, dict(C10=0.25, G1=1.5, tau1=0.01)), "!")
     assert lines[:2] == ["TB,HYPER,1,,,NEO", "TBDATA,1,1.0,0.0"]  # mu = 2 C10 / g_inf
+
+
+POLY2 = vhfit.ViscoHyperelastic("polynomial2", n_prony=1)
+POLY2_P = dict(C10=0.1, C01=0.02, C20=0.003, C11=0.0004, C02=0.00005, G1=2.0, tau1=0.1)
+
+
+def test_polynomial2_cards_follow_the_documented_constant_order():
+    # Abaqus *HYPERELASTIC, POLYNOMIAL, N=2 data line: C10, C01, C20, C11, C02, D1, D2;
+    # Ansys TB,HYPER,,,2,POLY: TBDATA c10, c01, c20, c11, c02, d1, d2. Every constant
+    # differs, so any other order shows. E_inf = 6 (C10 + C01) = 0.72, G0 = 2.72, and
+    # Ansys takes instantaneous constants: long-term / g_inf = long-term * 2.72 / 0.72.
+    c = [0.1, 0.02, 0.003, 0.0004, 0.00005]
+    lines = _data(to_abaqus(POLY2, POLY2_P), "**")
+    i = lines.index("*HYPERELASTIC, POLYNOMIAL, N=2, MODULI=LONG TERM")
+    assert [float(v) for v in lines[i + 1].split(",")] == pytest.approx(c + [0.0, 0.0],
+                                                                         rel=1e-15)
+    lines = _data(to_ansys(POLY2, POLY2_P), "!")
+    assert lines[0] == "TB,HYPER,1,,2,POLY"
+    tb = [float(v) for v in lines[1].split(",")[2:]] + [float(lines[2].split(",")[2])]
+    assert lines[1].split(",")[1] == "1" and lines[2].split(",")[1] == "7"
+    assert tb == pytest.approx([v * 2.72 / 0.72 for v in c] + [0.0, 0.0], rel=1e-14)
 
 
 def test_ogden_mu_conventions_known_answer():

@@ -106,6 +106,26 @@ def test_recursion_is_exact_for_a_quartic(coef, steps, log_tau):
     np.testing.assert_allclose(out, exact, rtol=0, atol=1e-12 * scale)
 
 
+@settings(max_examples=max(5, settings.default.max_examples // 2))
+@given(st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
+       st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
+       st.floats(-12.0, 12.0), st.floats(0.05, 20.0))
+def test_a_constant_stretch_leaves_the_branch_unchanged(coef, steps, log_tau, lam0):
+    """At a constant stretch λ0, a = ŝ λ0⁻² and b = ŝ λ0, so P = P_ŝ λ0⁻², Q = P_ŝ λ0 and
+    h = (2/3) λ0² P + (1/3) λ0⁻¹ Q = P_ŝ: the same exact branch as at λ ≡ 1, whatever λ0
+    (this fixes both weights, λ0² and λ0⁻¹, and the initial states a(0), b(0))."""
+    coef = np.asarray(coef)
+    t_nodes = np.concatenate([[0.0], np.cumsum(steps)])
+    tau = float(t_nodes[-1]) * 10.0**log_tau
+    ts, h = _samples(t_nodes)
+    s_hat = np.polynomial.polynomial.polyval(ts, coef)[None, :]
+    out = overstress(s_hat, np.full(ts.size, lam0), h, np.array([0, ts.size]),
+                     np.array([0, h.size]), np.array([[1.0]]), np.array([[tau]]), DERIV)[0]
+    exact = np.array([_exact_branch(coef, tau, t) for t in t_nodes])
+    scale = np.abs(coef).sum() * max(1.0, t_nodes[-1] ** 4)
+    np.testing.assert_allclose(out, exact, rtol=0, atol=1e-11 * scale)
+
+
 def test_overstress_layout_and_parallel_rows():
     """Several curves and parameter sets at once equal each alone; G scales linearly."""
     rng = np.random.default_rng(7)

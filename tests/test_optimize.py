@@ -23,6 +23,7 @@ from vhfit.optimize import (
     SHADE,
     BestMeanGap,
     DifferentialEvolutionSolver,
+    EnergySpread,
     MaxEvaluations,
     MaxGenerations,
     MaxTime,
@@ -33,6 +34,7 @@ from vhfit.optimize import (
     differential_evolution,
     paper_criteria,
 )
+from vhfit.optimize._strategies import _crossover, _repair_midpoint
 
 BOUNDS3 = [(0.0, 2.0)] * 3
 
@@ -254,12 +256,31 @@ def test_paper_criteria_defaults_and_logic():
     assert gap(_state(1.0, 1.0 + 0.9e-5))
     assert not gap(_state(1.0, 1.0 + 2e-5))
     assert gap(_state(0.0, 0.0))  # a population of identical zeros has converged
+    assert gap(_state(100.0, 100.0 + 0.9e-3))  # relative to the mean: 9e-6 <= 1e-5
+    assert not gap(_state(0.01, 0.01 + 0.9e-6))  # 9e-5 > 1e-5, although 0.9e-6 < 1e-5
     assert not gap(_state(1.0, math.inf))
+
+    # the window reaches back exactly `window` generations: a 3 % drop in generation 1,
+    # flat since, is 3 % over the 2000 generations from 0 to 2000 (no stop), and 0 %
+    # over the 1999 from 1 to 2000 (which must not be what is compared)
+    early = [1.0] + [0.97] * 2000
+    assert not mi(_state(0.5, 0.97, nit=2000, means=early))
+    assert MeanImprovement(window=1)(_state(0.5, 0.99, nit=1, means=[1.0, 0.99]))  # 1 % < 2 %
+    assert not MeanImprovement(window=1)(_state(0.5, 0.97, nit=1, means=[1.0, 0.97]))
 
     assert MaxGenerations().n == 100_000
     assert MaxGenerations(10)(_state(1, 1, nit=10)) and not MaxGenerations(10)(_state(1, 1, nit=9))
     assert TargetValue().target == 1e-3
     assert TargetValue()(_state(0.99e-3, 1)) and not TargetValue()(_state(1e-3, 1))
+
+    # SciPy's test std(E) <= atol + tol |mean(E)|: energies 0.95 and 1.05 have std 0.05
+    # and mean 1, so tol = 0.06 stops, tol = 0.04 does not; atol adds to it
+    e = np.array([0.95, 1.05])
+    assert EnergySpread(tol=0.06)(_state(0.95, 1.0, energies=e))
+    assert not EnergySpread(tol=0.04)(_state(0.95, 1.0, energies=e))
+    assert EnergySpread(tol=0.04, atol=0.011)(_state(0.95, 1.0, energies=e))
+    assert not EnergySpread(tol=0.0, atol=0.049)(_state(0.95, 1.0, energies=e))
+    assert not EnergySpread(tol=1.0)(_state(0.95, math.inf, energies=np.array([0.95, math.inf])))
     assert MaxEvaluations(100)(_state(1, 1, nfev=100))
     assert not MaxEvaluations(100)(_state(1, 1, nfev=99))
     assert MaxTime(0.5)(_state(1, 1, elapsed=0.6))
@@ -475,6 +496,8 @@ def test_lshade_population_shrinks_linearly():
                                history=True, updating="deferred", tol=0)
     sizes = r.history.population_size
     assert sizes[0] == 40 and np.all(np.diff(sizes) <= 0) and sizes[-1] == 5
+    # shrinking drops the worst members: the best energy never gets worse (elitism)
+    assert np.all(np.diff(r.history.best) <= 0)
     assert r.population.shape == (5, 3)
     # about linear in evaluations: halfway through the budget, about halfway down
     half = np.searchsorted(r.history.nfev, 1000)
@@ -515,6 +538,22 @@ def test_repair_modes():
     assert_array_equal(t[0], [0.3, 0.5, 0.8])
     with pytest.raises(ValueError, match="repair"):
         DifferentialEvolutionSolver(sphere, BOUNDS3, repair="wrap")
+
+
+def test_adaptive_strategies_repair_and_crossover_by_hand():
+    """The self-adaptive strategies' own midpoint repair and binomial crossover."""
+    # a component below 0 goes halfway from its parent to 0, one above 1 halfway to 1
+    trial = np.array([[1.5, -0.5, 0.3], [2.0, 0.7, -1.0]])
+    parents = np.array([[0.8, 0.4, 0.1], [0.2, 0.9, 0.6]])
+    assert_array_equal(_repair_midpoint(trial, parents), [[0.9, 0.2, 0.3], [0.6, 0.7, 0.3]])
+    # binomial crossover: component j from the mutant where u_j < CR, and j_rand always
+    u = np.array([[0.1, 0.95, 0.5, 0.7], [0.6, 0.2, 0.9, 0.3]])
+    jrand = np.array([3, 0])
+    cand = np.array([0, 1])
+    mutants = np.ones((2, 4))
+    parents = np.zeros((2, 4))
+    out = _crossover(u, jrand, np.array([0.6, 0.25]), cand, mutants, parents)
+    assert_array_equal(out, [[1, 0, 1, 1], [1, 1, 0, 0]])
 
 
 def test_nan_objective_is_inf_with_extras():

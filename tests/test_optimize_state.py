@@ -365,3 +365,22 @@ def test_refused_state_leaves_the_solver_untouched():
         s.load_state(bad)
     assert s.state_dict()["population"] == before["population"]
 
+
+
+def test_a_loaded_state_gives_the_criteria_the_best_and_mean_of_its_population():
+    seen = []
+
+    def spy(state):
+        seen.append((state.best, state.mean))
+        return False
+
+    first = make("best1bin", "deferred", False, False, history=True, stop=spy)
+    for _ in range(CUT):
+        next(first)
+    second = make("best1bin", "deferred", False, False, history=True, stop=spy)
+    second.load_state(json_round_trip(first.state_dict()))
+    seen.clear()
+    assert not second.converged()
+    e = second.population_energies
+    assert e.min() < e.mean()  # the test below can tell best from mean
+    assert seen == [(e.min(), pytest.approx(e.mean(), rel=1e-14))]

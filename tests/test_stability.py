@@ -136,6 +136,21 @@ def test_planar_mode_follows_the_sign_of_c10_plus_c01(c10, c01, planar_stable):
         assert rep.unstable["planar"] == [pytest.approx((LO, HI))]
 
 
+def test_planar_yeoh_edges_are_the_hand_values():
+    # Yeoh, C30 = 0: W1 = C10 + 2 C20 x with, in planar tension (λ, 1, 1/λ) and u = ln λ,
+    # x = I1 − 3 = 2 cosh 2u − 2 and σ1 − σ3 = 2 W1 (λ² − λ⁻²) = 4 sinh 2u · W1. With
+    # c = cosh 2u, T = dσ/du = 8 c (C10 + 4 C20 (c − 1)) + 32 C20 (c² − 1), which vanishes
+    # where c C10 + 4 C20 (2c² − c − 1) = 0. C10 = 1, C20 = −0.05: c² − 3c − 1/2 = 0,
+    # c = (3 + √11)/2; unstable for |u| ≥ acosh(c)/2, symmetric in ln λ (λ ↔ 1/λ).
+    c = (3.0 + math.sqrt(11.0)) / 2.0
+    edge = math.exp(math.acosh(c) / 2.0)  # ≈ 2.4808
+    rep = drucker(hyp.get("yeoh"), [1.0, -0.05, 0.0])
+    (lo_a, lo_b), (hi_a, hi_b) = rep.unstable["planar"]
+    assert lo_a == pytest.approx(LO) and hi_b == pytest.approx(HI)
+    assert_upper_edge(lo_b, 1.0 / edge)
+    assert_lower_edge(hi_a, edge)
+
+
 def test_interval_edges_move_with_the_grid_resolution():
     # a finer grid brings the reported edge closer to the exact 1/2
     for n in (50, 400, 4000):
