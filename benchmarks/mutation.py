@@ -42,7 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from mutants import MUTANTS, Mutant  # noqa: E402
 
 PYTEST = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider",
-          "--no-header", "-o", "addopts=", "-m", "not slow"]
+          "--no-header", "-o", "addopts=", "-m", "not slow", "-rfE"]
 
 
 def check_list(mutants: list[Mutant]) -> list[str]:
@@ -108,8 +108,9 @@ def run_mutant(m: Mutant, base: Path, work: Path, timeout: float) -> tuple[str, 
         return "error", dt, f"timeout after {timeout:g} s"
     if rc == 0:
         return ("equivalent" if m.equivalent else "survived"), dt, out
-    if rc in (1,):  # tests failed: the mutant is caught
-        return "killed", dt, out.splitlines()[-1] if out else ""
+    if rc in (1,):  # tests failed: the mutant is caught, by the first FAILED test
+        failed = [ln for ln in out.splitlines() if ln.startswith(("FAILED", "ERROR"))]
+        return "killed", dt, (failed or out.splitlines() or [""])[0]
     # 2: interrupted/collection error (e.g. an import fails): also a catch, but say so
     return "killed", dt, f"pytest exit {rc}: " + (out.splitlines()[-1] if out else "")
 
@@ -129,7 +130,7 @@ def main(argv=None) -> int:
                     help="seconds per mutant's test run (default 300)")
     ap.add_argument("--target", type=float, default=0.9, help="kill rate to reach (default 0.9)")
     ap.add_argument("--verbose", "-v", action="store_true",
-                    help="print the test output of survivors")
+                    help="also print the test that killed each mutant")
     args = ap.parse_args(argv)
 
     problems = check_list(MUTANTS)
@@ -171,7 +172,7 @@ def main(argv=None) -> int:
                 status, dt, detail = f.result()
                 results[m.name] = (status, dt, detail)
                 print(f"  {status:10s} {dt:6.1f} s  {m.name}", flush=True)
-                if status in ("survived", "error") or (args.verbose and status != "killed"):
+                if status in ("survived", "error") or args.verbose:
                     print("    " + detail.replace("\n", "\n    "))
     return report(chosen, results, time.perf_counter() - t0, args.target)
 

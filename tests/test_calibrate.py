@@ -278,6 +278,18 @@ def test_g_inf_floor_is_respected_and_reported():
     assert any("floor" in w for w in cal.warnings)
 
 
+def test_auto_order_keeps_the_smallest_n_within_order_tol():
+    # noisy data of two terms: N = 2 fits better than N = 1, but every N is within a
+    # relative order_tol of 100 of the best, so the smallest, N = 1, is kept
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+    curves = synthetic(truth, RANDOM_RATES, noise=0.02)
+    cal = calibrate(curves, n_prony="auto", max_prony=2, seed=0, order_tol=100.0, maxiter=30,
+                    uncertainty=False)
+    errors = [row["rmsape"] for row in cal.order_scan]
+    assert errors[1] < errors[0]
+    assert cal.options["n_prony_chosen"] == 1 and cal.rmsape == errors[0]
+
+
 def test_user_bounds_override_automatic_ones():
     curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
     cal = calibrate(curves, n_prony=1, seed=0, bounds={"tau1": (0.001, 0.005)})

@@ -182,6 +182,11 @@ def test_trim_restricts_points_not_history():
     assert both.target_strain.min() >= 0.1 - 1e-12 and both.target_time.max() <= 1.5
     with raises("keeps 0 sample", "widen it"):
         c.trim(strain=(0.1, 0.2))
+    # n_points re-spaced points interpolate between samples: a window needs two of them
+    ramp = Curve(np.linspace(0, -0.5, 11), np.linspace(0, -1, 11), strain_rate=-1.0,
+                 n_points=5)
+    with raises("keeps 1 sample", "widen it"):
+        ramp.trim(strain=(-0.26, -0.24))
     with raises("low >= high"):
         c.trim(time=(2.0, 1.0))
 
@@ -293,6 +298,8 @@ def test_mixed_signs_need_a_time_column():
          ["row 2", "appears twice", "row 1"]),
         (dict(strain=[0, -0.5, -1.2], stress=[0, -1, -2], strain_rate=-1),
          ["row 2", "stretch 1 + strain <= 0"]),
+        (dict(strain=[0, -0.5, -1.0], stress=[0, -1, -2], strain_rate=-1),
+         ["row 2", "stretch 1 + strain <= 0"]),  # the edge: stretch exactly 0
         (dict(strain=[0, 0, 0], stress=[0, 1, 2], strain_rate=-1), ["strain is 0 at every"]),
         (dict(strain=[0, -0.1], stress=[0, -1], strain_rate=0.0), ["non-zero rate"]),
         (dict(strain=[0, -0.1], stress=[0, -1], strain_rate="fast"), ["not a number"]),
