@@ -80,6 +80,8 @@ MUTANTS: list[Mutant] = [
       "return lam, lam, lam**-2.0", "return lam, lam**-0.5, lam**-0.5",
       "the equibiaxial stretches of the stability check replaced by uniaxial ones",
       ("tests/test_stability.py",)),
+    # for Mooney–Rivlin and one-term Ogden this mutant keeps the sign of every planar
+    # tangent (σ1 − σ3 = 2 (C10 + C01)(λ² − λ⁻¹)): only a law like Yeoh with C20 < 0 shows it
     M("stability_planar_compressible", "vhfit/stability.py",
       "return lam, np.ones_like(lam), 1.0 / lam", "return lam, np.ones_like(lam), lam**-0.5",
       "planar mode with a wrong third stretch (volume not conserved)",
@@ -321,6 +323,8 @@ MUTANTS: list[Mutant] = [
       "kappa = prob.g_inf_min if",
       "g∞ floor: E∞ ≥ g_min ΣG instead of g_min/(1 − g_min) ΣG",
       CAL),
+    # with N = 1, or with the "free" strategy (every term the same range, terms sorted
+    # afterwards), this mutant is invisible: it needs N = 2 and semifree pieces
     M("bounds_tau_override_index", "vhfit/calibration/_bounds.py",
       "tau_b[int(k[3:]) - 1] = np.log10([lo, hi])",
       "tau_b[int(k[3:]) % n_prony] = np.log10([lo, hi])",
