@@ -23,13 +23,12 @@ from __future__ import annotations
 import math
 import re
 import time
-import warnings
 
 import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibration import CalibrationWarning, calibrate
+from vhfit.calibration import calibrate
 from vhfit.calibration._report import (
     confidence,
     finish,
@@ -47,11 +46,8 @@ EARLIEST = 0.05 / 100.0  # s, first objective point (strain -0.05) of the -100/s
 NUM = r"([-+]?[0-9.]+(?:e[-+]?\d+)?)"
 
 
-@pytest.fixture(autouse=True)
-def _quiet():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CalibrationWarning)
-        yield
+# the fits here warn by design; the tests read the warnings from the report
+pytestmark = pytest.mark.filterwarnings("ignore::vhfit.calibration.CalibrationWarning")
 
 
 def ramps(params, rates=RATES, model=MR1, n=10, noise=0.0, seed=0):
@@ -77,19 +73,28 @@ def test_the_constructed_time_window_is_as_computed():
 # --------------------------------------------------------------------- slow τ
 
 
-@pytest.mark.parametrize("factor, fires", [(5, False), (9, False), (11, True), (20, True),
-                                           (100, True)])
-def test_slow_tau_fires_beyond_ten_times_the_longest_duration(factor, fires):
-    tau = factor * LONGEST
+SLOW = (LONGEST, r"is longer than 10x every curve's duration \(longest {NUM} s\)")
+FAST = (EARLIEST, r"relaxes before the first objective point of every curve \(earliest {NUM} s\)")
+
+
+def check_window_warning(factor, fires, rule):
+    """τ = factor × the rule's reference time: fires or not, quoting τ and that time."""
+    ref, text = rule
+    tau = factor * ref
     msgs = time_window_warnings(MR1, np.array([0.2, 0.1, 1.0, tau]), CURVES)
     assert bool(msgs) is fires
     if fires:
         (m,) = msgs
-        got = re.search(rf"tau1 = {NUM} s is longer than 10x every curve's duration "
-                        rf"\(longest {NUM} s\)", m)
+        got = re.search(rf"tau1 = {NUM} s " + text.format(NUM=NUM), m)
         assert got, m
         assert float(got.group(1)) == pytest.approx(tau, rel=5e-3)
-        assert float(got.group(2)) == pytest.approx(LONGEST, rel=5e-3)
+        assert float(got.group(2)) == pytest.approx(ref, rel=5e-3)
+
+
+@pytest.mark.parametrize("factor, fires", [(5, False), (9, False), (11, True), (20, True),
+                                           (100, True)])
+def test_slow_tau_fires_beyond_ten_times_the_longest_duration(factor, fires):
+    check_window_warning(factor, fires, SLOW)
 
 
 def test_slow_tau_is_measured_against_the_longest_not_the_shortest_curve():
@@ -114,16 +119,7 @@ def test_the_warning_names_the_right_term():
 @pytest.mark.parametrize("factor, fires", [(0.001, True), (0.005, True), (0.009, True),
                                            (0.011, False), (0.02, False), (0.1, False)])
 def test_fast_tau_fires_below_a_hundredth_of_the_earliest_point(factor, fires):
-    tau = factor * EARLIEST
-    msgs = time_window_warnings(MR1, np.array([0.2, 0.1, 1.0, tau]), CURVES)
-    assert bool(msgs) is fires
-    if fires:
-        (m,) = msgs
-        got = re.search(rf"tau1 = {NUM} s relaxes before the first objective point of "
-                        rf"every curve \(earliest {NUM} s\)", m)
-        assert got, m
-        assert float(got.group(1)) == pytest.approx(tau, rel=5e-3)
-        assert float(got.group(2)) == pytest.approx(EARLIEST, rel=5e-3)
+    check_window_warning(factor, fires, FAST)
 
 
 def test_fast_tau_is_measured_against_the_earliest_point_of_all_curves():
