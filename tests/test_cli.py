@@ -112,7 +112,7 @@ def test_demo_end_to_end(demo):
     res = json.loads((out / "results.json").read_text())
     assert res["status"] == "complete" and res["interrupted"] is False
     assert res["rmsape"] <= 0.01  # percent
-    assert "synthetic" in res["data_label"]
+    assert "synthetic" in res["data_label"] and res["data_label"] == datasets.SEBS_LABEL
     assert res["n_prony"] == 4 and res["seed"] == 0
     for k, v in datasets.SEBS_PARAMS.items():
         assert res["params"][k] == pytest.approx(v, rel=1e-3), k
