@@ -8,7 +8,8 @@ evaluations and the worst relative error of the recovered constants; the noise s
 (Random_3 ±5 %, 5 trials) beside the RMSAPE of the true parameters on the same noisy
 data; and, side by side in the same run, the paper's all-parameter DE (paper preset,
 on our evaluator) against our default, with the time each needs to reach the paper
-method's final error. Timings are medians on this machine (2 cores, shared).
+method's final error. Timings are medians on the machine that runs it (its number of
+cores is printed; other work running there slows them).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Speed of the constitutive core (issue 2): one population evaluation, cold start, memory.
+"""Speed of the constitutive core: one population evaluation, cold start, memory.
 
 Run::
 

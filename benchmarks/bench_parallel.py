@@ -14,8 +14,8 @@ The 40 jobs mix materials (SEBS and gelatin stand-ins, three Random_3 materials 
 3. through a local Dask cluster (2 worker processes × 1 thread) when
    ``distributed`` is installed, again checking the constants.
 
-Target (issue 6): pool wall time <= 1.3 x T / workers. The machine is shared: the load
-average is printed with the figures.
+Target: pool wall time <= 1.3 x T / workers. Other work on the machine slows the pool:
+the load average is printed with the figures.
 """
 
 from __future__ import annotations

@@ -18,6 +18,8 @@ ROOT = os.environ.get(
 
 def main() -> None:
     root = os.path.normpath(ROOT)
+    if not os.path.isdir(root):
+        raise SystemExit(f"no datasets at {root}: set VHFIT_DATA to their directory")
     files = sorted(
         f for f in glob.glob(f"{root}/**/*.csv", recursive=True) if not f.endswith("index.csv")
     )

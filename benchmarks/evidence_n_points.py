@@ -8,6 +8,7 @@
    the whole measured curve from its objective points (by='segments'), RMS error relative to the
    curve's mean |stress|, for n per leg.
 """
+import csv
 import glob
 import os
 import warnings
@@ -15,12 +16,15 @@ import warnings
 import numpy as np
 from scipy.optimize import nnls
 
-from vhfit.data import read_csv
+from vhfit.data import Curve, read_csv
 
 warnings.simplefilter("ignore")
 D = os.environ.get(
     "VHFIT_DATA", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data")
 ) + os.sep
+
+if not os.path.isdir(D):
+    raise SystemExit(f"no datasets at {os.path.normpath(D)}: set VHFIT_DATA to their directory")
 
 def mr_basis(strain):  # engineering stress of Mooney-Rivlin per unit C10, C01
     lam = 1 + strain
@@ -43,12 +47,10 @@ for f in ("treloar1944_uniaxial_tension.csv", "treloar1944_uniaxial_tension_alt_
     curves.append(read_csv(D + "treloar1944_kawabata1981/" + f, rate=1e-3)[0])
 for region in ("cortex", "corona_radiata", "basal_ganglia", "corpus_callosum"):
     # brain: the compression half (stretch <= 1) as its own monotone curve
-    import csv
     rows = [r for r in csv.DictReader(open(D + "brain_budday2017_quasistatic/budday2017_brain.csv"))
             if r["region"] == region and r["mode"].startswith("uniaxial") and float(r["stretch_or_shear_amount"]) <= 1]
     lam = np.array([float(r["stretch_or_shear_amount"]) for r in rows])[::-1]
     sig = np.array([float(r["nominal_stress_kPa"]) for r in rows])[::-1] * 1e-3
-    from vhfit.data import Curve
     curves.append(Curve(lam - 1, sig, strain_rate=-1e-3, name=f"brain {region} (compression)"))
 
 ns = [3, 5, 8, 10, 15, 20, 40]

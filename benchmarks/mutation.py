@@ -53,8 +53,13 @@ def check_list(mutants: list[Mutant]) -> list[str]:
             out.append(f"{m.name}: duplicate name")
         seen.add(m.name)
         for t in m.tests:
-            if not (ROOT / t.split("::")[0]).is_file():
+            path = ROOT / t.split("::")[0]
+            if not path.is_file():
                 out.append(f"{m.name}: test file {t} not found")
+            elif "::" in t:  # a test function, possibly with parameters
+                func = t.split("::")[1].split("[")[0]
+                if f"def {func}(" not in path.read_text(encoding="utf-8"):
+                    out.append(f"{m.name}: test {t} not found")
         if not m.tests:
             out.append(f"{m.name}: no tests")
     return out

@@ -31,7 +31,7 @@ import tempfile
 import threading
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 
 
 def _peek_workers(argv) -> int:
@@ -54,7 +54,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import cases  # noqa: E402
 
+# vhfit loads its optimizer lazily: import it here, so that a spawned worker (which
+# re-imports this module) loads it as it starts, not inside its first timed calibration
 import vhfit  # noqa: E402
+import vhfit.optimize  # noqa: E402, F401
+from vhfit._pools import process_pool  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -212,13 +216,6 @@ def run_job(spec: dict) -> dict:
 
 def _worker_init():
     warnings.simplefilter("ignore")
-    for attempt in range(5):  # the package may be mid-edit by others: retry the import
-        try:
-            import vhfit.calibration  # noqa: F401
-            import vhfit.optimize  # noqa: F401
-            return
-        except Exception:
-            time.sleep(3 * (attempt + 1))
 
 
 # ----------------------------------------------------------------------- the plan
@@ -327,8 +324,8 @@ class LoadSampler(threading.Thread):
 def execute(jobs, workers) -> list[dict]:
     jobs = sorted(jobs, key=_cost, reverse=True)  # longest first: better packing
     out, t0 = [], time.perf_counter()
-    ctx = __import__("multiprocessing").get_context("spawn")
-    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_worker_init) as ex:
+    # spawn: fresh interpreters, each with the NUMBA_NUM_THREADS set at the top
+    with process_pool(workers, "spawn", initializer=_worker_init) as ex:
         futs = [ex.submit(run_job, j) for j in jobs]
         for i, f in enumerate(as_completed(futs), 1):
             out.append(f.result())

@@ -6,8 +6,9 @@ Two profiles are registered:
     Derandomised (the same examples on every run and every machine, no example
     database written to disk), no per-example deadline (the first call of a numba
     kernel compiles or loads its cache), and a small example budget so that the
-    whole suite stays fast. Property tests whose examples are expensive scale their
-    own budget down from ``settings.default.max_examples``.
+    whole suite stays fast. Accuracy property tests (comparisons with closed forms
+    and quadrature) draw at least 50 valid cases each instead, whatever the
+    profile: ``tests/_budget.py`` sets and checks their budget.
 ``long``
     Random, many examples, for a thorough search run by hand::
 

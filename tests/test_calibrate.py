@@ -339,13 +339,15 @@ def test_summary_and_json_report_everything():
     assert set(d["confidence"]) == set(cal.params)
 
 
-def test_confidence_intervals_cover_the_truth_under_noise():
+def test_confidence_intervals_of_one_noisy_fit_hold_the_truth_and_are_narrow():
+    # one fit only: coverage over many trials is tested in test_calibration_uncertainty
     truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
     curves = synthetic(truth, RANDOM_RATES, noise=0.01, seed=6, n=30)
     cal = calibrate(curves, n_prony=1, seed=0)
-    lo, hi = cal.confidence["G1"]
-    assert lo < cal.params["G1"] < hi
-    assert hi - lo < 0.5 * truth["G1"]
+    for name, v in truth.items():
+        lo, hi = cal.confidence[name]
+        assert lo < v < hi, name
+        assert hi - lo < 0.1 * v, name  # 1 % noise on 120 points: a few % at most
 
 
 def test_unidentifiable_slow_tau_is_named():
@@ -416,12 +418,15 @@ def test_stall_stops_after_its_window(stall, nit):
                                f"mean error improved < 100% over {nit} generations")
 
 
-def test_unstable_hyperelastic_law_is_reported():
+def test_stability_report_of_a_stable_fit_names_the_checked_range():
+    # stable truth (C10, C01 > 0): the report says so over the range asked for; unstable
+    # fits are reported in tests/test_calibration_report.py
     curves = synthetic(dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.01), (-1.0, -100.0))
     cal = calibrate(curves, n_prony=1, seed=0, bounds={"C01": (-0.5, 0.5)},
                     stability_range=(0.05, 20.0))
-    assert cal.stability is not None
-    assert cal.stability.describe().startswith("Drucker")
+    assert cal.stability.stable
+    assert cal.stability.stretch_range == (0.05, 20.0)
+    assert not any("Drucker" in w for w in cal.warnings)
 
 
 # ------------------------------------------------------------------ bad input
@@ -526,7 +531,8 @@ def test_results_file_round_trip(tmp_path):
     path = tmp_path / "results.json"
     cal.save(path, curves=curves, extra={"note": "x"})
     data = json.loads(path.read_text())
-    assert data["format"] == "vhfit-results-1" and data["status"] == "complete"
+    assert data["format"] == vhfit.calibration.RESULTS_FORMAT == "vhfit-results-1"
+    assert data["status"] == "complete"
     assert data["note"] == "x" and len(data["curves"]) == len(curves)
     back = vhfit.Calibration.load(path)
     assert back.params == cal.params

@@ -112,7 +112,7 @@ def test_demo_end_to_end(demo):
     res = json.loads((out / "results.json").read_text())
     assert res["status"] == "complete" and res["interrupted"] is False
     assert res["rmsape"] <= 0.01  # percent
-    assert "synthetic" in res["data_label"]
+    assert "synthetic" in res["data_label"] and res["data_label"] == datasets.SEBS_LABEL
     assert res["n_prony"] == 4 and res["seed"] == 0
     for k, v in datasets.SEBS_PARAMS.items():
         assert res["params"][k] == pytest.approx(v, rel=1e-3), k
@@ -487,3 +487,71 @@ def test_parse_helpers():
         count_prony({"G1": 1, "tau1": 1, "G2": 2})
     with pytest.raises(cli.UsageError, match="NAME=VALUE"):
         parse_params("C10")
+
+
+# ================================================= entry points, exit codes, plug-ins
+def test_exit_codes_are_the_documented_ones(tmp_path, capsys):
+    """docs/cli.md: 0 success, 1 fit failed or interrupted, 2 bad input."""
+    assert (cli.EXIT_OK, cli.EXIT_FAILED, cli.EXIT_USAGE) == (0, 1, 2)
+    assert cli.main(["models"]) == cli.EXIT_OK
+    assert cli.main(["export", str(tmp_path / "none.json"), "--to", "abaqus"]) == cli.EXIT_USAGE
+    assert capsys.readouterr().err.startswith("vhfit: error: ")
+
+
+def test_a_failing_fit_is_exit_1_and_one_line(noisy, tmp_path, monkeypatch, capsys):
+    def broken(*args, **kwargs):
+        raise RuntimeError("solver exploded\nsecond line")
+
+    monkeypatch.setattr(vhfit.cli._fit, "calibrate", broken)
+    argv = ["fit", *map(str, noisy), "--out", str(tmp_path / "out"), "--no-plot", "-q"]
+    capsys.readouterr()
+    assert cli.main(argv) == cli.EXIT_FAILED
+    err = [x for x in capsys.readouterr().err.splitlines() if x.strip()]
+    assert len(err) == 1 and err[0].startswith("vhfit: error: the fit failed: solver exploded")
+    with pytest.raises(cli.FitFailed, match="the fit failed: solver exploded"):  # --debug
+        cli.main(argv + ["--debug", "--force"])
+
+
+def test_build_parser_reads_the_fit_command():
+    args = cli.build_parser().parse_args(
+        ["fit", "a.csv", "b.csv", "--prony", "3", "--model", "ogden2", "--seed", "7"])
+    assert args.command == "fit" and args.curves == ["a.csv", "b.csv"]
+    assert args.prony == 3 and args.model == "ogden2" and args.seed == 7
+    assert args.func is vhfit.cli._fit.cmd_fit
+    export = cli.build_parser().parse_args(["export", "r.json", "--to", "lsdyna"])
+    assert (export.command, export.to) == ("export", "lsdyna")
+    with pytest.raises((SystemExit, cli.UsageError)):
+        cli.build_parser().parse_args(["export", "r.json", "--to", "nastran"])
+
+
+def test_load_plugins_registers_the_models_of_the_entry_point_group(tmp_path, monkeypatch):
+    assert cli.PLUGIN_GROUP == "vhfit.models"  # docs/cli.md: the entry-point group
+    dist = tmp_path / "inproc_plug-1.0.dist-info"
+    dist.mkdir()
+    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: inproc_plug\nVersion: 1.0\n")
+    (dist / "entry_points.txt").write_text(
+        f"[{cli.PLUGIN_GROUP}]\nsquare = inproc_plug_models:register_all\n"
+        "missing = inproc_plug_nowhere\n[other.group]\nignored = inproc_plug_nowhere\n")
+    (tmp_path / "inproc_plug_models.py").write_text(textwrap.dedent("""
+        import vhfit
+
+        def register_all():
+            @vhfit.hyperelastic.register("_test_inproc_square", example=(1.0,))
+            def square(I1, I2, c):
+                return c * (I1 - 3) ** 2
+    """))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        found = {p["name"]: p for p in cli.load_plugins()}
+        assert found["square"]["models"] == ["_test_inproc_square"]
+        assert found["square"]["error"] is None
+        assert found["square"]["distribution"] == "inproc_plug"
+        assert "ModuleNotFoundError" in found["missing"]["error"]
+        assert "ignored" not in found  # another group
+        assert "_test_inproc_square" in vhfit.hyperelastic.available()
+        vhfit.hyperelastic.unregister("_test_inproc_square")
+        with pytest.raises(ModuleNotFoundError):  # strict: the broken plug-in raises
+            cli.load_plugins(strict=True)
+    finally:
+        if "_test_inproc_square" in vhfit.hyperelastic.available():
+            vhfit.hyperelastic.unregister("_test_inproc_square")

@@ -899,3 +899,43 @@ def test_docstring_examples_of_the_data_package_run(mod):
     name = "vhfit.data" if mod == "__init__" else f"vhfit.data.{mod}"
     out = doctest.testmod(importlib.import_module(name), optionflags=doctest.ELLIPSIS)
     assert out.failed == 0
+
+
+# ------------------------------------------------- segment tolerances (docs of Curve's by=)
+def _dip(d):
+    """Up to 0.1, back by a fraction d of the range 0.2, up to 0.2 (30 s)."""
+    t = np.linspace(0, 30, 3001)
+    return t, np.interp(t, [0, 10, 20, 30], [0, 0.1, 0.1 - d * 0.2, 0.2])
+
+
+def _ramp_hold(hold_fraction, creep=0.0):
+    """A ramp to 0.2, then a hold of that fraction of 100 s, creeping by creep × 0.2."""
+    t = np.linspace(0, 100.0, 2001)
+    return t, np.interp(t, [0, 100 * (1 - hold_fraction), 100], [0, 0.2, 0.2 * (1 + creep)])
+
+
+def test_a_reversal_starts_a_leg_beyond_leg_rtol(monkeypatch):
+    assert vhfit.data.LEG_RTOL == 0.05
+    t, eps = _dip(0.04)
+    assert Curve(eps, eps, time=t).n_segments == 1  # a 4 % wiggle is noise
+    t6, eps6 = _dip(0.06)
+    assert Curve(eps6, eps6, time=t6).n_segments == 3  # up, down, up
+    monkeypatch.setattr(vhfit.data, "LEG_RTOL", 0.03)  # set where it is read
+    assert Curve(eps, eps, time=t).n_segments == 3
+
+
+def test_a_hold_lasts_hold_min_duration_within_hold_rtol(monkeypatch):
+    assert (vhfit.data.HOLD_RTOL, vhfit.data.HOLD_MIN_DURATION) == (0.002, 0.05)
+    t, eps = _ramp_hold(0.07)
+    assert Curve(eps, eps, time=t).n_segments == 2  # ramp + hold of 7 % of the test
+    t, eps = _ramp_hold(0.03)
+    assert Curve(eps, eps, time=t).n_segments == 1  # 3 %: too short for a hold
+    monkeypatch.setattr(vhfit.data, "HOLD_MIN_DURATION", 0.02)
+    assert Curve(eps, eps, time=t).n_segments == 2
+    monkeypatch.undo()
+    t, eps = _ramp_hold(0.8, creep=0.001)  # creeps by 0.1 % of its range: still a hold
+    assert Curve(eps, eps, time=t).n_segments == 2
+    t, eps = _ramp_hold(0.8, creep=0.004)  # 0.4 % > HOLD_RTOL: a slow ramp, not a hold
+    assert Curve(eps, eps, time=t).n_segments == 1
+    monkeypatch.setattr(vhfit.data, "HOLD_RTOL", 0.005)
+    assert Curve(eps, eps, time=t).n_segments == 2

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.diagnostics import rate_pairs, rate_ratio_bounds, rate_sensitivity
+from vhfit.diagnostics import RatePair, rate_pairs, rate_ratio_bounds, rate_sensitivity
 
 
 def linear_ve(strain, rate, E_inf, G, tau):
@@ -193,3 +193,27 @@ def test_a_term_that_changes_sign_between_the_rates_leaves_the_ratio_unbounded()
     unbounded = np.isneginf(low) & np.isposinf(high)
     assert unbounded[np.searchsorted(eps, 2.5)]
     assert np.all(unbounded | ((low > 0) & (low <= 1) & (high >= 1)))
+
+
+def test_rate_pair_of_stress_tripled_when_rate_doubled():
+    eps = np.linspace(-0.05, -0.5, 10)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+    p = dict(C10=0.01, C01=0.02, G1=2.0, tau1=1e-4, G2=0.5, tau2=1e-2)
+    s = m.stress(p, strain=eps, strain_rate=-100.0)
+    cs = [curve(eps, 3.0 * s, -200.0, "fast"), curve(eps, s, -100.0, "slow")]
+    (pair,) = rate_pairs(cs, "mooney_rivlin", 2)
+    assert isinstance(pair, RatePair)
+    assert (pair.slow, pair.fast, pair.rate_slow, pair.rate_fast) == ("slow", "fast", -100.0,
+                                                                      -200.0)
+    assert pair.rate_ratio == 2.0
+    assert pair.stress_ratio == pytest.approx(3.0, rel=1e-12)  # the same factor at every strain
+    np.testing.assert_allclose(pair.strain, eps, rtol=1e-12)
+    # a Prony series at most doubles the stress when the rate doubles (the viscous limit)
+    assert 0 < pair.low < pair.high <= 2.0 * (1 + 1e-9)
+    assert pair.too_steep and not pair.too_flat
+    # judge() moves the verdict with the tolerance: just above and just below 3 / high
+    edge = 3.0 / pair.high - 1
+    assert not pair.judge(edge * 1.001).too_steep
+    assert pair.judge(edge * 0.999).too_steep
+    flat = RatePair("a", "b", -1.0, -2.0, 2.0, 0.5, 0.9, 1.5, eps).judge(0.05)
+    assert flat.too_flat and not flat.too_steep  # 0.5 < 0.9 / 1.05

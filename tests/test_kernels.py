@@ -11,7 +11,8 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from _budget import accuracy
+from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
@@ -42,6 +43,7 @@ def test_psi_matches_quadrature_across_the_whole_range(x):
         assert p == pytest.approx(psi_reference(x, j), rel=2e-14, abs=1e-300), j
 
 
+@accuracy
 @given(st.floats(1e-15, 1e15))
 def test_psi_bounds_and_limits(x):
     """0 < ψ_3 < ψ_2 < ψ_1 < ψ_0 ≤ 1 and ψ_j ≤ min(1/(j+1), 1/x)."""
@@ -88,7 +90,7 @@ def _exact_branch(coef, tau, t):
     return coef[0] * math.exp(-t / tau) + val
 
 
-@settings(max_examples=max(5, settings.default.max_examples // 2))
+@accuracy
 @given(st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
        st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
        st.floats(-12.0, 12.0))
@@ -106,7 +108,7 @@ def test_recursion_is_exact_for_a_quartic(coef, steps, log_tau):
     np.testing.assert_allclose(out, exact, rtol=0, atol=1e-12 * scale)
 
 
-@settings(max_examples=max(5, settings.default.max_examples // 2))
+@accuracy
 @given(st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
        st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
        st.floats(-12.0, 12.0), st.floats(0.05, 20.0))

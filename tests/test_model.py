@@ -15,7 +15,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from _budget import accuracy
+from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
@@ -26,8 +27,26 @@ from vhfit.model import Batch, ViscoHyperelastic
 
 U = np.finfo(np.float64).eps / 2  # unit round-off
 
-# Quadrature makes the accuracy examples slow-ish: a fraction of the profile's budget.
-QUAD_EXAMPLES = max(4, settings.default.max_examples // 2)
+# The domain the property tests draw from: stretches 1/20 to 20 (engineering strain
+# -0.95 to 19), strain rates over 10 decades, relaxation times 1e-12 to 1e12 s.
+LOG_RATE = (-5.0, 5.0)
+LOG_TAU = (-12.0, 12.0)
+
+
+@st.composite
+def signed_strain(draw, low=0.05):
+    """A strain of magnitude >= low: compression down to λ = 0.05, tension up to λ = 20."""
+    if draw(st.booleans()):
+        return -draw(st.floats(low, 0.95))
+    return draw(st.floats(low, 19.0))
+
+
+@st.composite
+def mr_constants(draw):
+    """C10, C01 >= 0 with C10 + C01 from 1e-3 to 2 MPa (E∞ > 0), generated directly."""
+    total = 10 ** draw(st.floats(-3.0, math.log10(2.0)))
+    kappa = draw(st.floats(0.0, 1.0))
+    return ((1 - kappa) * total, kappa * total)
 
 
 # ================================================================= reference
@@ -248,23 +267,22 @@ def test_general_histories_match_quadrature(history, material):
 @st.composite
 def ramps(draw):
     """Constant-rate ramps in tension or compression: (time, stretch, out_time)."""
-    rate = 10 ** draw(st.floats(-3.0, 4.0)) * draw(st.sampled_from([-1.0, 1.0]))
-    eps_max = draw(st.floats(0.05, 0.6)) if rate < 0 else draw(st.floats(0.05, 1.0))
-    T = eps_max / abs(rate)
-    return [0.0, T], [1.0, 1.0 + rate * T], np.linspace(0.0, T, 9)[1:]
+    eps_max = draw(signed_strain())
+    rate = 10 ** draw(st.floats(*LOG_RATE)) * np.sign(eps_max)
+    T = eps_max / rate
+    return [0.0, T], [1.0, 1.0 + eps_max], np.linspace(0.0, T, 9)[1:]
 
 
 @st.composite
 def measured_histories(draw):
     """Piecewise-linear histories (loading, unloading, holds) with outputs anywhere."""
     k = draw(st.integers(2, 5))
-    dt = [10 ** draw(st.floats(-4.0, 0.0)) for _ in range(k - 1)]
+    dt = [10 ** draw(st.floats(-5.0, 5.0)) for _ in range(k - 1)]
     time = np.concatenate([[0.0], np.cumsum(dt)])
-    strain = [0.0]
-    for _ in range(k - 1):
-        strain.append(strain[-1] if draw(st.booleans()) and len(strain) > 1
-                      else draw(st.floats(-0.5, 0.8)))
-    assume(max(abs(e) for e in strain) > 0.02)
+    strain = [0.0, draw(signed_strain(low=0.02))]  # the first piece loads by >= 2 %
+    for _ in range(k - 2):
+        strain.append(strain[-1] if draw(st.booleans())
+                      else draw(st.floats(-0.95, 19.0)))
     frac = draw(st.lists(st.floats(0.0, 1.0), min_size=3, max_size=6))
     out = np.unique(np.concatenate([np.asarray(frac) * time[-1], time[1:]]))
     return list(time), list(1.0 + np.asarray(strain)), out
@@ -272,15 +290,14 @@ def measured_histories(draw):
 
 @st.composite
 def materials(draw, T, names=("mooney_rivlin", "yeoh", "ogden")):
-    """A hyperelastic law plus 1–3 Prony terms with τ from 1e-7 T to 1e3 T.
+    """A hyperelastic law plus 1–3 Prony terms with τ from 1e-12 to 1e12 s (T unused).
 
     Ogden exponents stay within the model's stated accuracy contract (cubic
     interpolation of σ_h λ⁻² and σ_h λ with effective powers up to ~10 in λ).
     """
     name = draw(st.sampled_from(names))
     if name == "mooney_rivlin":
-        c = (draw(st.floats(0.0, 1.0)), draw(st.floats(0.0, 1.0)))
-        assume(sum(c) > 1e-3)
+        c = draw(mr_constants())
     elif name == "yeoh":
         C10 = draw(st.floats(0.01, 1.0))
         c = (C10, C10 * draw(st.floats(-0.05, 0.5)), C10 * draw(st.floats(0.0, 0.1)))
@@ -290,11 +307,11 @@ def materials(draw, T, names=("mooney_rivlin", "yeoh", "ogden")):
     n = draw(st.integers(1, 3))
     E = E_inf_ref(name, c)
     G = [E * 10 ** draw(st.floats(-2.0, 3.0)) for _ in range(n)]
-    tau = [T * 10 ** draw(st.floats(-7.0, 3.0)) for _ in range(n)]
+    tau = [10 ** draw(st.floats(*LOG_TAU)) for _ in range(n)]
     return name, c, G, tau
 
 
-@settings(max_examples=QUAD_EXAMPLES)
+@accuracy
 @given(st.data())
 def test_random_ramps_and_materials_match_quadrature(data):
     time, stretch, out = data.draw(ramps())
@@ -305,7 +322,7 @@ def test_random_ramps_and_materials_match_quadrature(data):
     assert relative_error(s, ref) <= 1e-6
 
 
-@settings(max_examples=QUAD_EXAMPLES)
+@accuracy
 @given(st.data())
 def test_random_measured_histories_match_quadrature(data):
     time, stretch, out = data.draw(measured_histories())
@@ -364,12 +381,11 @@ def kernel_bound(stretch) -> float:
 
 
 @st.composite
-def mr_cases(draw, n_min=1):
+def mr_cases(draw, n_min=1, compression=False):
     """Mooney–Rivlin, 1–3 Prony terms, a constant-rate ramp (tension or compression)."""
-    c = (draw(st.floats(0.0, 1.0)), draw(st.floats(0.0, 1.0)))
-    assume(sum(c) > 1e-3)
-    rate = 10 ** draw(st.floats(-3.0, 4.0)) * draw(st.sampled_from([-1.0, 1.0]))
-    eps_max = draw(st.floats(0.05, 0.6)) * np.sign(rate)
+    c = draw(mr_constants())
+    eps_max = -draw(st.floats(0.05, 0.95)) if compression else draw(signed_strain())
+    rate = 10 ** draw(st.floats(*LOG_RATE)) * np.sign(eps_max)
     n = draw(st.integers(n_min, 3))
     E = 6 * sum(c)
     G = np.array([E * 10 ** draw(st.floats(-2.0, 3.0)) for _ in range(n)])
@@ -388,6 +404,7 @@ def test_zero_prony_moduli_give_the_hyperelastic_stress_exactly():
     np.testing.assert_allclose(s, sigma_h_mr((0.2, 0.3), 1 + eps), rtol=1e-13, atol=1e-15)
 
 
+@accuracy
 @given(mr_cases(), st.floats(-14.0, -6.0))
 def test_vanishing_moduli_give_the_hyperelastic_stress(case, log_g):
     """|σ − σ_h| = |Σ G_i h_i| ≤ Σ G_i (1 + max K) max|ŝ|, so G_i → 0 gives σ_h."""
@@ -402,6 +419,7 @@ def test_vanishing_moduli_give_the_hyperelastic_stress(case, log_g):
     assert np.max(np.abs(s - sh)) <= bound + 64 * U * np.max(np.abs(sh))
 
 
+@accuracy
 @given(mr_cases())
 def test_tiny_relaxation_times_give_the_hyperelastic_stress(case):
     """τ = 1e-14 s, far below every step: the overstress is the first-order term
@@ -423,6 +441,7 @@ def first_order_overstress(c, G, tau, rate, lam):
     return np.sum(G * tau) * rate * (dsh - sh / lam) / (6 * (C10 + C01))
 
 
+@accuracy
 @given(mr_cases())
 def test_small_relaxation_times_follow_the_first_order_expansion(case):
     """For τ|r| = 1e-8 the overstress matches the first-order term, relative to itself.
@@ -444,6 +463,7 @@ def test_small_relaxation_times_follow_the_first_order_expansion(case):
     np.testing.assert_allclose(s - sh, first, rtol=1e-6, atol=64 * U * np.max(np.abs(sh)))
 
 
+@accuracy
 @given(mr_cases())
 def test_huge_relaxation_times_give_the_instantaneous_stress(case):
     """τ = 1e15 s: |h_i − ŝ(t)| ≤ (t/τ_i)(2 + max K) max|ŝ|, so σ → σ_h/g∞ = σ_h G0/E∞."""
@@ -461,6 +481,7 @@ def test_huge_relaxation_times_give_the_instantaneous_stress(case):
     assert np.max(np.abs(s - inst)) <= bound + floor
 
 
+@accuracy
 @given(mr_cases(n_min=2))
 def test_a_single_frozen_term_adds_its_instantaneous_stress(case):
     """τ1 → ∞ for one term only: that term contributes G1 ŝ(t), the others are unchanged."""
@@ -472,10 +493,17 @@ def test_a_single_frozen_term_adds_its_instantaneous_stress(case):
     G0 = G.copy()
     G0[0] = 0.0
     rest = m.stress(params_of(c, G0, tau), strain=eps, strain_rate=rate)
-    frozen = G[0] * sigma_h_mr(c, 1 + eps) / (6 * sum(c))
-    np.testing.assert_allclose(s, rest + frozen, rtol=1e-12, atol=1e-12 * np.max(np.abs(s)))
+    sh = sigma_h_mr(c, 1 + eps)
+    frozen = G[0] * sh / (6 * sum(c))
+    # the frozen term still relaxes by ~T/τ1 (up to 2e-9 for the slowest ramps to λ = 20):
+    # |h_1 − ŝ(t)| ≤ (t/τ1)(2 + max K) max|ŝ|, as in the test above
+    decay = G[0] * T / 1e15 * (2 + kernel_bound([1, 1 + eps[-1]])) * np.max(np.abs(sh)) / (
+        6 * sum(c))
+    np.testing.assert_allclose(s, rest + frozen, rtol=1e-12,
+                               atol=decay + 1e-12 * np.max(np.abs(s)))
 
 
+@accuracy
 @given(mr_cases())
 def test_ramp_hold_relaxes_to_the_hyperelastic_stress(case):
     """During a hold the overstress of each branch decays exactly as e^(−s/τ_i);
@@ -506,9 +534,8 @@ def test_ramp_hold_relaxes_to_the_hyperelastic_stress(case):
 
 @st.composite
 def small_strain_cases(draw):
-    c = (draw(st.floats(0.0, 1.0)), draw(st.floats(0.0, 1.0)))
-    assume(sum(c) > 1e-3)
-    rate = 10 ** draw(st.floats(-3.0, 4.0)) * draw(st.sampled_from([-1.0, 1.0]))
+    c = draw(mr_constants())
+    rate = 10 ** draw(st.floats(*LOG_RATE)) * draw(st.sampled_from([-1.0, 1.0]))
     eps_max = 10 ** draw(st.floats(-7.0, -5.0)) * np.sign(rate)
     T = eps_max / rate
     n = draw(st.integers(1, 3))
@@ -518,6 +545,7 @@ def small_strain_cases(draw):
     return c, G, tau, rate, np.linspace(0.0, eps_max, 11)[1:]
 
 
+@accuracy
 @given(small_strain_cases())
 def test_small_strain_closed_form(case):
     """σ = E∞ r t + Σ G_i r τ_i (1 − e^(−t/τ_i)) (docs/theory.md §4), pointwise to first order.
@@ -541,12 +569,12 @@ def test_small_strain_closed_form(case):
     assert np.all(np.abs(s - lin) <= tol)
 
 
-@given(mr_cases(), st.floats(0.1, 3.0))
+@accuracy
+@given(mr_cases(compression=True), st.floats(0.1, 3.0))
 def test_stress_magnitude_never_decreases_with_rate_in_compression(case, decades):
     """Compression, C10, C01, G_i ≥ 0: the overstress is a sum of terms of one sign,
     each weighted by e^(−Δλ/(|r|τ)), which grows with |r| at fixed strain."""
     c, G, rate, eps = case
-    rate, eps = -abs(rate), -np.abs(eps)
     tau = np.abs(eps[-1] / rate) * 10.0 ** np.linspace(-3, 2, G.size)
     m = ViscoHyperelastic("mooney_rivlin", G.size)
     x = params_of(c, G, tau)
@@ -556,6 +584,7 @@ def test_stress_magnitude_never_decreases_with_rate_in_compression(case, decades
     assert np.all(np.abs(fast) >= np.abs(slow) - 2e-6 * np.max(np.abs(fast)))
 
 
+@accuracy
 @given(st.floats(0.01, 1.0), st.floats(-2.0, 3.0), st.floats(-3.0, 3.0),
        st.floats(0.05, 1.0), st.floats(0.1, 3.0))
 def test_stress_never_decreases_with_rate_in_neo_hookean_tension(C10, log_g, log_rt, e, dec):
@@ -668,6 +697,7 @@ def test_batch_inf_for_an_energy_undefined_on_the_history():
         hyp.unregister("_test_gent_model")
 
 
+@accuracy
 @given(st.data())
 def test_shape_columns_rebuild_the_stress(data):
     """σ = E∞ ŝ + Σ G_i h_i: the model is linear in (E∞, G_i) for fixed shape and τ."""

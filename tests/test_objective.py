@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
@@ -60,6 +61,7 @@ def curves_and_model(draw, equal_n=True):
     return targets, model
 
 
+@accuracy
 @given(curves_and_model())
 def test_rmsape_matches_eq20_written_out(data):
     targets, model = data
@@ -70,6 +72,7 @@ def test_rmsape_matches_eq20_written_out(data):
     assert obj(np.concatenate(model)) == pytest.approx(ref, rel=1e-12, abs=1e-12)
 
 
+@accuracy
 @given(curves_and_model(equal_n=False), st.lists(st.floats(0.1, 10.0), min_size=5, max_size=5))
 def test_unequal_curves_and_weights_match_a_weighted_reference(data, w):
     targets, model = data
@@ -78,6 +81,7 @@ def test_unequal_curves_and_weights_match_a_weighted_reference(data, w):
     assert rmsape(model, targets, weights=w) == pytest.approx(ref, rel=1e-12, abs=1e-12)
 
 
+@accuracy
 @given(curves_and_model(), st.floats(0.1, 10.0))
 def test_equal_weights_reproduce_eq20(data, w):
     targets, model = data
@@ -86,6 +90,7 @@ def test_equal_weights_reproduce_eq20(data, w):
     assert got == pytest.approx(ref, rel=1e-12, abs=1e-12)
 
 
+@accuracy
 @given(curves_and_model(), st.floats(1e-3, 1e3))
 def test_rmsape_is_scale_invariant(data, c):
     targets, model = data
@@ -94,6 +99,7 @@ def test_rmsape_is_scale_invariant(data, c):
     assert b == pytest.approx(a, rel=1e-9, abs=1e-9)
 
 
+@accuracy
 @given(curves_and_model(), st.data())
 def test_rmsape_is_zero_exactly_when_model_equals_target(data, draw):
     targets, _ = data
@@ -106,6 +112,7 @@ def test_rmsape_is_zero_exactly_when_model_equals_target(data, draw):
     assert rmsape(bumped, t) > 0.0
 
 
+@accuracy
 @given(curves_and_model(equal_n=False), st.integers(1, 6))
 def test_batch_equals_one_by_one(data, p):
     targets, model = data
@@ -120,6 +127,7 @@ def test_batch_equals_one_by_one(data, p):
     assert obj(pop.reshape(1, p, -1)).shape == (1, p)
 
 
+@accuracy
 @given(curves_and_model(equal_n=False), st.lists(st.floats(0.1, 10.0), min_size=5, max_size=5))
 def test_residuals_give_the_objective(data, w):
     targets, model = data
@@ -251,6 +259,7 @@ def test_wrong_model_shape_raises():
         obj([1.0, 2.0, 3.0])
 
 
+@accuracy
 @given(hnp.arrays(np.float64, st.integers(1, 30), elements=st.floats(-1e6, 1e6)))
 def test_objective_is_never_nan(model_like):
     n = model_like.size

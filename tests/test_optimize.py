@@ -658,3 +658,89 @@ def test_docstring_examples():
             _tau._STRATEGIES.clear()
             _tau._STRATEGIES.update(saved)
         assert out.failed == 0 and (out.attempted > 0 or mod is _stopping), mod.__name__
+
+
+# ================================================= criteria combinators, history, presets
+def test_preset_settings_are_the_papers_and_a_copy():
+    """The paper's DE (its §2.2): rand/1/bin, F = 0.8, CR = 0.7, NP = 60, no polish."""
+    s = vo.preset_settings("paper")
+    assert (s["strategy"], s["mutation"], s["recombination"]) == ("rand1bin", 0.8, 0.7)
+    assert s["population_size"] == 60 and s["polish"] is False and s["maxiter"] == 100_000
+    s["mutation"] = 0.1  # a copy: changing it does not change the preset
+    assert vo.preset_settings("paper")["mutation"] == 0.8
+    assert vo.preset_settings("recommended")["strategy"] == "shade"
+    with pytest.raises(ValueError, match="available: \\['paper', 'recommended'\\]"):
+        vo.preset_settings("fast")
+
+
+def test_all_of_fires_only_when_every_member_does():
+    both = vo.AllOf(MaxGenerations(10), TargetValue(1e-3))
+    assert not both(_state(1.0, 2.0, nit=10))  # generations reached, target not
+    assert not both(_state(1e-4, 2.0, nit=9))  # target reached, generations not
+    reason = both(_state(1e-4, 2.0, nit=10))
+    assert reason and " and " in reason
+    assert both.name == "(MaxGenerations & TargetValue)"
+    assert both.success is False  # a budget member makes the conjunction a budget stop
+    assert vo.AllOf(TargetValue(1e-3), BestMeanGap()).success is True
+    assert isinstance(MaxGenerations(5) & TargetValue(0.0), vo.AllOf)
+    with pytest.raises(ValueError, match="at least one"):
+        vo.AllOf()
+
+
+def test_function_criterion_reports_its_name_and_success():
+    calls = []
+
+    def below_half(state):
+        calls.append(state.nit)
+        return state.best < 0.5 and "best below one half"
+
+    c = vo.FunctionCriterion(below_half, success=False)
+    assert c.name == "below_half" and c.success is False
+    assert not c(_state(0.7, 1.0, nit=3)) and c(_state(0.4, 1.0, nit=4)) == "best below one half"
+    assert calls == [3, 4]
+    assert vo.FunctionCriterion(lambda s: True, name="always").name == "always"
+    with pytest.raises(ValueError, match="not callable"):
+        vo.FunctionCriterion(3.0)
+    r = differential_evolution(sphere, BOUNDS3, rng=0, polish=False,
+                               stop=vo.FunctionCriterion(lambda s: s.nit >= 7, name="seven"))
+    assert r.nit == 7 and r.stop_reason == "seven" and r.success
+
+
+def test_energy_spread_is_scipys_tolerance_test():
+    """std(E) <= atol + tol |mean(E)|, with both tolerances honoured."""
+    e = np.array([1.0, 1.1, 1.2, 1.3])  # std = 0.1118..., mean = 1.15
+    std, mean = float(e.std()), float(e.mean())
+    assert vo.EnergySpread(tol=std / mean * 1.001)(_state(1.0, mean, energies=e))
+    assert not vo.EnergySpread(tol=std / mean * 0.999)(_state(1.0, mean, energies=e))
+    assert vo.EnergySpread(tol=0.0, atol=std * 1.001)(_state(1.0, mean, energies=e))
+    assert not vo.EnergySpread(tol=0.0, atol=std * 0.999)(_state(1.0, mean, energies=e))
+    inf = np.array([1.0, np.inf])
+    assert not vo.EnergySpread(tol=1e9, atol=1e9)(_state(1.0, math.inf, energies=inf))
+    with pytest.raises(ValueError, match="EnergySpread: tol"):
+        vo.EnergySpread(tol=-1.0)
+    # as the only criterion it reproduces SciPy's stop at the same generation
+    ref = so.differential_evolution(sphere, BOUNDS3, rng=4, polish=False, tol=0.01)
+    mine = differential_evolution(sphere, BOUNDS3, rng=4, polish=False,
+                                  stop=vo.EnergySpread(tol=0.01))
+    assert mine.nit == ref.nit and mine.stop_reason == "EnergySpread"
+    assert_array_equal(mine.x, ref.x)
+
+
+def test_de_history_rows_match_the_run():
+    r = differential_evolution(sphere, BOUNDS3, rng=2, history=True, snapshots=10,
+                               population_size=12, stop=MaxGenerations(25), maxiter=25,
+                               polish=False)
+    h = r.history
+    assert isinstance(h, vo.DEHistory)
+    assert len(h) == r.nit + 1 == 26  # row 0 is the initial population
+    assert_array_equal(h.nit, np.arange(26))
+    assert h.nfev[0] == 12 and np.all(np.diff(h.nfev) == 12)  # one call per member
+    assert h.nfev[-1] == r.nfev
+    assert h.best[-1] == r.fun and np.all(np.diff(h.best) <= 0)  # elitist: never worse
+    assert np.all(h.mean >= h.best) and np.all(np.diff(h.time) >= 0)
+    assert_array_equal(h.snapshot_nit, [0, 10, 20])
+    pop = h.populations[-1]
+    assert pop.shape == (12, 3)
+    np.testing.assert_allclose([sphere(x) for x in pop], h.population_energies[-1], rtol=1e-15)
+    assert set(h.as_dict()) == {"nit", "nfev", "best", "mean", "time", "population_size"}
+    assert_array_equal(h.population_size, 12)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
@@ -57,6 +58,7 @@ def test_taubounds_behaves_like_an_array_of_pairs():
     assert len(bounds) == 3
 
 
+@accuracy
 @given(
     rates=st.lists(st.floats(1e-6, 1e6, allow_nan=False), min_size=1, max_size=6),
     n=st.integers(1, 8),

@@ -47,7 +47,8 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from _budget import accuracy
+from hypothesis import given
 from hypothesis import strategies as st
 
 from vhfit import hyperelastic as hyp
@@ -99,7 +100,7 @@ def test_the_closed_form_root_is_the_hand_value():
     assert 0.5 * (2 * 0.5**3 + 1) / (0.5**3 + 2) == pytest.approx(5 / 17, rel=1e-15)
 
 
-@settings(max_examples=30, deadline=None)
+@accuracy
 @given(k=st.one_of(st.floats(0.12, 0.95), st.floats(1.05, 9.0)),
        c10=st.floats(1e-3, 1e2))
 def test_mooney_rivlin_with_negative_c01_loses_stability_at_the_computed_stretch(k, c10):
@@ -162,21 +163,21 @@ def test_interval_edges_move_with_the_grid_resolution():
 # --------------------------------------------------------------- always stable
 
 
-@settings(max_examples=25, deadline=None)
+@accuracy
 @given(c10=st.floats(1e-6, 1e4))
 def test_neo_hooke_is_stable_in_every_mode_over_the_whole_range(c10):
     rep = drucker(NH, [c10], stretch_range=(0.05, 20.0))
     assert rep.stable and rep.unstable == {}
 
 
-@settings(max_examples=25, deadline=None)
+@accuracy
 @given(c10=st.floats(1e-4, 1e2), ratio=st.floats(0.0, 1e2))
 def test_mooney_rivlin_with_non_negative_constants_is_stable(c10, ratio):
     # all three tangents are sums of positive terms when C10 > 0 and C01 >= 0
     assert drucker(MR, [c10, ratio * c10]).stable
 
 
-@settings(max_examples=30, deadline=None)
+@accuracy
 @given(mu=st.floats(1e-3, 10.0), sign=st.sampled_from([1.0, -1.0]),
        alpha=st.one_of(st.floats(-6.0, -0.5), st.floats(0.5, 6.0)))
 def test_one_term_ogden_is_stable_iff_mu_is_positive(mu, sign, alpha):
@@ -193,7 +194,7 @@ def test_one_term_ogden_is_stable_iff_mu_is_positive(mu, sign, alpha):
 # ------------------------------------------------------------------- invariance
 
 
-@settings(max_examples=30, deadline=None)
+@accuracy
 @given(c10=st.floats(1e-3, 1.0), c01=st.floats(-1.0, 1.0), e=st.integers(-20, 20))
 def test_scaling_all_moduli_by_a_power_of_two_changes_nothing(c10, c01, e):
     # σ1 − σ3 is linear in the moduli; a power of two scales every rounding exactly, so
@@ -202,7 +203,7 @@ def test_scaling_all_moduli_by_a_power_of_two_changes_nothing(c10, c01, e):
     assert drucker(MR, p * 2.0**e) == drucker(MR, p)
 
 
-@settings(max_examples=30, deadline=None)
+@accuracy
 @given(k=st.one_of(st.floats(0.12, 0.95), st.floats(1.05, 9.0)), factor=st.floats(1e-3, 1e3))
 def test_scaling_all_moduli_by_any_positive_factor_keeps_the_intervals(k, factor):
     # the long-term and the instantaneous (= long-term / g∞) laws are stable together
@@ -236,7 +237,7 @@ def test_the_stretch_path_agrees_with_the_invariant_path():
 # ----------------------------------------------------------- closed forms, words
 
 
-@settings(max_examples=30, deadline=None)
+@accuracy
 @given(c10=st.floats(-1.0, 1.0), c01=st.floats(-1.0, 1.0))
 def test_principal_difference_matches_the_hand_formulas(c10, c01):
     lam = np.exp(np.linspace(np.log(LO), np.log(HI), 23))
