@@ -351,8 +351,8 @@ def read_checkpoint(ck) -> int:
 def kill_at_a_random_moment(p, ck, rng, i):
     """Kill ``p``: every third run during its start-up, the others at a random moment
     just after it has advanced the checkpoint ``ck`` (so every such kill costs progress)."""
-    if i % 3 == 0:
-        time.sleep(rng.uniform(0.0, 3.0))
+    if i % 3 == 0:  # Python and vhfit take about a second to import
+        time.sleep(rng.uniform(0.0, 1.0))
     else:
         gen0, deadline = read_checkpoint(ck), time.monotonic() + 120
         while p.poll() is None and read_checkpoint(ck) <= gen0 and time.monotonic() < deadline:
@@ -449,7 +449,7 @@ def test_cli_fit_killed_at_random_moments_then_resumed_matches_an_uninterrupted_
     two checkpoint writes of one generation (``--checkpoint-every 0.01``).
     """
     ns: dict = {}
-    exec(FIT.replace("MAXITER", "30"), ns)
+    exec(FIT.replace("MAXITER", "60"), ns)
     files = []
     for k, c in enumerate(ns["make_curves"]()):
         f = tmp_path / f"rate{k}.csv"
@@ -457,7 +457,7 @@ def test_cli_fit_killed_at_random_moments_then_resumed_matches_an_uninterrupted_
             f"{float(e)!r},{float(s)!r}\n" for e, s in zip(c.strain, c.stress)))
         files.append(str(f))
     base = [sys.executable, "-m", "vhfit", "fit", *files, "--prony", "2", "--seed", "3",
-            "--popsize", "128", "--maxiter", "30", "--target", "0", "--checkpoint-every",
+            "--popsize", "128", "--maxiter", "60", "--target", "0", "--checkpoint-every",
             "0.01", "--no-plot", "-q"]
     out = tmp_path / "killed"
     rng = random.Random(3)
@@ -480,7 +480,9 @@ def test_cli_fit_killed_at_random_moments_then_resumed_matches_an_uninterrupted_
     ref = json.loads((tmp_path / "whole" / "results.json").read_text())
     assert got["params"] == ref["params"]
     assert got["nit"] == ref["nit"] and got["stop_reason"] == ref["stop_reason"]
-    assert resumed >= 3  # the kills did cut fits that had checkpoints
+    # the kills did cut fits that had checkpoints (60 generations outlast the kill phase:
+    # each run lives at most ~0.3 s past its first new checkpoint)
+    assert resumed >= 2
 
 
 def test_resume_from_the_final_checkpoint_gives_the_same_result(tmp_path):
