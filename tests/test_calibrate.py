@@ -581,3 +581,11 @@ def test_bad_arguments_are_refused_at_the_front_door(kw, name, monkeypatch):
     monkeypatch.setattr(wf, "search_bounds", no_work)
     with pytest.raises(ValueError, match=rf"^{name} = .*: "):
         calibrate(curves, **kw)
+
+
+def test_results_file_keeps_the_stability_range_of_the_fit(tmp_path):
+    curves = synthetic(dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-2), RANDOM_RATES)
+    cal = calibrate(curves, n_prony=1, seed=0, stability_range=(0.5, 2.0), uncertainty=False)
+    cal.save(tmp_path / "r.json")
+    back = vhfit.Calibration.load(tmp_path / "r.json")
+    assert back.stability.stretch_range == (0.5, 2.0) == cal.stability.stretch_range

@@ -267,4 +267,5 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                       tau_strategy=str(tau_strategy), objective=prob.objective.kind,
                       method=method, seed=seed,
                       popsize=popsize or space.popsize, maxiter=maxiter or space.maxiter,
-                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol))
+                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
+                      stability_range=[float(v) for v in stability_range]))
