@@ -14,14 +14,19 @@ import cases  # noqa: E402
 
 
 def fingerprint() -> dict:
+    import hashlib
     import platform
 
+    import llvmlite.binding as llvm
     import numba
     import numpy
     import scipy
 
+    # numba compiles for the host CPU: another CPU may round differently
+    features = hashlib.sha256(llvm.get_host_cpu_features().flatten().encode()).hexdigest()
     return {"numpy": numpy.__version__, "scipy": scipy.__version__, "numba": numba.__version__,
-            "python": platform.python_version(), "machine": platform.machine()}
+            "python": platform.python_version(), "machine": platform.machine(),
+            "cpu": llvm.get_host_cpu_name(), "cpu_features": features[:16]}
 
 
 def main() -> None:
