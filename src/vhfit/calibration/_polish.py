@@ -39,8 +39,7 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
     def resid_batch(Z):
         X = np.array([expand(z) for z in Z])
         counter["n"] += len(Z)
-        S = prob.batch(X)
-        return (S - prob.y) * prob.scale
+        return prob.residuals(X)
 
     def fun(z):
         return resid_batch(z[None, :])[0]

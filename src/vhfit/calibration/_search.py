@@ -19,13 +19,18 @@ from vhfit.calibration import _checkpoint
 
 __all__ = ["Search", "run_search", "check_de_options"]
 
-#: Solver keywords that calibrate sets itself, and the argument to use instead.
+#: Solver keywords that calibrate sets itself, and what to do instead.
+_ARGUMENT = "use its {} argument instead"
 OWN_DE_KEYS = {
-    "popsize": "popsize", "population_size": "popsize", "maxiter": "maxiter",
-    "tol": "tol", "atol": "tol", "stop": "tol, target, max_time or callback",
-    "rng": "seed", "seed": "seed", "polish": "polish", "callback": "callback",
-    "workers": "workers", "vectorized": "workers", "preset": "method",
-    "history": "(always on)", "snapshots": "(not available)",
+    "popsize": _ARGUMENT.format("popsize"), "population_size": _ARGUMENT.format("popsize"),
+    "maxiter": _ARGUMENT.format("maxiter"), "tol": _ARGUMENT.format("tol"),
+    "atol": _ARGUMENT.format("tol"), "stop": _ARGUMENT.format("tol, target, max_time or callback"),
+    "rng": _ARGUMENT.format("seed"), "seed": _ARGUMENT.format("seed"),
+    "polish": _ARGUMENT.format("polish"), "callback": _ARGUMENT.format("callback"),
+    "workers": _ARGUMENT.format("workers"), "vectorized": _ARGUMENT.format("workers"),
+    "preset": _ARGUMENT.format("method"),
+    "history": "calibrate always records it (Calibration.history)",
+    "snapshots": "calibrate keeps no population snapshots",
 }
 
 
@@ -35,8 +40,7 @@ def check_de_options(de_options) -> dict:
     for k in opts:
         if k in OWN_DE_KEYS:
             raise ValueError(
-                f"de_options[{k!r}] is set by calibrate: use its {OWN_DE_KEYS[k]} "
-                "argument instead"
+                f"de_options[{k!r}] is set by calibrate: {OWN_DE_KEYS[k]}"
             )
     return opts
 
@@ -121,7 +125,7 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
     left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
     crits, reasons = stop_criteria(tol, target, stall, left)
     t_in = t0
-    track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every)
+    track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every, t0)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         with warnings.catch_warnings():
@@ -141,6 +145,7 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
                 track.state, track.evaluations = state, done_before
                 objective.nfev = done_before
                 t0 -= float(state["elapsed"])
+                track.t0 = t0
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective
             z, stop = _solve(solver, track, finished, reasons)
@@ -165,8 +170,9 @@ def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
 class _Tracker:
     """The solver's callback: best member so far, checkpoints, the user's callback."""
 
-    def __init__(self, callback, n_prony, ckpt, key, every):
+    def __init__(self, callback, n_prony, ckpt, key, every, t0):
         self.callback, self.n_prony = callback, n_prony
+        self.t0 = t0  # calibrate's start: the callback's "elapsed" counts from it
         self.ckpt, self.key, self.every = ckpt, key, every
         self.solver = self.objective = None
         self.state = None  # the last generation boundary's solver state
@@ -190,8 +196,7 @@ class _Tracker:
                 self.saved = time.perf_counter()
         if self.callback is None:
             return False
-        h = self.solver.history
         return bool(self.callback({
             "generation": int(r.nit), "best": best, "mean": mean,
-            "elapsed": float(h.time[-1]) if h is not None and len(h) else 0.0,
-            "n_prony": self.n_prony, "x": np.array(r.x)}))
+            "elapsed": time.perf_counter() - self.t0, "n_prony": self.n_prony,
+            "x": np.array(r.x)}))

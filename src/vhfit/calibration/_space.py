@@ -43,8 +43,7 @@ class Problem:
 
     def errors(self, X: np.ndarray) -> np.ndarray:
         """Objective of parameter sets X (P, n_params); inf where invalid."""
-        S = self.batch(np.atleast_2d(X))
-        r = (S - self.y) * self.scale
+        r = self.residuals(X)
         with np.errstate(all="ignore", over="ignore"):
             e = np.sqrt(np.sum(r * r, axis=1))
         e[~np.isfinite(e)] = np.inf
