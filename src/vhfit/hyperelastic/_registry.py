@@ -5,7 +5,7 @@ from __future__ import annotations
 import inspect
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -47,7 +47,11 @@ class Hyperelastic:
     derivatives : callable or None
         For invariant models, (I1, I2, *c) -> (∂W/∂I1, ∂W/∂I2) in closed form.
     linear : bool
-        Whether σ_h is linear in the constants (enables separable calibration).
+        Whether σ_h is linear in all of the constants (``basis`` gives its columns).
+    linear_params : tuple of str
+        The constants σ_h is linear in when the others are held fixed (all of them for
+        the polynomial laws, the μ's of Ogden, μ of Arruda–Boyce and Gent): the
+        separable calibration solves these by least squares and searches the rest.
     example : tuple of float
         A typical set of constants (docs, tests, starting points).
     """
@@ -63,10 +67,16 @@ class Hyperelastic:
     example: tuple[float, ...] = ()
     mu0: Callable | None = None
     doc: str = field(default="", repr=False)
+    linear_params: tuple[str, ...] = ()
 
     @property
     def n_params(self) -> int:
         return len(self.param_names)
+
+    @property
+    def linear_index(self) -> tuple[int, ...]:
+        """Positions of :attr:`linear_params` in :attr:`param_names`."""
+        return tuple(self.param_names.index(n) for n in self.linear_params)
 
     def __reduce__(self):
         # registered models travel to worker processes by name (their functions may be
@@ -217,6 +227,7 @@ def register(
     example: Sequence[float] | None = None,
     mu0: Callable | None = None,
     overwrite: bool = False,
+    linear_params: Sequence[str] | None = None,
 ) -> Callable[[Callable], Callable]:
     """Register a strain energy W by name (decorator).
 
@@ -231,13 +242,17 @@ def register(
     derivatives : callable, optional
         Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models; else the complex step.
     linear : bool
-        Declare σ_h linear in the constants (checked numerically at registration).
+        Declare σ_h linear in all the constants (checked numerically at registration).
     example : sequence of float, optional
         Typical constants; default 0.1 each.
     mu0 : callable, optional
         Closed-form initial shear modulus ``mu0(*constants)``; else from the derivatives.
     overwrite : bool
         Allow replacing an existing name.
+    linear_params : sequence of str, optional
+        The constants σ_h is linear in when the others are fixed (checked numerically
+        at registration). Default: all of them with ``linear=True``; otherwise the
+        constants in MPa if σ_h is linear in them at the example constants, else none.
 
     Returns
     -------
@@ -275,36 +290,73 @@ def register(
             raise ValueError(
                 f"{name!r}: units, bounds and example need one entry per constant {list(params)}"
             )
+        lp = _linear_names(name, params, u, linear, linear_params)
         model = Hyperelastic(
             name=name, param_names=params, units=u, bounds=b, kind=kind, energy=fn,
-            derivatives=derivatives, linear=bool(linear), example=ex, mu0=mu0,
-            doc=inspect.getdoc(fn) or "",
+            derivatives=derivatives, example=ex,
+            linear=bool(linear) or (linear_params is not None and lp == params),
+            mu0=mu0, doc=inspect.getdoc(fn) or "", linear_params=lp,
         )
-        _validate(model, strict=example is not None)
+        declared = bool(linear) or linear_params is not None
+        if not _validate(model, strict=example is not None, declared=declared):
+            model = replace(model, linear_params=())
         _REGISTRY[name] = model
         return fn
 
     return decorator
 
 
-def _validate(model: Hyperelastic, strict: bool) -> None:
+def _linear_names(name, params, units, linear, linear_params) -> tuple[str, ...]:
+    """The declared linear constants, or the candidates (the MPa constants) to check."""
+    if linear_params is None:
+        return params if linear else tuple(p for p, u in zip(params, units) if u == "MPa")
+    lp = tuple(linear_params)
+    unknown = [p for p in lp if p not in params]
+    if unknown or len(set(lp)) != len(lp):
+        raise ValueError(
+            f"{name!r}: linear_params {list(lp)} must name distinct constants of {list(params)}"
+        )
+    if linear and set(lp) != set(params):
+        raise ValueError(f"{name!r}: linear=True means every constant is linear; "
+                         f"linear_params {list(lp)} leaves some out")
+    return tuple(p for p in params if p in lp)  # in the order of the constants
+
+
+def _validate(model: Hyperelastic, strict: bool, declared: bool = True) -> bool:
+    """Refuse an example with a non-finite stress or a false linearity claim.
+
+    Returns whether ``model.linear_params`` holds (an undeclared, inferred candidate
+    that fails the check is dropped by the caller instead of refused).
+    """
     lam = np.array([0.6, 0.9, 1.3, 2.0])
     with np.errstate(all="ignore"):
         s = model.stress(lam, np.array(model.example))
     if not np.all(np.isfinite(s)):
         if not strict:  # default example constants may lie outside a model's domain
-            return
+            return declared
         raise ValueError(
             f"model {model.name!r} gives a non-finite stress at its example constants "
             f"{model.example}: check the energy (and pass example= with valid constants)"
         )
-    if model.linear:
-        rng = np.random.default_rng(0)
-        a, b = rng.uniform(0.1, 1.0, (2, model.n_params))
-        lhs = model.stress(lam, a + 2.0 * b)
-        rhs = model.stress(lam, a) + 2.0 * model.stress(lam, b)
-        if not np.allclose(lhs, rhs, rtol=1e-10, atol=1e-12 * np.abs(rhs).max()):
-            raise ValueError(f"model {model.name!r} is declared linear but its stress is not")
+    idx = list(model.linear_index)
+    if not idx:
+        return True
+    # σ(a + 2b) = σ(a) + 2σ(b) in the linear constants, the others at their example values
+    rng = np.random.default_rng(0)
+    a, b = rng.uniform(0.1, 1.0, (2, len(idx)))
+    x = np.tile(np.array(model.example), (3, 1))
+    x[0, idx], x[1, idx], x[2, idx] = a + 2.0 * b, a, b
+    with np.errstate(all="ignore"):
+        lhs, sa, sb = model.stress(lam, x)
+    rhs = sa + 2.0 * sb
+    if np.all(np.isfinite(lhs)) and np.allclose(
+        lhs, rhs, rtol=1e-10, atol=1e-12 * np.abs(rhs).max()
+    ):
+        return True
+    if not declared:
+        return False
+    what = "linear" if model.linear else f"linear in {list(model.linear_params)}"
+    raise ValueError(f"model {model.name!r} is declared {what} but its stress is not")
 
 
 def get(model: str | Hyperelastic) -> Hyperelastic:
@@ -313,8 +365,8 @@ def get(model: str | Hyperelastic) -> Hyperelastic:
     Examples
     --------
     >>> mr = get("mooney_rivlin")
-    >>> mr.param_names, mr.kind, mr.linear
-    (('C10', 'C01'), 'invariant', True)
+    >>> mr.param_names, mr.kind, mr.linear, mr.linear_params
+    (('C10', 'C01'), 'invariant', True, ('C10', 'C01'))
     >>> get(mr) is mr
     True
     """
