@@ -45,7 +45,9 @@ class Hyperelastic:
     energy : callable
         W(I1, I2, *c) or W(l1, l2, l3, *c).
     derivatives : callable or None
-        For invariant models, (I1, I2, *c) -> (∂W/∂I1, ∂W/∂I2) in closed form.
+        Closed form of the derivatives: for invariant models (I1, I2, *c) ->
+        (∂W/∂I1, ∂W/∂I2); for stretch models (l1, l2, l3, *c) ->
+        (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3). None: the complex step.
     linear : bool
         Whether σ_h is linear in all of the constants (``basis`` gives its columns).
     linear_params : tuple of str
@@ -103,6 +105,9 @@ class Hyperelastic:
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
         l2 = lam**-0.5
+        if self.derivatives is not None:
+            dW1, dW2, _ = self.derivatives(lam, l2, l2, *cols)
+            return dW1 - dW2
         # relative steps: dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
         dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1))
         return np.where(outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
@@ -240,7 +245,8 @@ def register(
     bounds : sequence of (lo, hi), optional
         Physical bounds of the constants (default (-inf, inf)).
     derivatives : callable, optional
-        Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models; else the complex step.
+        Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models, (λa ∂W/∂λa for a = 1, 2, 3)
+        for stretch models; else the complex step.
     linear : bool
         Declare σ_h linear in all the constants (checked numerically at registration).
     example : sequence of float, optional
