@@ -393,18 +393,18 @@ class History:
             # steps of at most dlog in γ, uniform in t (γ is linear in t)
             m = max(1, int(np.ceil(abs(self.stretch[k + 1] - self.stretch[k]) / dlog)))
             return a + np.linspace(0.0, 1.0, m + 1)[1:] * (b - a)
-        ends = [principal_stretches(self.deformation, self.stretch[j],
-                                    None if self.stretch2 is None else self.stretch2[j])
-                for j in (k, k + 1)]
-        dl = np.abs(np.log(np.asarray(ends[1]) / np.asarray(ends[0])))
-        m = max(1, int(np.ceil(dl.max() / dlog)))
-        frac = np.linspace(0.0, 1.0, m + 1)[1:]
-        j = int(np.argmax(dl[:2]))  # uniform in ln λ of the loaded stretch that moves most
-        l0, l1 = float(ends[0][j]), float(ends[1][j])
-        if dl[j] == 0:
-            return a + frac * (b - a)
-        lam = l0 * np.exp(np.log(l1 / l0) * frac)
-        return a + (lam - l0) / (l1 - l0) * (b - a)
+        if self.deformation == "biaxial":
+            # λ1 and λ2 are both linear in t: the union of the nodes uniform in ln λ1 and
+            # in ln λ2 at dlog/2 bounds both steps by dlog/2, so ln λ3 = −ln λ1 − ln λ2
+            # changes by at most dlog
+            tt = [_log_uniform(a, b, self.stretch[k], self.stretch[k + 1], 0.5 * dlog),
+                  _log_uniform(a, b, self.stretch2[k], self.stretch2[k + 1], 0.5 * dlog)]
+            return np.unique(np.concatenate([x for x in tt if x.size] or [np.array([b])]))
+        # every principal stretch is a power of λ1: uniform in ln λ1, at most dlog in the
+        # fastest of them (ln λ3 = −2 ln λ in equibiaxial)
+        power = 2.0 if self.deformation == "equibiaxial" else 1.0
+        tt = _log_uniform(a, b, self.stretch[k], self.stretch[k + 1], dlog / power)
+        return tt if tt.size else np.array([b])
 
     def grid(self, dlog: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Integration grid: node times, node stretches, and output node indices.
@@ -455,6 +455,19 @@ class History:
         t_nodes = np.unique(np.concatenate([base, out]))
         idx = np.searchsorted(t_nodes, out)
         return t_nodes, self.stretch_at(t_nodes), idx
+
+
+def _log_uniform(a: float, b: float, l0: float, l1: float, dlog: float) -> np.ndarray:
+    """Times after ``a`` up to ``b`` uniform in ln λ, λ linear in t from l0 to l1, with
+    steps of at most dlog; empty if λ does not change."""
+    dl = abs(np.log(l1 / l0))
+    if dl == 0:
+        return np.zeros(0)
+    m = max(1, int(np.ceil(dl / dlog)))
+    lam = l0 * np.exp(np.log(l1 / l0) * np.linspace(0.0, 1.0, m + 1)[1:])
+    tt = a + (lam - l0) / (l1 - l0) * (b - a)
+    tt[-1] = b
+    return tt
 
 
 def _ramp2(lam2: np.ndarray, t: np.ndarray, t_end: float) -> np.ndarray:

@@ -59,7 +59,7 @@ def _strain_of(name: str, stretch):
     bad = ~(lam > 0)
     if bad.any():
         i = int(np.flatnonzero(bad.reshape(-1))[0])
-        raise ValueError(f"{name}[{i}] = {lam.reshape(-1)[i]!r} must be > 0: stretches are "
+        raise ValueError(f"{name}[{i}] = {float(lam.reshape(-1)[i])!r} must be > 0: stretches are "
                          "positive (λ = 1 + strain)")
     return lam - 1.0
 
