@@ -140,7 +140,7 @@ class GeneralPlan:
             np.repeat(f0, N, axis=0), np.repeat(f1, N, axis=0), self.w, self.step,
             self.sample_off, self.step_off, np.ones((P * N, 1)), tau.reshape(P * N, 1),
             _kernels.DERIV, parallel)
-        h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, -1)
+        h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, self.pos.size)
         return ok & ok_f
 
 
