@@ -30,23 +30,22 @@ __all__ = [
     "generator",
     "header",
     "unsupported",
+    "model_hint",
     "UNITS",
+    "SUPPORT",
+    "SAME_LAW",
 ]
 
 #: The consistent unit system every card is written in (the model's own: MPa and s).
 UNITS = "N, mm, s, MPa (stress and moduli), tonne/mm^3 (density)"
 
-#: Models that every exporter knows, in the order used in error messages.
-BUILTIN = (
-    "mooney_rivlin",
-    "neo_hooke",
-    "yeoh",
-    "polynomial2",
-    "polynomial3",
-    "ogden",
-    "ogden2",
-    "ogden3",
-)
+#: Solver name -> the built-in laws its cards hold; each writer module adds its own entry
+#: when it is imported, so that a refusal can name the solvers that do have the law.
+SUPPORT: dict[str, tuple[str, ...]] = {}
+
+#: Laws with the same energy under two names (Abaqus NEO HOOKE = REDUCED POLYNOMIAL, N=1)
+SAME_LAW = {"neo_hooke": "reduced_polynomial1", "yeoh": "reduced_polynomial3"}
+SAME_LAW.update({v: k for k, v in SAME_LAW.items()})
 
 
 def generator() -> str:
@@ -256,12 +255,27 @@ class Material:
 
 
 def unsupported(solver: str, model: str, supported: Sequence[str], why: str = "") -> ValueError:
-    """The error every exporter raises for a model its card cannot hold."""
+    """The error every exporter raises for a model its card cannot hold.
+
+    One line: the solver, the model (and why), the solvers whose cards do hold it, and
+    the models this solver supports.
+    """
     extra = f" ({why})" if why else ""
+    others = [s for s, laws in SUPPORT.items() if s != solver and model in laws]
+    where = (f"export it to {' or '.join(others)} instead" if others
+             else "no solver card vhfit writes holds it")
     return ValueError(
-        f"{solver} export does not support the hyperelastic model {model!r}{extra}; "
-        f"supported: {', '.join(supported)}"
+        f"{solver} export does not support the hyperelastic model {model!r}{extra}: "
+        f"{where}; supported: {', '.join(supported)}"
     )
+
+
+def model_hint(text: str, layout: str) -> str:
+    """The ``vhfit model:`` header comment of a card, when it names the same law as the
+    card's fields (``layout``, e.g. yeoh for reduced_polynomial3); else ``layout``."""
+    m = re.search(r"vhfit model:\s*([A-Za-z0-9_]+)", text)
+    hint = m.group(1) if m else None
+    return hint if hint is not None and SAME_LAW.get(layout) == hint else layout
 
 
 # ---------------------------------------------------------------------------- numbers

@@ -3,10 +3,13 @@
 Conventions (see docs/export.md for the sources):
 
 * ``*HYPERELASTIC, <model>, MODULI=LONG TERM`` takes the long-term constants, which
-  is what vhfit calibrates; ``MODULI=INSTANTANEOUS`` takes long-term / g∞. The Cij are
-  the Abaqus polynomial constants, W = Σ Cij (Ī1 − 3)^i (Ī2 − 3)^j; Ogden μ_p, α_p
-  are Abaqus's, W = Σ 2μ_p/α_p² (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3). Both are vhfit's own
-  conventions, so the constants go over unchanged.
+  is what vhfit calibrates; ``MODULI=INSTANTANEOUS`` takes long-term / g∞ (the
+  stress-like constants: Cij, μ_p, μ; α, λm, a, β unchanged). The Cij are the Abaqus
+  polynomial constants, W = Σ Cij (Ī1 − 3)^i (Ī2 − 3)^j (``REDUCED POLYNOMIAL, N``:
+  Ci0 only, N ≤ 6); Ogden μ_p, α_p are Abaqus's, W = Σ 2μ_p/α_p² (λ̄1^α_p + λ̄2^α_p +
+  λ̄3^α_p − 3), N ≤ 6; ``ARRUDA-BOYCE`` takes μ, λm and ``VAN DER WAALS`` μ, λm, a, β
+  in the forms of docs/theory.md §2. All are vhfit's own conventions, so the constants
+  go over unchanged. Abaqus has no Gent law.
 * Data lines: the constants, then D1..DN (0 = incompressible, Abaqus/Standard with
   hybrid elements), at most 8 values a line.
 * ``*VISCOELASTIC, TIME=PRONY`` data lines ``g_i, k_i, tau_i`` with g_i = G_i / G0 the
@@ -20,9 +23,11 @@ import re
 import warnings
 
 from vhfit.export._common import (
+    SUPPORT,
     Material,
     free_number,
     header,
+    model_hint,
     parse_number,
     resolve,
     unsupported,
@@ -32,6 +37,10 @@ from vhfit.model import ViscoHyperelastic
 __all__ = ["to_abaqus", "from_abaqus"]
 
 SOLVER = "Abaqus"
+
+def _ogden_order(n: int) -> tuple[str, ...]:
+    return tuple(x for p in range(1, n + 1) for x in (f"mu{p}", f"alpha{p}"))
+
 
 #: vhfit model -> (*HYPERELASTIC parameters, constant order on the data line, number of D)
 _CARDS = {
@@ -44,10 +53,17 @@ _CARDS = {
         ("C10", "C01", "C20", "C11", "C02", "C30", "C21", "C12", "C03"),
         3,
     ),
-    "ogden": ("OGDEN, N=1", ("mu1", "alpha1"), 1),
-    "ogden2": ("OGDEN, N=2", ("mu1", "alpha1", "mu2", "alpha2"), 2),
-    "ogden3": ("OGDEN, N=3", ("mu1", "alpha1", "mu2", "alpha2", "mu3", "alpha3"), 3),
+    **{name: (f"OGDEN, N={n}", _ogden_order(n), n)
+       for n, name in enumerate(("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6"), 1)},
+    **{f"reduced_polynomial{n}": (f"REDUCED POLYNOMIAL, N={n}",
+                                  tuple(f"C{i}0" for i in range(1, n + 1)), n)
+       for n in range(1, 7)},
+    # data line mu, lambda_m, D (Abaqus Keywords Reference, *HYPERELASTIC)
+    "arruda_boyce": ("ARRUDA-BOYCE", ("mu", "lambda_m"), 1),
+    # data line mu, lambda_m, a, beta, D
+    "van_der_waals": ("VAN DER WAALS", ("mu", "lambda_m", "a", "beta"), 1),
 }
+SUPPORT[SOLVER] = tuple(_CARDS)
 
 _MODULI = {"long_term": "LONG TERM", "instantaneous": "INSTANTANEOUS"}
 
@@ -178,22 +194,22 @@ def _blocks(text: str) -> list[tuple[str, dict[str, str], list[list[str]]]]:
 def _hyper_kind(params: dict[str, str]) -> tuple[str, int]:
     """The vhfit model named by *HYPERELASTIC parameters, and the number of D values."""
     n = int(params.get("N", "1"))
-    if "MOONEY-RIVLIN" in params:
-        return "mooney_rivlin", 1
-    if "NEO HOOKE" in params:
-        return "neo_hooke", 1
-    if "YEOH" in params:
-        return "yeoh", 3
-    if "OGDEN" in params:
-        if 1 <= n <= 3:
-            return ("ogden", "ogden2", "ogden3")[n - 1], n
-        raise unsupported(SOLVER, f"OGDEN, N={n}", list(_CARDS), "vhfit has Ogden N = 1..3")
-    if "REDUCED POLYNOMIAL" in params:
-        if n == 1:
-            return "neo_hooke", 1
-        if n in (2, 3):
-            return "yeoh", n  # C30 = 0 for N = 2
-        raise unsupported(SOLVER, f"REDUCED POLYNOMIAL, N={n}", list(_CARDS))
+    fixed = {"MOONEY-RIVLIN": "mooney_rivlin", "NEO HOOKE": "neo_hooke", "YEOH": "yeoh",
+             "ARRUDA-BOYCE": "arruda_boyce", "VAN DER WAALS": "van_der_waals"}
+    for key, kind in fixed.items():
+        if key in params:
+            return kind, _CARDS[kind][2]
+    family = {
+        "OGDEN": ("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6"),
+        "REDUCED POLYNOMIAL": ("neo_hooke", "reduced_polynomial2", "yeoh",
+                               "reduced_polynomial4", "reduced_polynomial5",
+                               "reduced_polynomial6"),
+    }
+    for key, kinds in family.items():
+        if key in params:
+            if 1 <= n <= len(kinds):
+                return kinds[n - 1], n
+            raise unsupported(SOLVER, f"{key}, N={n}", list(_CARDS), "Abaqus allows N <= 6")
     named = [k for k in params if k not in ("N", "MODULI", "POISSON")]
     if named and named != ["POLYNOMIAL"]:
         raise unsupported(SOLVER, ", ".join(named), list(_CARDS))
@@ -253,9 +269,8 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
         raise ValueError("*HYPERELASTIC with test data, MARLOW or USER cannot be read: "
                          "give the constants on the data lines")
     kind, n_d = _hyper_kind(hp)
+    kind = model_hint(text, kind)  # e.g. reduced_polynomial3 written as REDUCED POLYNOMIAL, N=3
     order = list(_CARDS[kind][1])
-    if kind == "yeoh" and n_d == 2:  # REDUCED POLYNOMIAL, N=2: C10, C20
-        order = ["C10", "C20"]
     need = len(order) + n_d + 1  # constants, D's, temperature
     per_record = -(-need // 8)
     if len(hdata) > per_record:
