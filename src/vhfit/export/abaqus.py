@@ -21,11 +21,15 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Sequence
+
+import numpy as np
 
 from vhfit.export._common import (
     SUPPORT,
     Material,
     free_number,
+    generator,
     header,
     model_hint,
     parse_number,
@@ -34,7 +38,7 @@ from vhfit.export._common import (
 )
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_abaqus", "from_abaqus"]
+__all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data"]
 
 SOLVER = "Abaqus"
 
@@ -82,6 +86,7 @@ def to_abaqus(
     moduli: str = "long_term",
     density: float | None = None,
     poisson: float | None = None,
+    notes: Sequence[str] = (),
 ) -> str:
     """Abaqus ``*MATERIAL`` block of a calibrated visco-hyperelastic model.
 
@@ -103,6 +108,9 @@ def to_abaqus(
     poisson : float, optional
         Poisson's ratio for a compressible D1 (see :meth:`Material.d1`); default None
         writes D = 0 (incompressible: Abaqus/Standard with hybrid elements only).
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
 
     Returns
     -------
@@ -152,7 +160,7 @@ def to_abaqus(
         "D1 = 0: incompressible (Abaqus/Standard hybrid elements)" if poisson is None
         else f"D1 = 2/K0 from Poisson's ratio {poisson:g} with the instantaneous shear modulus",
     ]
-    lines = header("**", solver=SOLVER, mat=mat, moduli=which, conventions=conventions)
+    lines = header("**", solver=SOLVER, notes=notes, mat=mat, moduli=which, conventions=conventions)
     lines.append(f"*MATERIAL, NAME={name}")
     if density is not None:
         if not (math.isfinite(density) and density > 0):
@@ -303,3 +311,94 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
     mat = Material.from_card(kind, constants, g, tau, solver=SOLVER,
                              instantaneous=moduli == "INSTANTANEOUS" and bool(g))
     return mat.to_params()
+
+
+# --------------------------------------------------------------------- test data
+#: vhfit deformation -> Abaqus test-data keyword (nominal stress, nominal strain lines)
+_TEST_DATA = {
+    "uniaxial": "*UNIAXIAL TEST DATA",
+    "equibiaxial": "*BIAXIAL TEST DATA",  # Abaqus' biaxial test is the equibiaxial one
+    "planar": "*PLANAR TEST DATA",
+}
+
+
+def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
+                        name: str = "VHFIT_TEST_DATA") -> str:
+    """Abaqus ``*HYPERELASTIC, ..., TEST DATA INPUT`` block of the equilibrium curves.
+
+    Abaqus fits its own constants of the same law to these data (nominal stress,
+    nominal strain per line; ``*UNIAXIAL``, ``*BIAXIAL`` — equibiaxial — and ``*PLANAR
+    TEST DATA``), so its evaluation of the law can be compared with vhfit's fit. Only
+    equilibrium (rate-free) curves are written: rate curves are not a hyperelastic
+    response. General biaxial and simple-shear curves have no such keyword in Abaqus
+    and are left out with a comment.
+
+    Parameters
+    ----------
+    curves : sequence of Curve
+        The calibration curves; the equilibrium ones are written.
+    hyperelastic : str
+        The registered law whose Abaqus form Abaqus should fit.
+    name : str
+        Material name (``*MATERIAL, NAME=``).
+
+    Returns
+    -------
+    str
+        The block, comment lines first.
+
+    Raises
+    ------
+    ValueError
+        When no curve can be written, or Abaqus lacks the law.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> c = vhfit.Curve(stretch=[1.5, 2.0], stress=[0.4, 0.7], deformation="planar")
+    >>> print(to_abaqus_test_data([c], "neo_hooke").split("*MATERIAL")[1])
+    , NAME=VHFIT_TEST_DATA
+    *HYPERELASTIC, NEO HOOKE, TEST DATA INPUT
+    *PLANAR TEST DATA
+    0.4, 0.5
+    0.7, 1.0
+    <BLANKLINE>
+    """
+    law = getattr(hyperelastic, "name", hyperelastic)
+    if law not in _CARDS:
+        raise unsupported(SOLVER, law, list(_CARDS))
+    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
+        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+    blocks: dict[str, list[str]] = {}
+    skipped = []
+    for c in curves:
+        if not c.is_equilibrium:
+            continue
+        kw = _TEST_DATA.get(c.deformation)
+        if kw is None:
+            skipped.append(f"{c.name!r} ({c.deformation})")
+            continue
+        lam = 1.0 + np.asarray(c.strain, dtype=np.float64)
+        P = np.asarray(c.stress, dtype=np.float64)
+        if c.measure == "true":
+            P = P / lam
+        blocks.setdefault(kw, []).extend(
+            f"{free_number(p)}, {free_number(e)}" for p, e in zip(P, lam - 1.0))
+    if not blocks:
+        raise ValueError(
+            "no equilibrium uniaxial, equibiaxial or planar curve to write as Abaqus test "
+            "data: give curves with neither strain_rate nor time"
+        )
+    lines = [
+        f"** Generated by {generator()}: equilibrium test data for Abaqus to fit its own "
+        f"{_CARDS[law][0]} constants,",
+        "** to cross-check vhfit's long-term fit. Units: N, mm, s, MPa. Lines: nominal "
+        "stress, nominal strain.",
+    ]
+    if skipped:
+        lines.append("** Not written (no Abaqus test-data keyword): " + ", ".join(skipped))
+    lines += [f"*MATERIAL, NAME={name}", f"*HYPERELASTIC, {_CARDS[law][0]}, TEST DATA INPUT"]
+    for kw in _TEST_DATA.values():
+        if kw in blocks:
+            lines += [kw] + blocks[kw]
+    return "\n".join(lines) + "\n"

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 
 from vhfit.export._common import (
     SUPPORT,
@@ -88,6 +89,7 @@ def to_ansys(
     mat: int = 1,
     density: float | None = None,
     poisson: float | None = None,
+    notes: Sequence[str] = (),
 ) -> str:
     """Ansys APDL material commands of a calibrated visco-hyperelastic model.
 
@@ -108,6 +110,9 @@ def to_ansys(
     poisson : float, optional
         Poisson's ratio for a compressible d1 = 2/K0 (K0 from the instantaneous shear
         modulus); default None writes d = 0 (incompressible, mixed u-P elements).
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
 
     Returns
     -------
@@ -150,7 +155,7 @@ def to_ansys(
     ]
     which = ("INSTANTANEOUS = vhfit long-term constants / g_inf (Ansys has no long-term "
              "option)" if m.n_prony else "long-term = instantaneous (no Prony terms)")
-    lines = header("!", solver=SOLVER, mat=m, moduli=which, conventions=conventions)
+    lines = header("!", solver=SOLVER, notes=notes, mat=m, moduli=which, conventions=conventions)
     if density is not None:
         lines.append(f"MP,DENS,{mat},{free_number(density)}")
     lines.append(f"TB,HYPER,{mat},,{'' if npts is None else npts},{tbopt}")

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Sequence
 
 from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
@@ -120,6 +121,7 @@ def to_lsdyna(
     density: float | None = None,
     poisson: float = 0.4995,
     long_format: bool = True,
+    notes: Sequence[str] = (),
 ) -> str:
     """LS-DYNA keyword deck (``*KEYWORD`` ... ``*END``) of a calibrated model.
 
@@ -141,6 +143,9 @@ def to_lsdyna(
         RO in tonne/mm³; left blank (and flagged in a comment) when not given.
     poisson : float
         PR, from which LS-DYNA derives the bulk modulus; 0.4995 (K ≈ 1000 μ0) by default.
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
     long_format : bool
         20-character fields (keyword suffix ``+``, 13 significant digits) when True;
         the classic 10-character fields (4-6 significant digits) when False.
@@ -200,7 +205,7 @@ def to_lsdyna(
     if density is None:
         conventions.append("RO (density, tonne/mm^3) is left blank: set it before running")
     lines = ["*KEYWORD"]
-    lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80,
+    lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80, notes=notes,
                     moduli="LONG-TERM (LS-DYNA adds the Prony stress to them)")
     lines.append(f"*MAT_{keyword}_TITLE" + ("+" if long_format else ""))
     lines.append(name)
