@@ -164,7 +164,8 @@ class SeparableSpace:
 
         ``hyper`` (P, n_h) holds the other constants. By linearity the stress of each
         unit linear constant is σ(B + e_k) − σ(B), with B all linear constants at 1 (a
-        shape with a positive initial modulus, which the batch requires); each constant
+        shape with a positive initial modulus, which the batch requires) and σ(B) =
+        Σ_k σ(B + e_k)/(m + 1) for m linear constants; each constant
         is kept at or above its lower search limit (a shift, or a ± pair of columns for
         an unbounded one) and NNLS solves them. Returns the constants (P, n_h) and the
         errors (P,); +inf where the law is invalid or the result has no stiffness.
@@ -173,11 +174,12 @@ class SeparableSpace:
 
         prob, amp = self.prob, self.amp
         P, m = hyper.shape[0], len(amp)
-        X = np.repeat(hyper, m + 1, axis=0).reshape(P, m + 1, -1)
+        X = np.repeat(hyper, m, axis=0).reshape(P, m, -1)
         X[:, :, amp] = 1.0
-        X[:, np.arange(1, m + 1), amp] += 1.0
-        S = prob.batch(X.reshape(P * (m + 1), -1)).reshape(P, m + 1, -1)
-        cols = (S[:, 1:] - S[:, :1]) * prob.scale  # (P, m, n_points)
+        X[:, np.arange(m), amp] += 1.0
+        S = prob.batch(X.reshape(P * m, -1)).reshape(P, m, -1)  # σ(B + e_k)
+        # Σ_k σ(B + e_k) = (m + 1) σ(B): σ(B) needs no evaluation of its own
+        cols = (S - S.sum(axis=1, keepdims=True) / (m + 1)) * prob.scale  # (P, m, n_points)
         lo = np.array([prob.bounds[prob.hm.param_names[k]][0] for k in amp])
         free = ~np.isfinite(lo)
         lo0 = np.where(free, 0.0, lo)
