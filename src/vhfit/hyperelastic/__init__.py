@@ -1,12 +1,18 @@
 """Hyperelastic strain energies, their registry, and the uniaxial stress they give.
 
 A model is a plain function of the kinematics and its constants, written as the
-formula, and registered by name::
+formula, and registered by name (Gent is built in as ``"gent"``; this is how it reads)::
 
-    @register("gent")
-    def gent(I1, I2, mu, Jm):
+    @register("my_gent", units=("MPa", "1"), linear_params=("mu",))
+    def my_gent(I1, I2, mu, Jm):
         "W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm)"
         return -mu * Jm / 2 * np.log(1 - (I1 - 3) / Jm)
+
+``linear_params`` names the constants the stress is linear in (checked at
+registration); the separable calibration solves those by least squares.
+Built in: mooney_rivlin, neo_hooke, yeoh, polynomial2, polynomial3,
+reduced_polynomial1..6, ogden..ogden6, arruda_boyce, gent, van_der_waals
+(docs/theory.md §2).
 
 Invariant models take ``(I1, I2, *constants)``; principal-stretch models take
 ``(l1, l2, l3, *constants)``. The derivatives the stress needs are taken by the
