@@ -38,7 +38,8 @@ def _rate_curves(params, rates=RATES, *, hyper="mooney_rivlin", n=10, noise=0.0,
         s = m.stress(params, strain=eps, strain_rate=r, measure="engineering")
         if noise:
             s = s * (1 + rng.uniform(-noise, noise, s.size))
-        out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, measure="engineering"))
+        out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, measure="engineering",
+                               n_points=10))
     return out
 
 
@@ -53,7 +54,7 @@ def _history_curves(noise=0.02, seed=4):
     s = m.stress(A_PARAMS, strain=ee, time=tt, measure="engineering")[1:]
     tt, ee = tt[1:], ee[1:]
     s = s * (1 + rng.uniform(-noise, noise, s.size))
-    cyc = vhfit.Curve(strain=ee, stress=s, time=tt, measure="engineering")
+    cyc = vhfit.Curve(strain=ee, stress=s, time=tt, measure="engineering", n_points=10)
     return [cyc] + _rate_curves(A_PARAMS, (-1.0, -100.0), noise=noise, seed=seed + 1)
 
 
@@ -168,12 +169,17 @@ def case_cli_fit(tmp: Path):
     out = tmp / "out"
     buf_o, buf_e = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(buf_o), contextlib.redirect_stderr(buf_e):
-        code = _quiet(main, ["fit", *files, "--prony", "2", "--seed", "14", "--no-plot",
+        code = _quiet(main, ["fit", *files, "--prony", "2", "--seed", "14", "--points", "10",
+                             "--no-plot",
                              "--out", str(out), "--quiet"])
     res = json.loads((out / "results.json").read_text())
     for k in ("timestamp", "versions", "wall_time"):
         res.pop(k, None)
     res["history"].pop("time", None)
+    # recorded without the flag when it was the default: the rest must match bit for bit
+    cmd = res["command"]
+    i = cmd.index("--points")
+    res["command"] = cmd[:i] + cmd[i + 2:]
     res = json.loads(_mask(json.dumps(res), tmp))
     cards = {p.name: _mask(p.read_text(), tmp) for p in sorted(out.iterdir())
              if p.suffix in (".inp", ".k", ".mac", ".txt", ".csv") or p.name.endswith(".json")
