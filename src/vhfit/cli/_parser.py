@@ -18,6 +18,7 @@ from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
 from vhfit.cli._plugins import PLUGIN_GROUP
 from vhfit.cli._simulate import cmd_simulate
+from vhfit.data import MAX_POINTS
 
 __all__ = ["build_parser", "glue_windows"]
 
@@ -159,9 +160,10 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                         "per file)")
     p.add_argument("--measure", choices=("engineering", "true"),
                    help="stress measure when the file does not say (default engineering)")
-    p.add_argument("--points", type=_points, default=10, metavar="N|all",
-                   help="objective points per curve (default 10, the paper's; 'all' = every "
-                        "sample)")
+    p.add_argument("--points", type=_points, default=None, metavar="N|all",
+                   help="objective points per curve (default 'all': every sample, or the "
+                        f"means of {MAX_POINTS} bins of consecutive samples for longer "
+                        "records; 10 = the paper's scheme)")
     p.add_argument("--trim-strain", type=_window("--trim-strain"), metavar="LOW:HIGH",
                    action="append",
                    help="compare model and data only where LOW <= strain <= HIGH (signed; "

@@ -2,7 +2,9 @@
 
 A :class:`Curve` holds one uniaxial test as measured — strain, stress, and either a
 nominal constant strain rate or the time of every sample — plus the *objective points*
-where the model is compared with it (paper: 10 points a curve, evenly spaced in strain).
+where the model is compared with it: by default its own samples (bin means of
+consecutive samples above ``MAX_POINTS``); the paper's 10 points a curve, evenly spaced
+in strain, with ``n_points=10``.
 It knows the stretch history the model must follow (:attr:`Curve.history`) and the
 target stresses there (:attr:`Curve.target_stress`).
 
@@ -39,7 +41,7 @@ import types
 from typing import Any
 
 from vhfit.data import _curve, _paths, _samples
-from vhfit.data._curve import MAX_BREAKPOINTS, PATH_RTOL, Curve
+from vhfit.data._curve import MAX_BREAKPOINTS, MAX_POINTS, PATH_RTOL, Curve
 from vhfit.data._errors import DataError, DataWarning
 from vhfit.data._measures import engineering_to_true, true_to_engineering
 from vhfit.data._paths import HOLD_MIN_DURATION, HOLD_RTOL, LEG_RTOL
@@ -53,6 +55,7 @@ __all__ = [
     "HOLD_RTOL",
     "LEG_RTOL",
     "MAX_BREAKPOINTS",
+    "MAX_POINTS",
     "PATH_RTOL",
     "SIGN_RTOL",
     "Curve",
@@ -68,6 +71,7 @@ __all__ = [
 # Tolerance -> the module that reads it when a curve is built.
 _OWNERS: dict[str, types.ModuleType] = {
     "MAX_BREAKPOINTS": _curve,
+    "MAX_POINTS": _curve,
     "PATH_RTOL": _curve,
     "SIGN_RTOL": _samples,
     "LEG_RTOL": _paths,

@@ -22,9 +22,8 @@ from vhfit.data._paths import _bin_means, _segment_bounds, _simplify_idx
 from vhfit.data._points import (
     DEFAULT_N_POINTS,
     _check_points_args,
-    _compared_mask,
-    _objective_indices,
     _point_weights,
+    _points_of,
 )
 from vhfit.data._samples import (
     _check_deformed,
@@ -53,6 +52,12 @@ PATH_RTOL = 1e-4
 #: grows with them): the history then follows an average over this many bins of
 #: consecutive samples, simplified likewise, with a DataWarning saying how closely.
 MAX_BREAKPOINTS = 2000
+#: By default a curve is compared with the model at its measured samples; a longer record
+#: is compared at the means of this many bins of consecutive samples (each bin within one
+#: segment of the history). 2000 bins resolve a curve to 0.05 % of its length, so the
+#: bin means differ from the curve by far less than measurement noise, which they average
+#: out; and the model's work (its output times) stays bounded for 10^5-sample records.
+MAX_POINTS = 2000
 
 
 # ================================================================= the curve
@@ -86,12 +91,17 @@ class Curve:
         Name used in messages, plots and reports.
     weight : float, default 1
         Weight of the curve in the objective (it multiplies each point's squared term).
-    n_points : int or None, default DEFAULT_N_POINTS
-        Number of objective points (per segment with ``by="segments"``); ``None`` uses
-        the measured samples themselves.
+    n_points : int or None, default None
+        ``None`` (the default, ``DEFAULT_N_POINTS``): the objective points are the
+        measured samples themselves, or for a record of more than ``MAX_POINTS`` samples
+        the means (of strain, time and stress) of ``MAX_POINTS`` bins of consecutive
+        samples, no bin straddling a segment bound. An int: that many points placed
+        ``by`` (per segment with ``by="segments"``), their target stresses interpolated
+        linearly between samples; ``n_points=10`` is the paper's scheme (§2.2).
     by : {"strain", "time", "arclength", "segments"}, optional
-        How the objective points are spaced: evenly in strain (the default for a
-        strictly monotonic strain, as in the paper); in time; in arc length along the
+        With an int ``n_points``, how the objective points are spaced: evenly in strain
+        (the default for a strictly monotonic strain, as in the paper); in time; in arc
+        length along the
         (strain, stress) curve normalised by its ranges; or ``"segments"`` (the default
         otherwise): ``n_points`` on each segment of the history — a loading leg between
         reversals of the strain by more than ``LEG_RTOL`` of its range, or a hold (the
@@ -120,7 +130,11 @@ class Curve:
 
     Notes
     -----
-    *Objective points.* With ``n`` points on a curve whose data start from rest (ε ≈ 0),
+    *Objective points.* By default every sample is compared (Eq. 20 normalises each
+    curve by its own mean stress; a curve with more samples counts more, which
+    ``weight`` can balance); a long record by bin means, which average its noise instead
+    of picking noisy samples at chosen places. With ``n`` points on a curve whose data
+    start from rest (ε ≈ 0),
     the points sit at fractions ``1/n, 2/n, …, 1`` of the compared range: the rest point
     itself, where model and data are both 0, is not spent as a point (Eq. 20 divides by
     the curve's mean stress, not pointwise, so zero-stress points would be allowed, but
@@ -144,22 +158,32 @@ class Curve:
     >>> eps = np.linspace(0.0, -0.5, 51)
     >>> c = Curve(strain=eps, stress=10 * eps, strain_rate=-100.0, name="fast")
     >>> c
-    Curve('fast': compression, engineering stress, rate -100/s, 51 samples, 10 points by strain)
-    >>> c.target_strain[:4]
-    array([-0.05, -0.1 , -0.15, -0.2 ])
-    >>> c.history.out_time[:3]
-    array([0.0005, 0.001 , 0.0015])
-    >>> c.resample(4).target_stress
+    Curve('fast': compression, engineering stress, rate -100/s, 51 samples, 51 points by samples)
+    >>> c.target_strain[:3]
+    array([ 0.  , -0.01, -0.02])
+    >>> c.history.out_time[1:3]
+    array([0.0001, 0.0002])
+    >>> c.resample(4).target_stress          # 4 points evenly in strain from rest
     array([-1.25, -2.5 , -3.75, -5.  ])
+    >>> Curve(strain=eps, stress=10 * eps, strain_rate=-100.0, n_points=10).target_strain[:4]
+    array([-0.05, -0.1 , -0.15, -0.2 ])
 
     A loading–unloading test with its time column is resampled along the curve:
 
     >>> t = np.linspace(0.0, 2.0, 201)
-    >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t)
+    >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t,
+    ...            n_points=10)
     >>> lu.mode, lu.by, lu.n_segments, lu.n_points, lu.strain_rate
     ('tension', 'segments', 2, 20, 0.5)
     >>> float(lu.target_strain[9])           # the turning point is an objective point
     0.5
+
+    A long record is compared at bin means of its samples:
+
+    >>> t = np.linspace(0.0, 1.0, 10_001)
+    >>> long = Curve(strain=0.2 * t, stress=t, time=t)
+    >>> long.n_points, long.by, float(long.target_time[0])
+    (2000, 'bins', 0.00025)
     """
 
     def __init__(
@@ -358,7 +382,8 @@ class Curve:
     @property
     def by(self) -> str:
         """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
-        ``"segments"``, or ``"samples"`` (the measured samples themselves)."""
+        ``"segments"``, ``"samples"`` (the measured samples themselves) or ``"bins"``
+        (means of bins of consecutive samples, a record longer than ``MAX_POINTS``)."""
         return self._by
 
     @property
@@ -421,17 +446,12 @@ class Curve:
 
     def _set_points(self) -> None:
         where = self._where
-        eps, sig, ts = self._strain, self._stress, self._sample_time()
-        mask = _compared_mask(eps, ts, self._window, self._time is None, self._n_req,
-                              self._window_desc, where)
-        idx, self._by = _objective_indices(
-            eps, sig, ts, mask, self._bounds, self._n_req, self._by_req, self._monotone,
-            self._tol, self._window_desc, where,
+        e_obj, s_obj, t_obj, self._by = _points_of(
+            self._strain, self._stress, self._sample_time(),
+            self._rate if self._time is None else None, self._window, self._bounds,
+            self._n_req, self._by_req, self._monotone, self._tol, self._window_desc,
+            MAX_POINTS, where,
         )
-        k = np.arange(eps.size, dtype=np.float64)
-        e_obj = np.interp(idx, k, eps)
-        s_obj = np.interp(idx, k, sig)
-        t_obj = e_obj / self._rate if self._time is None else np.interp(idx, k, ts)
         self._e_obj = _frozen(e_obj)
         self._s_obj = _frozen(s_obj)
         self._t_obj = _frozen(t_obj)
@@ -439,12 +459,12 @@ class Curve:
                                                     where)
         self._w_obj = _frozen(w_obj)
 
-
     # ------------------------------------------------------------- variants
     def resample(self, n_points: int | None = DEFAULT_N_POINTS, by: str | None = None) -> Curve:
         """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
-        ``n_points=None`` compares at the measured samples themselves. ``by=None`` picks
+        ``n_points=None`` compares at the measured samples themselves (bin means above
+        ``MAX_POINTS``); ``n_points=10`` is the paper's scheme. ``by=None`` picks
         ``"strain"`` for a strictly monotonic strain and ``"segments"`` otherwise.
 
         Examples

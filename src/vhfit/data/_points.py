@@ -1,8 +1,10 @@
 """Objective points of a curve: where along the measured curve the model is compared.
 
-Evenly spaced in strain (the paper's choice: 10 points a curve), in time, in arc length
-along the (strain, stress) curve, or per segment of a history (loading legs and holds);
-see :class:`vhfit.data.Curve` for the rules. Also the point weights.
+By default the measured samples themselves, or above a cap the means of bins of
+consecutive samples; on request ``n`` points evenly spaced in strain (the paper's choice:
+10 points a curve), in time, in arc length along the (strain, stress) curve, or per
+segment of a history (loading legs and holds); see :class:`vhfit.data.Curve` for the
+rules. Also the point weights.
 """
 
 from __future__ import annotations
@@ -14,8 +16,10 @@ import numpy as np
 from vhfit.data._errors import DataError, _Where
 from vhfit.data._paths import _arclength, _place
 
-#: Objective points per curve when none are asked for (the paper's choice, §2.2).
-DEFAULT_N_POINTS = 10
+#: Objective points per curve when none are asked for: ``None``, the measured samples
+#: (bin means of consecutive samples above ``vhfit.data.MAX_POINTS``). The paper's scheme
+#: (§2.2) is ``n_points=10``.
+DEFAULT_N_POINTS = None
 
 _BYS = ("strain", "time", "arclength", "segments")
 
@@ -59,6 +63,40 @@ def _compared_mask(
     return mask
 
 
+def _sample_points(
+    eps: np.ndarray,
+    sig: np.ndarray,
+    ts: np.ndarray,
+    mask: np.ndarray,
+    bounds: np.ndarray,
+    cap: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """Strain, stress and time of the compared samples, or of bin means above ``cap``.
+
+    Bins are runs of consecutive compared samples, never straddling a gap of the window
+    or a segment bound (so turning points and hold ends stay sharp), with about ``cap``
+    bins in all, shared among the runs in proportion to their samples. Means, not
+    interpolation: noise averages out instead of being picked at chosen places.
+    """
+    k = np.flatnonzero(mask)
+    if k.size <= cap:
+        return eps[k], sig[k], ts[k], "samples"
+    seg = np.searchsorted(bounds[1:-1], k, side="left")  # a bound ends its segment
+    brk = (np.diff(seg) != 0) | (np.diff(k) > 1)
+    starts = np.flatnonzero(np.concatenate([[True], brk]))
+    sizes = np.diff(np.append(starts, k.size))
+    nb = np.clip(cap * sizes // k.size, 1, sizes)
+    first = np.concatenate([[0], np.cumsum(nb)[:-1]])
+    pos = np.arange(k.size) - np.repeat(starts, sizes)
+    b = np.repeat(first, sizes) + pos * np.repeat(nb, sizes) // np.repeat(sizes, sizes)
+    cnt = np.bincount(b)
+
+    def mean(v: np.ndarray) -> np.ndarray:
+        return np.bincount(b, weights=v[k]) / cnt
+
+    return mean(eps), mean(sig), mean(ts), "bins"
+
+
 def _objective_indices(
     eps: np.ndarray,
     sig: np.ndarray,
@@ -71,9 +109,10 @@ def _objective_indices(
     tol: float,
     window_desc: tuple[str, ...],
     where: _Where,
-) -> tuple[np.ndarray, str]:
+) -> tuple[np.ndarray | None, str]:
     """Fractional sample indices of the objective points, and how they are spaced.
 
+    None for the measured samples (``n_req`` None: see :func:`_sample_points`).
     ``bounds`` are the sample indices bounding the segments of the history; ``tol`` is
     the strain below which a sample counts as the rest point.
     """
@@ -86,7 +125,7 @@ def _objective_indices(
             "unloads or holds): use by='segments', by='arclength' or by='time'"
         )
     if n_req is None:
-        return np.flatnonzero(mask).astype(np.float64), "samples"
+        return None, "samples"
     if by == "strain":
         c = eps * np.sign(eps[-1] - eps[0])
     elif by == "time":
@@ -111,6 +150,39 @@ def _objective_indices(
             f"extent in {by}: widen it"
         )
     return idx, by
+
+
+def _points_of(
+    eps: np.ndarray,
+    sig: np.ndarray,
+    ts: np.ndarray,
+    rate: float | None,
+    window: np.ndarray | None,
+    bounds: np.ndarray,
+    n_req: int | None,
+    by_req: str | None,
+    monotone: bool,
+    tol: float,
+    window_desc: tuple[str, ...],
+    cap: int,
+    where: _Where,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """Strain, stress and time of a curve's objective points, and how they are spaced.
+
+    ``rate`` is the constant rate of a curve without time column (None otherwise): its
+    point times are ``strain / rate``.
+    """
+    mask = _compared_mask(eps, ts, window, rate is not None, n_req, window_desc, where)
+    idx, by = _objective_indices(eps, sig, ts, mask, bounds, n_req, by_req, monotone, tol,
+                                 window_desc, where)
+    if idx is None:
+        e_obj, s_obj, t_obj, by = _sample_points(eps, sig, ts, mask, bounds, cap)
+    else:
+        k = np.arange(eps.size, dtype=np.float64)
+        e_obj, s_obj, t_obj = (np.interp(idx, k, v) for v in (eps, sig, ts))
+    if rate is not None:
+        t_obj = e_obj / rate
+    return e_obj, s_obj, t_obj, by
 
 
 def _point_weights(
