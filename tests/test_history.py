@@ -8,7 +8,7 @@ from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
 
-from vhfit.history import History, from_rest
+from vhfit.history import DEFORMATIONS, History, from_rest
 
 # ----------------------------------------------------------------- strategies
 
@@ -208,3 +208,116 @@ def test_from_rest_feeds_piecewise_linear():
 def test_from_rest_rejects_mismatched_or_empty_paths(t, e):
     with pytest.raises(ValueError, match="from_rest: t has shape .* same, non-zero length"):
         from_rest(t, e)
+
+
+# ------------------------------------------------------------ every test mode
+def test_deformations_are_the_five_homogeneous_tests():
+    assert DEFORMATIONS == ("uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear")
+    h = History.constant_rate([0.1], 1.0)
+    assert h.deformation == "uniaxial" and h.stretch2 is None and not h.is_equilibrium
+    np.testing.assert_array_equal(h.out_direction, [1])
+
+
+def test_simple_shear_paths_carry_the_amount_of_shear_of_either_sign():
+    h = History.piecewise_linear([0.0, 1.0, 2.0], [0.0, -2.5, 1.5], deformation="simple_shear")
+    np.testing.assert_array_equal(h.stretch, [0.0, -2.5, 1.5])   # γ, not 1 + γ
+    np.testing.assert_allclose(h.out_strain, [0.0, -2.5, 1.5])
+    np.testing.assert_array_equal(h.out_loaded_stretch, [1.0, 1.0, 1.0])
+    r = History.constant_rate([-1.5, -3.0], -3.0, deformation="simple_shear")
+    np.testing.assert_allclose(r.out_time, [0.5, 1.0])
+    np.testing.assert_array_equal(r.stretch, [0.0, -3.0])
+
+
+def test_biaxial_paths_carry_both_stretches_and_both_directions():
+    h = History.piecewise_linear([0.0, 1.0, 2.0], [0.0, 0.5, 0.5], deformation="biaxial",
+                                 strain2=[0.0, 0.1, 0.8])
+    np.testing.assert_allclose(h.stretch2, [1.0, 1.1, 1.8])
+    assert h.stretch2_at(1.5) == pytest.approx(1.45)
+    h2 = h.with_outputs([0.5, 1.5], [2, 1])
+    np.testing.assert_array_equal(h2.out_direction, [2, 1])
+    np.testing.assert_allclose(h2.out_loaded_stretch, [1.05, 1.5])   # λ2(0.5), λ1(1.5)
+    # a constant-rate biaxial ramp: λ2 at a constant rate too
+    r = History.constant_rate([0.1, 0.2], 0.1, deformation="biaxial", strain2=[0.05, 0.1])
+    np.testing.assert_allclose(r.stretch2, [1.0, 1.1])
+    with pytest.raises(ValueError, match="strain2 of a constant-rate biaxial ramp must be "
+                                         "proportional to strain"):
+        History.constant_rate([0.1, 0.2], 0.1, deformation="biaxial", strain2=[0.05, 0.05])
+
+
+def test_equibiaxial_second_direction_and_planar_loaded_stretch():
+    h = History.equilibrium([0.5, -0.2], deformation="equibiaxial").with_outputs([0, 1], [2, 2])
+    np.testing.assert_allclose(h.out_loaded_stretch, [1.5, 0.8])
+    with pytest.raises(ValueError, match="out_direction 2 needs a second loaded direction: "
+                                         "'planar' has none"):
+        History.equilibrium([0.5], deformation="planar").with_outputs([0], [2])
+    with pytest.raises(ValueError, match="out_direction must give 1 or 2 for each output"):
+        History.equilibrium([0.5], deformation="biaxial", strain2=[0.1]).with_outputs([0], [3])
+
+
+def test_equilibrium_histories_are_unordered_samples_without_time():
+    h = History.equilibrium([0.3, -0.1, 0.2, 0.3])
+    assert h.is_equilibrium and h.duration == 0.0
+    np.testing.assert_allclose(h.out_strain, [0.3, -0.1, 0.2, 0.3])
+    np.testing.assert_allclose(h.with_outputs([2, 0]).out_strain, [0.2, 0.3])
+    with pytest.raises(ValueError, match="an equilibrium history has no time grid"):
+        h.grid(0.01)
+    with pytest.raises(ValueError, match="numbers its samples: give whole numbers"):
+        h.with_outputs([0.5])
+    with pytest.raises(ValueError, match=r"strain\[1\] = -1.2 gives a non-positive stretch"):
+        History.equilibrium([0.1, -1.2], deformation="planar")
+    # simple shear has no such limit: γ = -1.2 is a shear like any other
+    np.testing.assert_allclose(
+        History.equilibrium([-1.2], deformation="simple_shear").out_strain, [-1.2])
+
+
+@pytest.mark.parametrize("build", [
+    lambda **kw: History.constant_rate([0.1], 1.0, **kw),
+    lambda **kw: History.piecewise_linear([0.0, 1.0], [0.0, 0.1], **kw),
+    lambda **kw: History.equilibrium([0.1], **kw),
+])
+def test_every_builder_checks_the_deformation_and_strain2(build):
+    with pytest.raises(ValueError, match="deformation = 'pure_shear' is unknown: choose one "
+                                         "of uniaxial, equibiaxial, planar, biaxial, "
+                                         "simple_shear"):
+        build(deformation="pure_shear")
+    with pytest.raises(ValueError, match="deformation='biaxial' needs strain2"):
+        build(deformation="biaxial")
+    with pytest.raises(ValueError, match="strain2 is only for deformation='biaxial', not "
+                                         "'equibiaxial'"):
+        build(deformation="equibiaxial", strain2=[0.1])
+
+
+@st.composite
+def mode_histories(draw):
+    """Random piecewise histories of every mode but uniaxial (tested above)."""
+    mode = draw(st.sampled_from(DEFORMATIONS[1:]))
+    k = draw(st.integers(2, 5))
+    time = np.concatenate([[0.0], np.cumsum(draw(st.lists(st.floats(1e-6, 1e4), min_size=k - 1,
+                                                          max_size=k - 1)))])
+    lo, hi = (-5.0, 5.0) if mode == "simple_shear" else (-0.7, 3.0)
+    e1 = [0.0] + draw(st.lists(st.floats(lo, hi), min_size=k - 1, max_size=k - 1))
+    e2 = [0.0] + draw(st.lists(st.floats(-0.7, 3.0), min_size=k - 1, max_size=k - 1))
+    frac = draw(st.lists(st.floats(0.0, 1.0), min_size=1, max_size=6))
+    out = np.asarray(frac) * time[-1]
+    return History.piecewise_linear(time, e1, out, deformation=mode,
+                                    strain2=e2 if mode == "biaxial" else None)
+
+
+@accuracy
+@given(mode_histories(), st.sampled_from([0.1, 0.02, 0.005]))
+def test_grid_bounds_every_principal_stretch_or_the_shear_per_step(h, dlog):
+    """ln λ1, ln λ2 and ln λ3 (γ in simple shear) change by at most dlog a step (up to
+    the snap onto outputs: a factor 1 + 2 · 0.25 · e^(2 dlog))."""
+    t, x1, idx = h.grid(dlog)
+    assert t[0] == 0.0 and t[-1] == h.duration and np.all(np.diff(t) > 0)
+    assert np.isin(h.time, t).all()
+    np.testing.assert_array_equal(t[idx], h.out_time)
+    bound = dlog * (1 + 0.5 * np.exp(2 * dlog)) * (1 + 1e-9)
+    if h.deformation == "simple_shear":
+        assert np.max(np.abs(np.diff(x1))) <= bound
+        return
+    l1 = x1
+    l2 = {"equibiaxial": l1, "planar": np.ones_like(l1)}.get(h.deformation,
+                                                             h.stretch2_at(t))
+    for lam in (l1, l2, 1.0 / (l1 * l2)):
+        assert np.max(np.abs(np.diff(np.log(lam)))) <= bound

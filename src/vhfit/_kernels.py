@@ -19,6 +19,12 @@ than the values; with five points it is fourth order, like the values of a cubic
 
 Nothing is divided by τ (τ → 0 gives x → ∞ and ψ_j → 0; τ → ∞ gives x = 0 and
 ψ_j = 1/(j+1)), and no two large numbers are subtracted.
+
+Every other test (docs/theory.md §13) has the same structure with general factors:
+h_i(t) = c_0(t) R_0(t) + c_1(t) R_1(t), R_k the running integral of f_k, where the
+f_k (per parameter set, at every sample) and c_k (per node) come from
+:mod:`vhfit.modes`; :func:`overstress_general` evaluates it with the same steps. The
+uniaxial kernel above is kept as it is, so that uniaxial results do not change by a bit.
 """
 
 from __future__ import annotations
@@ -164,3 +170,93 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
         parallel = s_hat.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
     f = _overstress_par if parallel else _overstress_seq
     return f(s_hat, lam, h, sample_off, step_off, G, tau, D)
+
+
+# ------------------------------------------------------------- every other test
+@njit(cache=True, error_model="numpy")
+def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, out):
+    """One parameter set on one curve: h = Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node."""
+    N = G.shape[1]
+    s0 = sample_off[c]
+    k0 = step_off[c]
+    nsteps = step_off[c + 1] - k0
+    node0 = k0 + c
+    R0 = np.empty(N)
+    R1 = np.empty(N)
+    acc = 0.0
+    for i in range(N):
+        R0[i] = f0[p, s0]
+        R1[i] = f1[p, s0]
+        acc += G[p, i]
+    out[p, node0] = acc * (w[node0, 0] * f0[p, s0] + w[node0, 1] * f1[p, s0])
+    for k in range(nsteps):
+        base = s0 + 4 * k
+        da0 = 0.0
+        da1 = 0.0
+        da2 = 0.0
+        da3 = 0.0
+        db0 = 0.0
+        db1 = 0.0
+        db2 = 0.0
+        db3 = 0.0
+        for m in range(5):
+            fa = f0[p, base + m]
+            fb = f1[p, base + m]
+            da0 += D[0, m] * fa
+            da1 += D[1, m] * fa
+            da2 += D[2, m] * fa
+            da3 += D[3, m] * fa
+            db0 += D[0, m] * fb
+            db1 += D[1, m] * fb
+            db2 += D[2, m] * fb
+            db3 += D[3, m] * fb
+        hk = h[k0 + k]
+        node = node0 + k + 1
+        w0 = w[node, 0]
+        w1 = w[node, 1]
+        acc = 0.0
+        for i in range(N):
+            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
+            R0[i] = e * R0[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
+            R1[i] = e * R1[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
+            acc += G[p, i] * (w0 * R0[i] + w1 * R1[i])
+        out[p, node] = acc
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((f0.shape[0], h.shape[0] + C))
+    for job in prange(f0.shape[0] * C):
+        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, out)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((f0.shape[0], h.shape[0] + C))
+    for job in range(f0.shape[0] * C):
+        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, out)
+    return out
+
+
+def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=None):
+    """Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node of every curve, for every parameter set.
+
+    Parameters
+    ----------
+    f0, f1 : (P, S) the factors f_k(u) of the kernel (per unit E∞) at every sample, laid
+        out as in :func:`overstress`.
+    w : (K + C, 2) the weights c_k(t) at every node; curve c owns nodes from
+        ``step_off[c] + c``.
+    h, sample_off, step_off, G, tau, D, parallel : as in :func:`overstress`.
+
+    Returns
+    -------
+    (P, K + C) overstress at the nodes.
+    """
+    if parallel is None:
+        parallel = f0.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
+    f = _general_par if parallel else _general_seq
+    return f(f0, f1, w, h, sample_off, step_off, G, tau, D)

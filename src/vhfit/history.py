@@ -1,12 +1,17 @@
-"""Stretch histories λ(t) of a homogeneous uniaxial test (docs/theory.md §1).
+"""Stretch histories λ(t) of a homogeneous test (docs/theory.md §1, §13).
 
 A :class:`History` is a piecewise-linear stretch path through breakpoints
 ``(time[k], stretch[k])`` plus the times at which the stress is wanted. A constant
 engineering strain rate ramp, ``λ(t) = 1 + r t``, is the two-breakpoint case; a
 measured loading-unloading, ramp-hold or Hopkinson-bar history is the general case.
+The test is named by ``deformation`` (:data:`DEFORMATIONS`): a general biaxial test
+also prescribes λ2(t) (``stretch2``); in simple shear the path is the amount of shear
+γ(t) instead of λ(t). An equilibrium history (:meth:`History.equilibrium`) is a set of
+fully relaxed states with no time at all.
 
-Engineering strain ε = λ − 1; compression is negative (strain, rate and stress). The
-material is at rest before t = 0: :func:`from_rest` starts a measured path there.
+Engineering strain ε = λ − 1 (γ in simple shear); compression is negative (strain,
+rate and stress). The material is at rest before t = 0: :func:`from_rest` starts a
+measured path there.
 """
 
 from __future__ import annotations
@@ -15,7 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["History", "from_rest"]
+from vhfit.modes import DEFORMATIONS, TWO_DIRECTIONS, check_deformation, principal_stretches
+
+__all__ = ["History", "from_rest", "DEFORMATIONS"]
 
 
 def _as_1d(name: str, values, *, allow_empty: bool = False) -> np.ndarray:
@@ -79,6 +86,45 @@ def from_rest(t, strain) -> tuple[np.ndarray, np.ndarray]:
     return t, e
 
 
+def _path2(deformation: str, strain2, n: int | None):
+    """The second stretch path (biaxial) from ``strain2``, or None; one-line errors."""
+    if deformation != "biaxial":
+        if strain2 is not None:
+            raise ValueError(
+                f"strain2 is only for deformation='biaxial', not {deformation!r}: drop it"
+            )
+        return None
+    if strain2 is None:
+        raise ValueError(
+            "deformation='biaxial' needs strain2 (λ2 − 1 at each sample): give the second "
+            "stretch path"
+        )
+    e2 = _as_1d("strain2", strain2)
+    if n is not None and e2.size != n:
+        raise ValueError(f"strain2 must have one value per strain value: got {e2.size}, "
+                         f"expected {n}")
+    _check_stretch("strain2", 1.0 + e2)
+    return 1.0 + e2
+
+
+def _check_stretch(name: str, lam: np.ndarray) -> None:
+    if (lam <= 0).any():
+        i = int(np.flatnonzero(lam <= 0)[0])
+        raise ValueError(
+            f"{name}[{i}] = {lam[i] - 1.0:g} gives a non-positive stretch 1 + strain: "
+            "engineering strain must be > -1"
+        )
+
+
+def _loading(deformation: str, eps: np.ndarray) -> np.ndarray:
+    """The path variable of ``stretch``: λ = 1 + ε, or γ itself in simple shear."""
+    if deformation == "simple_shear":
+        return eps.copy()
+    lam = 1.0 + eps
+    _check_stretch("strain", lam)
+    return lam
+
+
 @dataclass(frozen=True, eq=False)
 class History:
     """A piecewise-linear stretch history and the times where stress is reported.
@@ -86,42 +132,89 @@ class History:
     Parameters
     ----------
     time : ndarray, shape (k,)
-        Breakpoint times in s, strictly increasing, ``time[0] == 0``.
+        Breakpoint times in s, strictly increasing, ``time[0] == 0``. For an
+        equilibrium history: the sample numbers 0, 1, ..., k − 1 (no physical time).
     stretch : ndarray, shape (k,)
-        Stretch λ at each breakpoint, all > 0. Between breakpoints λ is linear in t.
+        Stretch λ1 at each breakpoint, all > 0; in simple shear the amount of shear
+        γ (any sign). Between breakpoints it is linear in t.
     out_time : ndarray, shape (n,)
         Times (any order, within ``[0, time[-1]]``) at which the stress is evaluated.
+    deformation : str
+        The test, one of :data:`DEFORMATIONS` (default "uniaxial").
+    stretch2 : ndarray, shape (k,), optional
+        λ2 at each breakpoint; "biaxial" only, where it is required.
+    out_direction : ndarray of int, shape (n,), optional
+        Loaded direction of each output: 1, or 2 for the second loaded direction of
+        "biaxial" and "equibiaxial"; default all 1.
+    is_equilibrium : bool
+        Fully relaxed states: the long-term law alone at every sample, no history.
 
     Notes
     -----
-    Build histories with :meth:`constant_rate` or :meth:`piecewise_linear`; they check
-    their input and say what is wrong. Before ``t = 0`` the material is at rest.
+    Build histories with :meth:`constant_rate`, :meth:`piecewise_linear` or
+    :meth:`equilibrium`; they check their input and say what is wrong. Before ``t = 0``
+    the material is at rest.
     """
 
     time: np.ndarray
     stretch: np.ndarray
     out_time: np.ndarray
+    deformation: str = "uniaxial"
+    stretch2: np.ndarray | None = None
+    out_direction: np.ndarray | None = None
+    is_equilibrium: bool = False
+
+    def __post_init__(self):
+        check_deformation(self.deformation)
+        if (self.stretch2 is None) != (self.deformation != "biaxial"):
+            raise ValueError("stretch2 is required for deformation='biaxial' and only there")
+        if self.out_direction is None:
+            d = np.ones(np.shape(self.out_time), dtype=np.int64)
+        else:
+            d = np.asarray(self.out_direction)
+            if d.shape != np.shape(self.out_time) or not np.isin(d, (1, 2)).all():
+                raise ValueError(
+                    "out_direction must give 1 or 2 for each output time, "
+                    f"got {self.out_direction!r}"
+                )
+            d = d.astype(np.int64)
+            if (d == 2).any() and self.deformation not in TWO_DIRECTIONS:
+                raise ValueError(
+                    f"out_direction 2 needs a second loaded direction: {self.deformation!r} "
+                    f"has none (only {' and '.join(TWO_DIRECTIONS)} do)"
+                )
+        object.__setattr__(self, "out_direction", d)
 
     # ------------------------------------------------------------------ builders
     @classmethod
-    def constant_rate(cls, strain, strain_rate: float) -> History:
+    def constant_rate(cls, strain, strain_rate: float, *, deformation: str = "uniaxial",
+                      strain2=None) -> History:
         """Constant engineering strain-rate ramp from ε = 0 (docs/theory.md §1; paper Eq. 3).
 
         Parameters
         ----------
         strain : array_like
-            Engineering strains at which the stress is wanted; all must have the
-            sign of ``strain_rate`` (or be 0).
+            Engineering strains λ1 − 1 (γ in simple shear) at which the stress is
+            wanted; all must have the sign of ``strain_rate`` (or be 0).
         strain_rate : float
             Engineering strain rate r in 1/s, non-zero (negative in compression).
+        deformation : str
+            The test, one of :data:`DEFORMATIONS`.
+        strain2 : array_like, optional
+            λ2 − 1 at each strain ("biaxial" only, required there); proportional to
+            ``strain`` (λ2 also at a constant rate).
 
         Examples
         --------
         >>> h = History.constant_rate([-0.1, -0.2], strain_rate=-100.0)
         >>> h.out_time
         array([0.001, 0.002])
+        >>> History.constant_rate([0.5], 1.0, deformation="simple_shear").stretch   # γ
+        array([0. , 0.5])
         """
+        check_deformation(deformation)
         eps = _as_1d("strain", strain)
+        lam2 = _path2(deformation, strain2, eps.size)
         try:
             r = float(strain_rate)
         except (TypeError, ValueError):
@@ -141,20 +234,27 @@ class History:
                 "a constant-rate ramp from 0 only reaches strains of the rate's sign "
                 "(compression: negative strain and rate)"
             )
-        if (eps <= -1.0).any():
+        if deformation != "simple_shear" and (eps <= -1.0).any():
             i = int(np.flatnonzero(eps <= -1.0)[0])
             raise ValueError(
                 f"strain[{i}] = {eps[i]:g} gives a non-positive stretch 1 + strain: "
                 "engineering strain must be > -1"
             )
         t_end = float(t.max())
+        x0 = 0.0 if deformation == "simple_shear" else 1.0
+        kw = dict(deformation=deformation)
+        if lam2 is not None:
+            kw["stretch2"] = _ramp2(lam2, t, t_end)
         if t_end == 0.0:
             # nothing happens: a degenerate but valid ramp of zero length
-            return cls(np.array([0.0]), np.array([1.0]), t)
-        return cls(np.array([0.0, t_end]), np.array([1.0, 1.0 + r * t_end]), t)
+            if lam2 is not None:
+                kw["stretch2"] = np.array([1.0])
+            return cls(np.array([0.0]), np.array([x0]), t, **kw)
+        return cls(np.array([0.0, t_end]), np.array([x0, x0 + r * t_end]), t, **kw)
 
     @classmethod
-    def piecewise_linear(cls, time, strain, out_time=None) -> History:
+    def piecewise_linear(cls, time, strain, out_time=None, *, deformation: str = "uniaxial",
+                         strain2=None) -> History:
         """History through measured ``(time, strain)`` samples, linear in between.
 
         Parameters
@@ -162,10 +262,15 @@ class History:
         time : array_like, shape (k,)
             Sample times in s, strictly increasing, starting at 0.
         strain : array_like, shape (k,)
-            Engineering strain at each sample; ``strain[0]`` should be 0 (a non-zero
-            start is applied as an instantaneous jump at t = 0).
+            Engineering strain λ1 − 1 (γ in simple shear) at each sample;
+            ``strain[0]`` should be 0 (a non-zero start is applied as an instantaneous
+            jump at t = 0).
         out_time : array_like, optional
             Times where the stress is wanted; default: the sample times.
+        deformation : str
+            The test, one of :data:`DEFORMATIONS`.
+        strain2 : array_like, shape (k,), optional
+            λ2 − 1 at each sample ("biaxial" only, required there).
 
         Examples
         --------
@@ -173,12 +278,14 @@ class History:
         >>> h.stretch
         array([1. , 0.8, 1. ])
         """
+        check_deformation(deformation)
         t = _as_1d("time", time)
         eps = _as_1d("strain", strain)
         if t.shape != eps.shape:
             raise ValueError(
                 f"time and strain must have the same length, got {t.size} and {eps.size}"
             )
+        lam2 = _path2(deformation, strain2, eps.size)
         if t[0] != 0.0:
             raise ValueError(
                 f"time[0] = {t[0]:g}: histories start at t = 0; subtract time[0] from "
@@ -191,60 +298,135 @@ class History:
                 f"time must be strictly increasing, but time[{i}] = {t[i]:g} <= "
                 f"time[{i - 1}] = {t[i - 1]:g}: sort the samples or drop duplicates"
             )
-        lam = 1.0 + eps
-        if (lam <= 0).any():
-            i = int(np.flatnonzero(lam <= 0)[0])
-            raise ValueError(
-                f"strain[{i}] = {eps[i]:g} gives a non-positive stretch 1 + strain: "
-                "engineering strain must be > -1"
-            )
+        lam = _loading(deformation, eps)
         out = t.copy() if out_time is None else _as_1d("out_time", out_time)
         if (out < 0).any() or (out > t[-1]).any():
             raise ValueError(
                 f"out_time must lie within the history [0, {t[-1]:g}] s"
             )
-        return cls(t, lam, out)
+        return cls(t, lam, out, deformation=deformation, stretch2=lam2)
 
-    def with_outputs(self, out_time) -> History:
-        """The same stretch path, with stress reported at other times."""
+    @classmethod
+    def equilibrium(cls, strain, *, deformation: str = "uniaxial", strain2=None) -> History:
+        """Fully relaxed states: the long-term law alone at each sample (any order).
+
+        Parameters
+        ----------
+        strain : array_like, shape (n,)
+            Engineering strain λ1 − 1 (γ in simple shear) of each sample.
+        deformation : str
+            The test, one of :data:`DEFORMATIONS`.
+        strain2 : array_like, shape (n,), optional
+            λ2 − 1 of each sample ("biaxial" only, required there).
+
+        Examples
+        --------
+        >>> h = History.equilibrium([0.5, 0.1, 0.3], deformation="equibiaxial")
+        >>> h.is_equilibrium, h.out_strain
+        (True, array([0.5, 0.1, 0.3]))
+        """
+        check_deformation(deformation)
+        eps = _as_1d("strain", strain)
+        lam2 = _path2(deformation, strain2, eps.size)
+        n = np.arange(eps.size, dtype=np.float64)
+        return cls(n, _loading(deformation, eps), n.copy(), deformation=deformation,
+                   stretch2=lam2, is_equilibrium=True)
+
+    def with_outputs(self, out_time, out_direction=None) -> History:
+        """The same stretch path, with stress reported at other times (and directions).
+
+        For an equilibrium history, ``out_time`` numbers the samples (0, 1, ...).
+        """
         out = _as_1d("out_time", out_time)
         if (out < 0).any() or (out > self.time[-1]).any():
             raise ValueError(f"out_time must lie within the history [0, {self.time[-1]:g}] s")
-        return History(self.time, self.stretch, out)
+        if self.is_equilibrium and not np.array_equal(out, np.round(out)):
+            raise ValueError("out_time of an equilibrium history numbers its samples: give "
+                             "whole numbers 0, 1, ...")
+        return History(self.time, self.stretch, out, self.deformation, self.stretch2,
+                       out_direction, self.is_equilibrium)
 
     # ----------------------------------------------------------------- queries
     @property
     def duration(self) -> float:
-        """Length of the history in s."""
-        return float(self.time[-1])
+        """Length of the history in s (0 for an equilibrium history)."""
+        return 0.0 if self.is_equilibrium else float(self.time[-1])
 
     def stretch_at(self, t) -> np.ndarray:
-        """λ(t), linear between breakpoints."""
+        """λ1(t) (γ(t) in simple shear), linear between breakpoints."""
         return np.interp(t, self.time, self.stretch)
+
+    def stretch2_at(self, t) -> np.ndarray | None:
+        """λ2(t) of a biaxial history, linear between breakpoints; None otherwise."""
+        return None if self.stretch2 is None else np.interp(t, self.time, self.stretch2)
 
     @property
     def out_stretch(self) -> np.ndarray:
-        """λ at the output times."""
+        """λ1 (γ in simple shear) at the output times."""
         return self.stretch_at(self.out_time)
 
     @property
     def out_strain(self) -> np.ndarray:
-        """Engineering strain at the output times."""
+        """Engineering strain λ1 − 1 (γ in simple shear) at the output times."""
+        if self.deformation == "simple_shear":
+            return self.out_stretch
         return self.out_stretch - 1.0
 
+    @property
+    def out_loaded_stretch(self) -> np.ndarray:
+        """Stretch of each output's loaded direction (λ1 or λ2; 1 in simple shear).
+
+        The nominal stress is the true stress divided by it.
+        """
+        if self.deformation == "simple_shear":
+            return np.ones(self.out_time.size)
+        lam = principal_stretches(self.deformation, self.out_stretch,
+                                  self.stretch2_at(self.out_time))
+        return np.where(self.out_direction == 2, lam[1], lam[0])
+
     # ------------------------------------------------------------ internal grid
+    def _piece_steps(self, k: int, dlog: float) -> np.ndarray:
+        """Inner and end node times of piece k for a test other than uniaxial."""
+        tb = self.time
+        a, b = tb[k], tb[k + 1]
+        if self.deformation == "simple_shear":
+            # steps of at most dlog in γ, uniform in t (γ is linear in t)
+            m = max(1, int(np.ceil(abs(self.stretch[k + 1] - self.stretch[k]) / dlog)))
+            return a + np.linspace(0.0, 1.0, m + 1)[1:] * (b - a)
+        if self.deformation == "biaxial":
+            # λ1 and λ2 are both linear in t: the union of the nodes uniform in ln λ1 and
+            # in ln λ2 at dlog/2 bounds both steps by dlog/2, so ln λ3 = −ln λ1 − ln λ2
+            # changes by at most dlog
+            tt = [_log_uniform(a, b, self.stretch[k], self.stretch[k + 1], 0.5 * dlog),
+                  _log_uniform(a, b, self.stretch2[k], self.stretch2[k + 1], 0.5 * dlog)]
+            return np.unique(np.concatenate([x for x in tt if x.size] or [np.array([b])]))
+        # every principal stretch is a power of λ1: uniform in ln λ1, at most dlog in the
+        # fastest of them (ln λ3 = −2 ln λ in equibiaxial)
+        power = 2.0 if self.deformation == "equibiaxial" else 1.0
+        tt = _log_uniform(a, b, self.stretch[k], self.stretch[k + 1], dlog / power)
+        return tt if tt.size else np.array([b])
+
     def grid(self, dlog: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Integration grid: node times, node stretches, and output node indices.
 
-        Each linear piece of the path is cut into steps over which ln λ changes by at
-        most ``dlog``; the output times are inserted as nodes (a node closer than a
+        Each linear piece of the path is cut into steps over which ln λ of every
+        principal stretch changes by at most ``dlog`` (in simple shear: γ by at most
+        ``dlog``); the output times are inserted as nodes (a node closer than a
         quarter step to an output time is moved onto it), so the stress at an output
         time is exact for the interpolant rather than interpolated between nodes.
         A hold (constant λ) needs no inner nodes: its decay is integrated exactly.
         """
+        if self.is_equilibrium:
+            raise ValueError("an equilibrium history has no time grid: it is the long-term "
+                             "law at its samples")
         tb, lb = self.time, self.stretch
         nodes = [tb[:1]]
         for k in range(tb.size - 1):
+            if self.deformation != "uniaxial":
+                tt = self._piece_steps(k, dlog)
+                tt[-1] = tb[k + 1]
+                nodes.append(tt)
+                continue
             dl = abs(np.log(lb[k + 1] / lb[k]))
             m = max(1, int(np.ceil(dl / dlog)))
             # uniform in ln λ along the piece (λ is linear in t there)
@@ -273,3 +455,31 @@ class History:
         t_nodes = np.unique(np.concatenate([base, out]))
         idx = np.searchsorted(t_nodes, out)
         return t_nodes, self.stretch_at(t_nodes), idx
+
+
+def _log_uniform(a: float, b: float, l0: float, l1: float, dlog: float) -> np.ndarray:
+    """Times after ``a`` up to ``b`` uniform in ln λ, λ linear in t from l0 to l1, with
+    steps of at most dlog; empty if λ does not change."""
+    dl = abs(np.log(l1 / l0))
+    if dl == 0:
+        return np.zeros(0)
+    m = max(1, int(np.ceil(dl / dlog)))
+    lam = l0 * np.exp(np.log(l1 / l0) * np.linspace(0.0, 1.0, m + 1)[1:])
+    tt = a + (lam - l0) / (l1 - l0) * (b - a)
+    tt[-1] = b
+    return tt
+
+
+def _ramp2(lam2: np.ndarray, t: np.ndarray, t_end: float) -> np.ndarray:
+    """λ2 breakpoints of a constant-rate biaxial ramp; λ2 − 1 must be proportional to t."""
+    e2 = lam2 - 1.0
+    if t_end == 0.0:
+        r2 = 0.0
+    else:
+        r2 = float(e2[np.argmax(t)] / t_end)
+    if not np.allclose(e2, r2 * t, rtol=1e-9, atol=1e-12 * max(1.0, float(np.abs(e2).max()))):
+        raise ValueError(
+            "strain2 of a constant-rate biaxial ramp must be proportional to strain (λ2 at a "
+            "constant rate too): give the history with time instead"
+        )
+    return np.array([1.0, 1.0 + r2 * t_end])

@@ -17,7 +17,9 @@ import numpy as np
 
 from vhfit import _kernels
 from vhfit import hyperelastic as _hyper
+from vhfit._plans import EquilibriumPlan, GeneralPlan
 from vhfit.history import History
+from vhfit.modes import check_deformation, check_direction
 from vhfit.viscoelastic import check_prony, prony_g
 
 __all__ = ["ViscoHyperelastic", "Batch"]
@@ -49,6 +51,54 @@ def _check_arguments(hyperelastic, n_prony, rtol) -> None:
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
         raise ValueError(f"rtol = {rtol!r} must lie in (0, 1): give a number such as 1e-6")
     _dlog(float(rtol))
+
+
+def _strain_of(name: str, stretch):
+    """λ − 1 from a stretch argument, which must be > 0 (one-line error)."""
+    lam = np.asarray(stretch, dtype=np.float64)
+    bad = ~(lam > 0)
+    if bad.any():
+        i = int(np.flatnonzero(bad.reshape(-1))[0])
+        raise ValueError(f"{name}[{i}] = {float(lam.reshape(-1)[i])!r} must be > 0: stretches are "
+                         "positive (λ = 1 + strain)")
+    return lam - 1.0
+
+
+def _history_from(deformation, direction, *, strain, strain_rate, time, stretch, strain2,
+                  stretch2) -> History:
+    """The History of :meth:`ViscoHyperelastic.stress`'s keywords; one-line errors."""
+    check_deformation(deformation)
+    check_direction(deformation, direction)
+    if strain is not None and stretch is not None:
+        raise ValueError("give strain or stretch (= 1 + strain), not both")
+    if strain2 is not None and stretch2 is not None:
+        raise ValueError("give strain2 or stretch2 (= 1 + strain2), not both")
+    if stretch is not None:
+        if deformation == "simple_shear":
+            raise ValueError("simple_shear is driven by the amount of shear: give strain=γ, "
+                             "not stretch")
+        strain = _strain_of("stretch", stretch)
+    if stretch2 is not None:
+        strain2 = _strain_of("stretch2", stretch2)
+    if strain is None:
+        raise ValueError("give a history, or strain (or stretch) with strain_rate, time or "
+                         "neither (the long-term response)")
+    if strain_rate is not None and time is not None:
+        raise ValueError("give strain_rate (constant-rate ramp) or time (history), not both; "
+                         "neither: the long-term response")
+    eps = np.reshape(np.asarray(strain, dtype=np.float64), -1)
+    if strain2 is not None:
+        strain2 = np.reshape(np.asarray(strain2, dtype=np.float64), -1)
+    kw = dict(deformation=deformation, strain2=strain2)
+    if strain_rate is not None:
+        h = History.constant_rate(eps, strain_rate, **kw)
+    elif time is not None:
+        h = History.piecewise_linear(time, eps, **kw)
+    else:
+        h = History.equilibrium(eps, **kw)
+    if direction == 2:
+        h = h.with_outputs(h.out_time, np.full(h.out_time.size, 2))
+    return h
 
 
 def _history_of(item) -> History:
@@ -224,26 +274,43 @@ class ViscoHyperelastic:
         strain_rate: float | None = None,
         time=None,
         measure: str = "true",
+        stretch=None,
+        strain2=None,
+        stretch2=None,
+        deformation: str = "uniaxial",
+        direction: int = 1,
     ) -> np.ndarray:
-        """Uniaxial stress of the model along a stretch history (corrected Eq. 19).
+        """Stress of the model along a history of any homogeneous test (corrected Eq. 19).
 
         Parameters
         ----------
         params : dict or array_like
             One parameter set: dict name -> value, or values in ``param_names`` order.
         history : History or Curve, optional
-            The history to follow; alternatively give ``strain`` with ``strain_rate``
-            (constant-rate ramp from ε = 0) or with ``time`` (piecewise-linear history
-            through ``(time, strain)``, ``time[0] = 0``).
+            The history to follow; alternatively give ``strain`` (or ``stretch``) with
+            ``strain_rate`` (constant-rate ramp from ε = 0), with ``time``
+            (piecewise-linear history through ``(time, strain)``, ``time[0] = 0``), or
+            with neither (fully relaxed states: the long-term response).
         strain, strain_rate, time : array_like, float, array_like
-            See above. Compression is negative.
+            See above. Compression is negative. In simple shear ``strain`` is the
+            amount of shear γ.
         measure : {"true", "engineering"}
-            True (Cauchy) or engineering (nominal, σ/λ) stress.
+            True (Cauchy) or engineering (nominal, σ/λ_a) stress.
+        stretch : array_like, optional
+            λ1 instead of ``strain`` (= λ1 − 1); not for simple shear.
+        strain2, stretch2 : array_like, optional
+            λ2 − 1 or λ2 at each strain: "biaxial" only, required there.
+        deformation : str
+            "uniaxial" (default), "equibiaxial", "planar", "biaxial" or "simple_shear"
+            (docs/theory.md §13).
+        direction : {1, 2}
+            The loaded direction whose stress is returned (2: equibiaxial, biaxial).
 
         Returns
         -------
         ndarray
-            Stress in MPa at each strain (or at ``history.out_time``).
+            Stress in MPa at each strain (or at ``history.out_time``); σ12 in simple
+            shear.
 
         Examples
         --------
@@ -251,28 +318,29 @@ class ViscoHyperelastic:
         >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=0)
         >>> float(m.stress([0.5], strain=[1.0], strain_rate=1.0)[0])   # 2 C10 (λ² − 1/λ)
         3.5
+        >>> float(m.stress([0.5], strain=[0.4], deformation="simple_shear")[0])   # 2 C10 γ
+        0.4
         """
         x = self.check(params)
+        given = dict(strain=strain, strain_rate=strain_rate, time=time, stretch=stretch,
+                     strain2=strain2, stretch2=stretch2)
         if history is None:
-            if strain is None:
-                raise ValueError("give a history, or strain with strain_rate or time")
-            if (strain_rate is None) == (time is None):
-                raise ValueError("give exactly one of strain_rate (constant-rate ramp) or time")
-            history = (
-                History.constant_rate(strain, strain_rate)
-                if time is None
-                else History.piecewise_linear(time, strain)
+            history = _history_from(deformation, direction, **given)
+        elif any(v is not None for v in given.values()) or deformation != "uniaxial" \
+                or direction != 1:
+            raise ValueError(
+                "give either a history or strain/stretch/strain_rate/time/deformation/"
+                "direction, not both"
             )
-        elif strain is not None or strain_rate is not None or time is not None:
-            raise ValueError("give either a history or strain/strain_rate/time, not both")
         out = self.batch([history], measure=measure)(x[None, :])[0]
         if not np.all(np.isfinite(out)):
             raise ValueError(
                 f"the stress is not finite for params {self.as_dict(x)}: the hyperelastic "
                 "energy is undefined on this history (check its constants and the strain range)"
             )
-        if strain is not None:
-            out = out.reshape(np.shape(strain))
+        shape_of = strain if strain is not None else stretch
+        if shape_of is not None:
+            out = out.reshape(np.shape(shape_of))
         return out
 
     def batch(self, histories: Sequence, *, measure: str | Sequence[str] | None = None) -> Batch:
@@ -332,7 +400,10 @@ class Batch:
     Built by :meth:`ViscoHyperelastic.batch`. The grids, sample stretches and
     gather indices are computed once; each call evaluates the hyperelastic law at
     every sample for every parameter set (numpy) and the Prony recursion (numba,
-    parallel over parameter sets and curves).
+    parallel over parameter sets and curves). Uniaxial histories run the uniaxial
+    recursion of :func:`vhfit._kernels.overstress`; the other tests its general form
+    (docs/theory.md §13), one kernel job per history and loaded direction; equilibrium
+    histories need the long-term law alone.
     """
 
     def __init__(self, model: ViscoHyperelastic, histories: Sequence, measure=None):
@@ -354,11 +425,32 @@ class Batch:
                 raise ValueError(f"measure = {m!r}; choose 'true' or 'engineering'")
         self.histories = hs
         self.measures = measures
-        lam_s, hstep, gather_node, gather_sample, out_lam = [], [], [], [], []
+        sizes = [h.out_time.size for h in hs]
+        bounds = np.cumsum([0] + sizes)
+        self.slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
+        self.n_points = int(bounds[-1])
+        self._eng = np.concatenate(
+            [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
+        )
+        uni = [c for c, h in enumerate(hs) if h.deformation == "uniaxial" and not h.is_equilibrium]
+        self._plan_uniaxial(uni)
+        self._general = GeneralPlan(model._dlog, hs, self.slices)
+        self._equilibrium = EquilibriumPlan(hs, self.slices)
+        out_stretch = np.empty(self.n_points)
+        out_stretch[self._pos_u] = self._out_lam_u
+        for h, sl in zip(hs, self.slices):
+            if h.deformation != "uniaxial" or h.is_equilibrium:
+                out_stretch[sl] = h.out_loaded_stretch
+        self.out_stretch = out_stretch
+
+    def _plan_uniaxial(self, which: list[int]) -> None:
+        """Grids and gather indices of the uniaxial histories with a rate or a time."""
+        lam_s, hstep, gather_node, gather_sample, out_lam, pos = [], [], [], [], [], []
         s_off, k_off = [0], [0]
         v = _kernels.LOBATTO
-        for c, hist in enumerate(hs):
-            t, lam, idx = hist.grid(model._dlog)
+        for c, k in enumerate(which):
+            hist = self.histories[k]
+            t, lam, idx = hist.grid(self.model._dlog)
             dt = np.diff(t)
             inner = lam[:-1, None] + (lam[1:] - lam[:-1])[:, None] * v[None, 1:]
             samples = np.concatenate([lam[:1], inner.reshape(-1)])
@@ -368,22 +460,19 @@ class Batch:
             out_lam.append(lam[idx])
             lam_s.append(samples)
             hstep.append(dt)
+            pos.append(np.arange(self.slices[k].start, self.slices[k].stop))
             s_off.append(s_off[-1] + samples.size)
             k_off.append(k_off[-1] + dt.size)
-        self.sample_stretch = np.concatenate(lam_s)
-        self.step = np.concatenate(hstep) if hstep else np.zeros(0)
+        cat = lambda parts, dtype=np.float64: (  # noqa: E731
+            np.concatenate(parts) if parts else np.zeros(0, dtype=dtype))
+        self.sample_stretch = cat(lam_s)
+        self.step = cat(hstep)
         self.sample_off = np.array(s_off, dtype=np.int64)
         self.step_off = np.array(k_off, dtype=np.int64)
-        self._gather_node = np.concatenate(gather_node)
-        self._gather_sample = np.concatenate(gather_sample)
-        self.out_stretch = np.concatenate(out_lam)
-        sizes = [len(g) for g in gather_node]
-        bounds = np.cumsum([0] + sizes)
-        self.slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
-        self._eng = np.concatenate(
-            [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
-        )
-        self.n_points = int(bounds[-1])
+        self._gather_node = cat(gather_node, np.int64)
+        self._gather_sample = cat(gather_sample, np.int64)
+        self._out_lam_u = cat(out_lam)
+        self._pos_u = cat(pos, np.int64)
 
     def shape_columns(self, hyper, tau, *, parallel: bool | None = None
                       ) -> tuple[np.ndarray, np.ndarray]:
@@ -392,21 +481,30 @@ class Batch:
         For hyperelastic constants ``hyper`` (P, n_h) and relaxation times ``tau``
         (P, N), returns (``s_hat``, ``h``) with shapes (P, n_points) and
         (P, N, n_points) such that the stress is ``E∞ s_hat + Σ_i G_i h[:, i]``
-        (in each curve's measure). For fixed shape and τ the model is linear in
-        (E∞, G_i): the basis of the separable calibration (docs/theory.md §5, §10). ``parallel``
-        chooses numba's threaded kernel (None: by problem size).
+        (in each curve's measure; the Prony columns of equilibrium histories are 0).
+        For fixed shape and τ the model is linear in (E∞, G_i): the basis of the
+        separable calibration (docs/theory.md §5, §10). ``parallel`` chooses numba's
+        threaded kernel (None: by problem size).
         """
         hyper = np.atleast_2d(np.asarray(hyper, dtype=np.float64))
         tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
         P, N = tau.shape
-        s_hat, ok, _ = self._s_hat(hyper)
-        eye = np.ones((P * N, 1))
-        ov = _kernels.overstress(
-            np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
-            self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV, parallel,
-        )
-        h = ov[:, self._gather_node].reshape(P, N, self.n_points)
-        base = s_hat[:, self._gather_sample]
+        s_hat, ok, E_inf = self._s_hat(hyper)
+        base = np.zeros((P, self.n_points))
+        h = np.zeros((P, N, self.n_points))
+        if self._pos_u.size:
+            eye = np.ones((P * N, 1))
+            ov = _kernels.overstress(
+                np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
+                self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV, parallel,
+            )
+            h[:, :, self._pos_u] = ov[:, self._gather_node].reshape(P, N, -1)
+            base[:, self._pos_u] = s_hat[:, self._gather_sample]
+        if self._general.jobs:
+            ok &= self._general.shape_columns(self.model.hyperelastic, hyper, E_inf, tau,
+                                              base, h, parallel)
+        with np.errstate(all="ignore"):  # E∞ <= 0: invalid, +inf below
+            ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0 / E_inf, base)
         base[~ok] = np.inf
         h[~ok] = np.inf
         return self._measure(base), self._measure(h)
@@ -438,13 +536,21 @@ class Batch:
         s_hat, ok, E_inf = self._s_hat(hyper)
         ok &= np.all((G >= 0) & (tau > 0), axis=1)
         with np.errstate(all="ignore"):  # invalid individuals become +inf below
-            sig = E_inf[:, None] * s_hat[:, self._gather_sample]
-        if self.model.n_prony:
+            sig_u = E_inf[:, None] * s_hat[:, self._gather_sample]
+        if self.model.n_prony and self._pos_u.size:
             ov = _kernels.overstress(
                 s_hat, self.sample_stretch, self.step, self.sample_off, self.step_off,
                 np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV,
             )
-            sig += ov[:, self._gather_node]
+            sig_u += ov[:, self._gather_node]
+        if self._pos_u.size == self.n_points:
+            sig = sig_u  # all uniaxial with a rate or time: today's plan as it was
+        else:
+            sig = np.zeros((X.shape[0], self.n_points))
+            sig[:, self._pos_u] = sig_u
+            if self._general.jobs:
+                ok &= self._general.stress(self.model.hyperelastic, hyper, E_inf, G, tau, sig)
+            ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0, sig)
         sig[~ok] = np.inf
         sig[~np.isfinite(sig)] = np.inf
         return self._measure(sig)

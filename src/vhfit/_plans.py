@@ -1,0 +1,162 @@
+"""Evaluation plans of :class:`vhfit.model.Batch` for tests other than uniaxial.
+
+:class:`GeneralPlan` lays out the histories of equibiaxial, planar, biaxial and
+simple-shear tests with a rate or a time for :func:`vhfit._kernels.overstress_general`:
+one kernel curve per history and loaded direction, its samples (the nodes of the
+history's grid and the inner Gauss–Lobatto points of each step) and its weights c_k(t)
+at the nodes (docs/theory.md §13). :class:`EquilibriumPlan` evaluates the long-term
+law at the samples of equilibrium histories of any test. Both write into the batch's
+(P, n_points) arrays at their histories' positions and return which parameter sets
+gave finite values.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vhfit import _kernels, modes
+
+
+def _lobatto(nodes: np.ndarray) -> np.ndarray:
+    """Values at the kernel's samples of a quantity linear between the nodes."""
+    v = _kernels.LOBATTO
+    inner = nodes[:-1, None] + (nodes[1:] - nodes[:-1])[:, None] * v[None, 1:]
+    return np.concatenate([nodes[:1], inner.reshape(-1)])
+
+
+def _groups(keys: list, parts: list[np.ndarray]) -> dict:
+    """(deformation, direction) -> concatenated index arrays of ``parts`` with that key."""
+    out: dict = {}
+    for key, idx in zip(keys, parts):
+        out.setdefault(key, []).append(idx)
+    return {k: np.concatenate(v) for k, v in out.items()}
+
+
+class GeneralPlan:
+    """Kernel layout of the non-uniaxial histories with a rate or a time."""
+
+    def __init__(self, dlog: float, histories, slices):
+        x1, x2, w, steps, gnode, gsample, pos, keys, samples = ([] for _ in range(9))
+        s_off, k_off = [0], [0]
+        self.jobs = 0
+        for hist, sl in zip(histories, slices):
+            if hist.deformation == "uniaxial" or hist.is_equilibrium:
+                continue
+            t, x1n, idx = hist.grid(dlog)
+            x2n = hist.stretch2_at(t)
+            for d in (1, 2):
+                sel = np.flatnonzero(hist.out_direction == d)
+                if not sel.size:
+                    continue
+                c = self.jobs
+                self.jobs += 1
+                xs1 = _lobatto(x1n)
+                x1.append(xs1)
+                x2.append(_lobatto(x2n) if x2n is not None else np.ones_like(xs1))
+                w.append(modes.hereditary_weights(hist.deformation, x1n, x2n, d).T)
+                steps.append(np.diff(t))
+                gnode.append(k_off[-1] + c + idx[sel])
+                gsample.append(s_off[-1] + _kernels.STRIDE * idx[sel])
+                pos.append(sl.start + sel)
+                keys.append((hist.deformation, d))
+                samples.append(np.arange(s_off[-1], s_off[-1] + xs1.size))
+                s_off.append(s_off[-1] + xs1.size)
+                k_off.append(k_off[-1] + t.size - 1)
+        if not self.jobs:
+            return
+        self.x1, self.x2 = np.concatenate(x1), np.concatenate(x2)
+        self.w = np.ascontiguousarray(np.concatenate(w))
+        self.step = np.concatenate(steps)
+        self.sample_off = np.array(s_off, dtype=np.int64)
+        self.step_off = np.array(k_off, dtype=np.int64)
+        self.gather_node = np.concatenate(gnode)
+        self.gather_sample = np.concatenate(gsample)
+        self.pos = np.concatenate(pos)
+        self.sample_groups = _groups(keys, samples)
+        self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
+        self.out_pos = _groups(keys, pos)
+
+    def _factors(self, hm, hyper, E_inf):
+        """f0, f1 (P, S) at every sample, and the long-term σ (P, outputs) by key."""
+        P = hyper.shape[0]
+        f0 = np.empty((P, self.x1.size))
+        f1 = np.empty((P, self.x1.size))
+        with np.errstate(all="ignore"):
+            for (deformation, d), idx in self.sample_groups.items():
+                x2 = self.x2[idx] if deformation == "biaxial" else None
+                f0[:, idx], f1[:, idx] = modes.hereditary_factors(
+                    hm, hyper, E_inf, deformation, self.x1[idx], x2, d)
+        ok = np.all(np.isfinite(f0), axis=1) & np.all(np.isfinite(f1), axis=1)
+        f0[~ok] = 0.0
+        f1[~ok] = 0.0
+        return f0, f1, ok
+
+    def _long_term(self, hm, hyper, scale, out) -> np.ndarray:
+        ok = np.ones(hyper.shape[0], dtype=bool)
+        with np.errstate(all="ignore"):
+            for key, sidx in self.out_groups.items():
+                deformation, d = key
+                x2 = self.x2[sidx] if deformation == "biaxial" else None
+                s = modes.long_term_stress(hm, hyper, deformation, self.x1[sidx], x2, d)
+                s = s * scale
+                out[:, self.out_pos[key]] = s
+                ok &= np.all(np.isfinite(s), axis=1)
+        return ok
+
+    def stress(self, hm, hyper, E_inf, G, tau, sig) -> np.ndarray:
+        """Write σ = σ_h + Σ G_i h_i at this plan's outputs into ``sig``; valid sets."""
+        ok = self._long_term(hm, hyper, 1.0, sig)
+        if G.shape[1]:
+            f0, f1, ok_f = self._factors(hm, hyper, E_inf)
+            ov = _kernels.overstress_general(
+                f0, f1, self.w, self.step, self.sample_off, self.step_off,
+                np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV)
+            sig[:, self.pos] += ov[:, self.gather_node]
+            ok &= ok_f
+        return ok
+
+    def shape_columns(self, hm, hyper, E_inf, tau, base, h, parallel) -> np.ndarray:
+        """Write σ_h/E∞ into ``base`` and each branch's h_i into ``h``; valid sets."""
+        P, N = tau.shape
+        with np.errstate(all="ignore"):
+            ok = self._long_term(hm, hyper, 1.0 / E_inf[:, None], base)
+        f0, f1, ok_f = self._factors(hm, hyper, E_inf)
+        ov = _kernels.overstress_general(
+            np.repeat(f0, N, axis=0), np.repeat(f1, N, axis=0), self.w, self.step,
+            self.sample_off, self.step_off, np.ones((P * N, 1)), tau.reshape(P * N, 1),
+            _kernels.DERIV, parallel)
+        h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, -1)
+        return ok & ok_f
+
+
+class EquilibriumPlan:
+    """The long-term law at the samples of the equilibrium histories."""
+
+    def __init__(self, histories, slices):
+        self.groups: dict = {}
+        for hist, sl in zip(histories, slices):
+            if not hist.is_equilibrium:
+                continue
+            x1 = hist.out_stretch
+            x2 = hist.stretch2_at(hist.out_time)
+            for d in (1, 2):
+                sel = np.flatnonzero(hist.out_direction == d)
+                if sel.size:
+                    g = self.groups.setdefault((hist.deformation, d), ([], [], []))
+                    g[0].append(x1[sel])
+                    g[1].append(x2[sel] if x2 is not None else np.ones(sel.size))
+                    g[2].append(sl.start + sel)
+        self.groups = {k: tuple(np.concatenate(p) for p in v) for k, v in self.groups.items()}
+
+    def fill(self, hm, hyper, scale, out) -> np.ndarray:
+        """Write the long-term stress times ``scale`` into ``out[:, positions]``; valid sets."""
+        ok = np.ones(hyper.shape[0], dtype=bool)
+        scale = np.reshape(scale, (-1, 1)) if np.ndim(scale) else scale
+        with np.errstate(all="ignore"):
+            for (deformation, d), (x1, x2, pos) in self.groups.items():
+                s = modes.long_term_stress(hm, hyper, deformation, x1,
+                                           x2 if deformation == "biaxial" else None, d)
+                s = np.broadcast_to(s * scale, (hyper.shape[0], pos.size))
+                out[:, pos] = s
+                ok &= np.all(np.isfinite(s), axis=1)
+        return ok
