@@ -7,6 +7,8 @@ must come out exact to rounding, for any step length and any τ from 1e-12 to 1e
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -16,7 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from vhfit._kernels import DERIV, LOBATTO, _psi, overstress
+from vhfit._kernels import DERIV, LOBATTO, _psi, overstress, overstress_general
 
 
 def psi_reference(x: float, j: int) -> float:
@@ -166,3 +168,80 @@ def test_overstress_layout_and_parallel_rows():
     for c in range(len(curves)):
         np.testing.assert_allclose(full[:, k_off[c] + c], G.sum(axis=1) * s_hat[:, s_off[c]],
                                    rtol=1e-15)
+
+
+@accuracy
+@given(st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
+       st.lists(st.floats(-1.0, 1.0), min_size=5, max_size=5),
+       st.lists(st.floats(0.01, 1.0), min_size=1, max_size=6),
+       st.floats(-12.0, 12.0), st.floats(-3.0, 3.0), st.floats(-3.0, 3.0))
+def test_general_recursion_is_exact_for_quartic_factors(c0, c1, steps, log_tau, w0, w1):
+    """h = c_0 R_0 + c_1 R_1, each R_k the exact branch of its own quartic f_k (weights
+    constant here, so h is the weighted sum of two exact branches)."""
+    c0, c1 = np.asarray(c0), np.asarray(c1)
+    t_nodes = np.concatenate([[0.0], np.cumsum(steps)])
+    tau = float(t_nodes[-1]) * 10.0**log_tau
+    ts, h = _samples(t_nodes)
+    f0 = np.polynomial.polynomial.polyval(ts, c0)[None, :]
+    f1 = np.polynomial.polynomial.polyval(ts, c1)[None, :]
+    w = np.tile([w0, w1], (t_nodes.size, 1))
+    out = overstress_general(f0, f1, w, h, np.array([0, ts.size]), np.array([0, h.size]),
+                             np.array([[1.0]]), np.array([[tau]]), DERIV)[0]
+    exact = np.array([w0 * _exact_branch(c0, tau, t) + w1 * _exact_branch(c1, tau, t)
+                      for t in t_nodes])
+    scale = (abs(w0) * np.abs(c0).sum() + abs(w1) * np.abs(c1).sum()) * max(1.0,
+                                                                            t_nodes[-1] ** 4)
+    np.testing.assert_allclose(out, exact, rtol=0, atol=1e-12 * scale)
+
+
+_THREADED = """
+import sys
+import numpy as np
+from vhfit._kernels import DERIV, overstress_general
+a = np.load(sys.argv[1])
+out = overstress_general(a["f0"], a["f1"], a["w"], a["h"], a["so"], a["ko"], a["G"], a["tau"],
+                         DERIV, parallel=True)
+np.save(sys.argv[2], out)
+"""
+
+
+def test_general_kernel_threads_and_layout(tmp_path):
+    """Several curves and parameter sets: the threaded kernel equals the serial one, each
+    (set, curve) job equals that curve alone, and the weights are read per node. (The
+    threaded kernel runs in a child process: loading it starts numba's thread pool, after
+    which this test process could no longer fork calibration workers safely.)"""
+    rng = np.random.default_rng(11)
+    curves = [np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 1.0, n))]) for n in (4, 1, 6)]
+    f_parts, h_parts, w_parts, s_off, k_off = [], [], [], [0], [0]
+    for t_nodes in curves:
+        ts, h = _samples(t_nodes)
+        f_parts.append(ts)
+        h_parts.append(h)
+        w_parts.append(np.column_stack([1 + t_nodes, np.cos(t_nodes)]))
+        s_off.append(s_off[-1] + ts.size)
+        k_off.append(k_off[-1] + h.size)
+    ts = np.concatenate(f_parts)
+    P, N = 4, 2
+    f0 = np.sin(ts)[None, :] * rng.uniform(0.5, 2.0, (P, 1))
+    f1 = np.exp(-ts)[None, :] * rng.uniform(0.5, 2.0, (P, 1))
+    w = np.ascontiguousarray(np.concatenate(w_parts))
+    h = np.concatenate(h_parts)
+    G = rng.uniform(0, 10, (P, N))
+    tau = 10 ** rng.uniform(-3, 3, (P, N))
+    so, ko = np.array(s_off), np.array(k_off)
+    seq = overstress_general(f0, f1, w, h, so, ko, G, tau, DERIV, parallel=False)
+    np.savez(tmp_path / "in.npz", f0=f0, f1=f1, w=w, h=h, so=so, ko=ko, G=G, tau=tau)
+    subprocess.run([sys.executable, "-c", _THREADED, str(tmp_path / "in.npz"),
+                    str(tmp_path / "out.npy")], check=True, timeout=600)
+    np.testing.assert_array_equal(seq, np.load(tmp_path / "out.npy"))
+    for c in range(len(curves)):
+        sl, nodes = slice(s_off[c], s_off[c + 1]), slice(k_off[c] + c, k_off[c + 1] + c + 1)
+        one = overstress_general(f0[:, sl].copy(), f1[:, sl].copy(),
+                                 np.ascontiguousarray(w[nodes]), h[k_off[c]:k_off[c + 1]],
+                                 np.array([0, s_off[c + 1] - s_off[c]]),
+                                 np.array([0, k_off[c + 1] - k_off[c]]), G, tau, DERIV)
+        np.testing.assert_array_equal(seq[:, nodes], one)
+        # first node: Σ G_i (c_0 f_0(0) + c_1 f_1(0))
+        first = G.sum(axis=1) * (w[k_off[c] + c, 0] * f0[:, s_off[c]]
+                                 + w[k_off[c] + c, 1] * f1[:, s_off[c]])
+        np.testing.assert_allclose(seq[:, k_off[c] + c], first, rtol=1e-14)

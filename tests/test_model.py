@@ -882,3 +882,22 @@ def test_invalid_measure_and_histories():
     with pytest.raises(TypeError, match="expected a vhfit.History or a Curve"):
         m.batch([np.zeros(3)])
     assert isinstance(m.batch([h]), Batch)
+
+
+# ============================================================ equilibrium
+@pytest.mark.parametrize("name, c", [("mooney_rivlin", (0.3, 0.1)), ("yeoh", (0.3, -0.02, 0.01)),
+                                     ("ogden2", (0.5, 2.0, 0.1, -4.0))])
+def test_neither_rate_nor_time_is_the_long_term_response(name, c):
+    """A strain with no rate and no time: σ_h of docs/theory.md §2 at each sample, in any
+    order, whatever the Prony terms; engineering = σ_h/λ."""
+    eps = np.array([0.4, -0.3, 1.5, 0.0, -0.6])
+    m = ViscoHyperelastic(name, 2)
+    p = params_of(c, [5.0, 1.0], [1e-3, 1.0])
+    ref = np.array([sigma_h_ref(name, 1 + e, c) for e in eps])
+    np.testing.assert_allclose(m.stress(p, strain=eps), ref, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(m.stress(p, stretch=1 + eps, measure="engineering"),
+                               ref / (1 + eps), rtol=1e-12, atol=1e-15)
+    h = History.equilibrium(eps)
+    base, H = m.batch([h]).shape_columns(np.array([c]), np.array([[1e-3, 1.0]]))
+    np.testing.assert_allclose(base[0] * E_inf_ref(name, c), ref, rtol=1e-12, atol=1e-15)
+    assert np.all(H == 0.0)

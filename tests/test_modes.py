@@ -22,6 +22,7 @@ import pytest
 from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
+from test_model import params_of, relative_error
 
 from vhfit import _kernels, hyperelastic, modes
 from vhfit.history import DEFORMATIONS, History
@@ -136,14 +137,6 @@ def reference_stress(law, c, G, tau, mode, direction, time, x1, x2, t_out) -> np
             total += Gi * h
         out.append(total)
     return np.array(out)
-
-
-def relative_error(s, ref) -> float:
-    return float(np.max(np.abs(s - ref)) / np.max(np.abs(ref)))
-
-
-def params_of(c, G, tau) -> np.ndarray:
-    return np.concatenate([np.asarray(c, float), np.ravel(np.column_stack([G, tau]))])
 
 
 # ================================================================= strategies

@@ -73,22 +73,37 @@ class GeneralPlan:
         self.gather_sample = np.concatenate(gsample)
         self.pos = np.concatenate(pos)
         self.sample_groups = _groups(keys, samples)
+        # the kinematic part of the factors of invariant laws, once per plan
+        self.coefficients = {
+            (deformation, d): modes.invariant_coefficients(
+                deformation, self.x1[idx], self.x2[idx] if deformation == "biaxial" else None, d)
+            for (deformation, d), idx in self.sample_groups.items()
+        }
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
 
     def _factors(self, hm, hyper, E_inf):
-        """f0, f1 (P, S) at every sample, and the long-term σ (P, outputs) by key."""
-        P = hyper.shape[0]
-        f0 = np.empty((P, self.x1.size))
-        f1 = np.empty((P, self.x1.size))
+        """f0, f1 (P, S) at every sample, and which parameter sets gave finite values."""
         with np.errstate(all="ignore"):
-            for (deformation, d), idx in self.sample_groups.items():
-                x2 = self.x2[idx] if deformation == "biaxial" else None
-                f0[:, idx], f1[:, idx] = modes.hereditary_factors(
-                    hm, hyper, E_inf, deformation, self.x1[idx], x2, d)
-        ok = np.all(np.isfinite(f0), axis=1) & np.all(np.isfinite(f1), axis=1)
-        f0[~ok] = 0.0
-        f1[~ok] = 0.0
+            if len(self.sample_groups) == 1:  # one test and direction: no scatter
+                ((deformation, d),) = self.sample_groups
+                f0, f1 = modes.hereditary_factors(
+                    hm, hyper, E_inf, deformation, self.x1,
+                    self.x2 if deformation == "biaxial" else None, d,
+                    self.coefficients[deformation, d])
+            else:
+                f0 = np.empty((hyper.shape[0], self.x1.size))
+                f1 = np.empty((hyper.shape[0], self.x1.size))
+                for (deformation, d), idx in self.sample_groups.items():
+                    x2 = self.x2[idx] if deformation == "biaxial" else None
+                    f0[:, idx], f1[:, idx] = modes.hereditary_factors(
+                        hm, hyper, E_inf, deformation, self.x1[idx], x2, d,
+                        self.coefficients[deformation, d])
+            # a sum is finite exactly when every term is (short of overflow near 1e308)
+            ok = np.isfinite(np.sum(f0, axis=1) + np.sum(f1, axis=1))
+        if not ok.all():
+            f0[~ok] = 0.0
+            f1[~ok] = 0.0
         return f0, f1, ok
 
     def _long_term(self, hm, hyper, scale, out) -> np.ndarray:

@@ -386,7 +386,7 @@ class History:
 
     # ------------------------------------------------------------ internal grid
     def _piece_steps(self, k: int, dlog: float) -> np.ndarray:
-        """Inner and end node times of piece k for a test other than uniaxial."""
+        """Inner and end node times of piece k (a hold: its end alone)."""
         tb = self.time
         a, b = tb[k], tb[k + 1]
         if self.deformation == "simple_shear":
@@ -400,8 +400,9 @@ class History:
             tt = [_log_uniform(a, b, self.stretch[k], self.stretch[k + 1], 0.5 * dlog),
                   _log_uniform(a, b, self.stretch2[k], self.stretch2[k + 1], 0.5 * dlog)]
             return np.unique(np.concatenate([x for x in tt if x.size] or [np.array([b])]))
-        # every principal stretch is a power of λ1: uniform in ln λ1, at most dlog in the
-        # fastest of them (ln λ3 = −2 ln λ in equibiaxial)
+        # every principal stretch is a power of λ1: uniform in ln λ1 (λ is linear in t
+        # along the piece), at most dlog in the fastest of them (ln λ3 = −2 ln λ in
+        # equibiaxial)
         power = 2.0 if self.deformation == "equibiaxial" else 1.0
         tt = _log_uniform(a, b, self.stretch[k], self.stretch[k + 1], dlog / power)
         return tt if tt.size else np.array([b])
@@ -419,23 +420,10 @@ class History:
         if self.is_equilibrium:
             raise ValueError("an equilibrium history has no time grid: it is the long-term "
                              "law at its samples")
-        tb, lb = self.time, self.stretch
+        tb = self.time
         nodes = [tb[:1]]
         for k in range(tb.size - 1):
-            if self.deformation != "uniaxial":
-                tt = self._piece_steps(k, dlog)
-                tt[-1] = tb[k + 1]
-                nodes.append(tt)
-                continue
-            dl = abs(np.log(lb[k + 1] / lb[k]))
-            m = max(1, int(np.ceil(dl / dlog)))
-            # uniform in ln λ along the piece (λ is linear in t there)
-            frac = np.linspace(0.0, 1.0, m + 1)[1:]
-            if dl > 0:
-                lam = lb[k] * np.exp(np.log(lb[k + 1] / lb[k]) * frac)
-                tt = tb[k] + (lam - lb[k]) / (lb[k + 1] - lb[k]) * (tb[k + 1] - tb[k])
-            else:
-                tt = tb[k] + frac * (tb[k + 1] - tb[k])
+            tt = self._piece_steps(k, dlog)
             tt[-1] = tb[k + 1]  # exactly the breakpoint: rounding may land just below it
             nodes.append(tt)
         base = np.concatenate(nodes)

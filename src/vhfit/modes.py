@@ -229,18 +229,52 @@ def hereditary_weights(deformation: str, x1, x2=None, direction: int = 1) -> np.
     return np.stack([lam[direction - 1] ** 2, -(lam[2] ** 2)])
 
 
+def invariant_coefficients(deformation: str, x1, x2=None, direction: int = 1):
+    """(I1, I2, coef) with f_k = (2/E∞)(W1 coef[2k] + W2 coef[2k + 1]) for W(I1, I2).
+
+    The kinematic part of :func:`hereditary_factors` for an invariant law, computed
+    once per history. Principal axes, with a_k = λ_k², b_k = I1 a_k − a_k² and bars for
+    means over k: f_a = (2 W1 (a_a − ā) + 2 W2 (b_a − b̄)) / (E∞ a_a), likewise f_c.
+    Simple shear (S = dev τ, I1 = I2 = 3 + γ²): S12 = 2γ (W1 + W2) and
+    S22 = −(2/3) γ² (W1 + 2 W2).
+    """
+    x1 = np.asarray(x1, dtype=np.float64)
+    if deformation == "simple_shear":
+        g2 = x1 * x1
+        inv = 3.0 + g2
+        coef = np.stack([x1 + x1 * g2 / 3.0, x1 + 2.0 * x1 * g2 / 3.0, -g2 / 3.0,
+                         -2.0 * g2 / 3.0])
+        return inv, inv, coef
+    a = [lk * lk for lk in principal_stretches(deformation, x1, x2)]
+    I1 = a[0] + a[1] + a[2]
+    I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
+    b = [I1 * ak - ak * ak for ak in a]
+    a_bar, b_bar = I1 / 3.0, (b[0] + b[1] + b[2]) / 3.0
+    k = direction - 1
+    coef = np.stack([(a[k] - a_bar) / a[k], (b[k] - b_bar) / a[k],
+                     (a[2] - a_bar) / a[2], (b[2] - b_bar) / a[2]])
+    return I1, I2, coef
+
+
 def hereditary_factors(model: Hyperelastic, params, E_inf, deformation: str, x1, x2=None,
-                       direction: int = 1) -> tuple[np.ndarray, np.ndarray]:
+                       direction: int = 1, coefficients=None) -> tuple[np.ndarray, np.ndarray]:
     """f_k(u) of the factorised kernel, per unit E∞: two arrays (P, m).
 
     Principal axes: f = (d_a/λ_a², d_c/λ_c²)/E∞ with d = dev τ; simple shear:
     f = ((S12 − γ S22), S22)/E∞ with S = dev τ (docs/theory.md §13). NaN where the
-    energy is undefined.
+    energy is undefined. ``coefficients``: :func:`invariant_coefficients` of the same
+    arguments, if already computed (invariant laws only).
     """
     cols = constant_columns(model, params)
     x1 = np.asarray(x1, dtype=np.float64)
     E = np.asarray(E_inf, dtype=np.float64)[..., None]
-    if deformation == "simple_shear":
+    if model.kind == "invariant":
+        I1, I2, c = (coefficients if coefficients is not None
+                     else invariant_coefficients(deformation, x1, x2, direction))
+        W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
+        W1, W2 = 2.0 * W1 / E, 2.0 * W2 / E  # (P, 1) for constant derivatives: cheap
+        f0, f1 = W1 * c[0] + W2 * c[1], W1 * c[2] + W2 * c[3]
+    elif deformation == "simple_shear":
         t11, t22, t33, t12 = _shear(model, cols, x1)
         s22 = (2.0 * t22 - t11 - t33) / 3.0
         f0, f1 = (t12 - x1 * s22) / E, s22 / E
@@ -252,4 +286,5 @@ def hereditary_factors(model: Hyperelastic, params, E_inf, deformation: str, x1,
         f0 = (tau[a] - mean) / (E * lam[a] ** 2)
         f1 = (tau[2] - mean) / (E * lam[2] ** 2)
     shape = np.broadcast_shapes(np.shape(f0), np.shape(f1), E.shape[:-1] + x1.shape)
-    return np.broadcast_to(f0, shape).copy(), np.broadcast_to(f1, shape).copy()
+    return tuple(f if np.shape(f) == shape else np.broadcast_to(f, shape).copy()
+                 for f in (f0, f1))

@@ -21,31 +21,11 @@ import numpy as np
 
 from vhfit._derivatives import invariant_gradient, stretch_gradient
 from vhfit.hyperelastic import Hyperelastic
+from vhfit.modes import constant_columns, principal_stretches
 
 __all__ = ["drucker", "StabilityReport"]
 
 MODES = ("uniaxial", "equibiaxial", "planar")
-
-
-def _stretches(mode: str, lam: np.ndarray):
-    if mode == "uniaxial":
-        return lam, lam**-0.5, lam**-0.5
-    if mode == "equibiaxial":
-        return lam, lam, lam**-2.0
-    if mode == "planar":
-        return lam, np.ones_like(lam), 1.0 / lam
-    raise ValueError(f"unknown mode {mode!r}; choose from {MODES}")
-
-
-def _columns(model: Hyperelastic, params) -> list[np.ndarray]:
-    """The law's constants as columns (..., 1) that broadcast against the stretches."""
-    p = np.asarray(params, dtype=np.float64)
-    if p.ndim == 0 or p.shape[-1] != model.n_params:
-        raise ValueError(
-            f"params: model {model.name!r} takes {model.n_params} constants "
-            f"{list(model.param_names)}, got shape {p.shape}"
-        )
-    return [p[..., k, None] for k in range(model.n_params)]
 
 
 def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
@@ -61,7 +41,7 @@ def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
     >>> float(principal_difference(nh, [0.5], 2.0, 2.0**-0.5, 2.0**-0.5)[0])
     3.5
     """
-    cols = _columns(model, params)
+    cols = constant_columns(model, params)
     if model.kind == "invariant":
         I1 = l1**2 + l2**2 + l3**2
         I2 = (l1 * l2) ** 2 + (l2 * l3) ** 2 + (l3 * l1) ** 2
@@ -147,8 +127,8 @@ def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400)
     unstable: dict[str, list[tuple[float, float]]] = {}
     for mode in MODES:
         with np.errstate(all="ignore"):
-            up = principal_difference(model, params, *_stretches(mode, lam * np.exp(d)))
-            dn = principal_difference(model, params, *_stretches(mode, lam * np.exp(-d)))
+            up = principal_difference(model, params, *principal_stretches(mode, lam * np.exp(d)))
+            dn = principal_difference(model, params, *principal_stretches(mode, lam * np.exp(-d)))
         tangent = np.reshape((up - dn) / (2 * d), -1)
         bad = ~(tangent > 0)
         if bad.any():
