@@ -16,9 +16,18 @@ from typing import Any
 
 import numpy as np
 
-from vhfit.data._errors import DataError, _norm_measure, _Subset, _warn, _Where
+from vhfit.data._attributes import _CurveAttributes
+from vhfit.data._errors import DataError, _norm_measure, _Subset, _Where
+from vhfit.data._histories import _build_history, _Path
 from vhfit.data._measures import engineering_to_true, true_to_engineering
-from vhfit.data._paths import _bin_means, _segment_bounds, _simplify_idx
+from vhfit.data._modes import (
+    _check_deformation,
+    _check_mode_signs,
+    _driving_strain,
+    _mode_name,
+    _second_path,
+)
+from vhfit.data._paths import LEG_RTOL, _segment_bounds, _turning_points
 from vhfit.data._points import (
     DEFAULT_N_POINTS,
     _check_points_args,
@@ -42,7 +51,7 @@ from vhfit.data._samples import (
 )
 from vhfit.data._specs import _curve_specs
 from vhfit.data._table import _Table, _table_from_data
-from vhfit.history import History, from_rest
+from vhfit.history import History
 
 #: A measured strain path is simplified (breakpoints dropped) only where that moves it by
 #: less than this fraction of its strain range; turning points are always kept.
@@ -61,7 +70,7 @@ MAX_POINTS = 1000
 
 
 # ================================================================= the curve
-class Curve:
+class Curve(_CurveAttributes):
     """One uniaxial test: measured strain and stress, its loading history, objective points.
 
     Parameters
@@ -188,11 +197,16 @@ class Curve:
 
     def __init__(
         self,
-        strain: Any,
-        stress: Any,
+        strain: Any = None,
+        stress: Any = None,
         strain_rate: float | None = None,
         time: Any = None,
         *,
+        stretch: Any = None,
+        deformation: str = "uniaxial",
+        strain2: Any = None,
+        stretch2: Any = None,
+        stress2: Any = None,
         measure: str = "engineering",
         mode: str | None = None,
         name: str | None = None,
@@ -205,51 +219,52 @@ class Curve:
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
         # the arguments, checked at the front door in the order their messages are tested
-        name = _default_name(name, strain_rate)
         src = None if source is None else str(source)
-        where = _Where(name, src, rows)
+        where = _Where(_default_name(name, strain_rate), src, rows)
+        deformation = _check_deformation(deformation, where)
+        if name is None and (deformation != "uniaxial" or (strain_rate is None and time is None)):
+            where = _Where(_mode_name(deformation, strain_rate, time), src, rows)
+        strain = _driving_strain(strain, stretch, deformation, where)
+        if stress is None:
+            raise DataError(f"{where()}: no stress= given: give the stress of each sample")
         eps, sig, t = _sample_arrays(where, strain, stress, time, rows)
+        e2, s2 = _second_path(deformation, strain2, stretch2, stress2, eps.size, where)
         measure = _norm_measure(measure, where)
         weight = _check_weight(weight, where)
         rate = None if strain_rate is None else _parse_rate_value(strain_rate, where)
-        if rate is None and t is None:
-            raise DataError(
-                f"{where()}: no strain rate and no time column: give strain_rate in 1/s "
-                "(negative in compression) or the time of each sample"
-            )
+        equilibrium = rate is None and t is None
         n_points, by = _check_points_args(n_points, by, where)
-        _check_deformed(eps, where)
+        paths = eps if e2 is None else np.concatenate([eps, e2])
+        _check_deformed(paths, where)
         # the samples: duplicates merged, then signs and mode, then kinematics
-        eps, sig, t, keep = _clean_samples(eps, sig, t, where)
-        tol = _sign_tolerance(eps, where)
-        declared = mode is not None or compression_positive
-        eps, sig, mode = _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep,
-                                         where)
-        rate = _rate_with_sign(rate, mode, compression_positive, where)
-        _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where)
-        sig = _stress_with_sign(sig, mode, declared, keep, where)
-        _check_kinematics(eps, t, rate, keep, where)
-        rate_estimated = rate is None
-        if rate is None:
-            rate = _nominal_rate(t, eps, mode, tol, where)
+        eps, sig, t, keep, e2, s2 = _clean_samples(eps, sig, t, where, equilibrium, e2, s2)
+        eps, sig, e2, s2, mode, rate, tol = _signed_samples(
+            eps, sig, t, e2, s2, rate, mode, compression_positive, deformation, keep, where)
+        rate_estimated = rate is None and t is not None
+        if rate_estimated:
+            lead = eps if e2 is None or np.ptp(eps) >= np.ptp(e2) else e2
+            rate = _nominal_rate(t, lead, mode, tol, where)
 
         self._strain = _frozen(eps)
         self._stress = _frozen(sig)
         self._time = None if t is None else _frozen(t)
-        self._rate = float(rate)
+        self._strain2 = None if e2 is None else _frozen(e2)
+        self._stress2 = None if s2 is None else _frozen(s2)
+        self._deformation = deformation
+        self._equilibrium = equilibrium
+        self._rate = None if rate is None else float(rate)
         self._rate_estimated = rate_estimated
         self._measure = measure
         self._mode = mode
-        self._name = name
+        self._name = where.name
         self._weight = weight
         self._source = src
-        self._where = _Where(name, src, None if rows is None else _Subset(rows, keep))
+        self._where = _Where(where.name, src, None if rows is None else _Subset(rows, keep))
         self._metadata = dict(metadata or {})
         self._tol = tol
         d = np.diff(eps)
         self._monotone = bool((d > 0).all() or (d < 0).all())
-        self._bounds = (np.array([0, eps.size - 1]) if t is None
-                        else _segment_bounds(t, eps, MAX_BREAKPOINTS))
+        self._bounds = _bounds_of(t, eps, e2, equilibrium, MAX_BREAKPOINTS)
         self._n_req = n_points
         self._by_req = by
         self._window = None  # boolean mask over samples, or None
@@ -293,165 +308,48 @@ class Curve:
         new._set_points()
         return new
 
-    # ------------------------------------------------------- measured data
-    @property
-    def strain(self) -> np.ndarray:
-        """Measured engineering strain of each sample (after merging duplicates)."""
-        return self._strain
-
-    @property
-    def stress(self) -> np.ndarray:
-        """Measured stress of each sample in MPa, in :attr:`measure`."""
-        return self._stress
-
-    @property
-    def time(self) -> np.ndarray | None:
-        """Measured time of each sample in s, or ``None`` for a constant-rate curve."""
-        return self._time
-
-    @property
-    def stretch(self) -> np.ndarray:
-        """λ = 1 + ε of each sample."""
-        return 1.0 + self._strain
-
-    @property
-    def strain_rate(self) -> float:
-        """Nominal engineering strain rate in 1/s (negative in compression).
-
-        As given; for a time curve without a given rate it is estimated as the median of
-        |dε/dt| over the samples, each step weighted by the strain it applies (so holds
-        and sensor noise do not count), with the sign of the loading mode (of the first
-        loading for a mixed curve). See :attr:`strain_rate_estimated`.
-        """
-        return self._rate
-
-    @property
-    def strain_rate_estimated(self) -> bool:
-        """True if :attr:`strain_rate` was estimated from the time column."""
-        return self._rate_estimated
-
-    @property
-    def is_constant_rate(self) -> bool:
-        """True if the history is a constant-rate ramp (no time column)."""
-        return self._time is None
-
-    @property
-    def measure(self) -> str:
-        """Stress measure: ``"engineering"`` or ``"true"``."""
-        return self._measure
-
-    @property
-    def mode(self) -> str:
-        """Loading mode: ``"compression"``, ``"tension"`` or ``"mixed"``."""
-        return self._mode
-
-    @property
-    def name(self) -> str:
-        """Name of the curve."""
-        return self._name
-
-    @property
-    def weight(self) -> float:
-        """Weight of the curve in the objective."""
-        return self._weight
-
-    @property
-    def source(self) -> str | None:
-        """File (or other source) the curve was read from."""
-        return self._source
-
-    @property
-    def metadata(self) -> dict[str, Any]:
-        """Free-form information (e.g. a file's ``# key: value`` lines)."""
-        return self._metadata
-
-    # ------------------------------------------------------- objective points
-    @property
-    def n_points(self) -> int:
-        """Number of objective points."""
-        return int(self._t_obj.size)
-
-    @property
-    def n_segments(self) -> int:
-        """Number of segments of the history: loading legs between strain reversals, and holds.
-
-        A constant-rate ramp is one segment; see ``by="segments"`` in :class:`Curve`.
-        """
-        return int(self._bounds.size - 1)
-
-    @property
-    def by(self) -> str:
-        """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
-        ``"segments"``, ``"samples"`` (the measured samples themselves) or ``"bins"``
-        (means of bins of consecutive samples, a record longer than ``MAX_POINTS``)."""
-        return self._by
-
-    @property
-    def target_strain(self) -> np.ndarray:
-        """Strain at the objective points."""
-        return self._e_obj
-
-    @property
-    def target_time(self) -> np.ndarray:
-        """Time of the objective points in the history (``strain / rate`` at constant rate)."""
-        return self._t_obj
-
-    @property
-    def target_stress(self) -> np.ndarray:
-        """Measured stress at the objective points, in :attr:`measure` (MPa)."""
-        return self._s_obj
-
-    @property
-    def target_weights(self) -> np.ndarray:
-        """Weight of each objective point (all 1 unless set by :meth:`with_point_weights`)."""
-        return self._w_obj
-
     @cached_property
     def history(self) -> History:
-        """The stretch history to simulate, with ``out_time`` at the objective points."""
-        if self._time is None:
-            return History.constant_rate(self._e_obj, self._rate)
-        t, e = from_rest(self._time, self._strain)
-        scale = max(float(np.ptp(e)), float(np.abs(e).max()))
-        tol = PATH_RTOL * scale
-        idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-        if idx is None:
-            return self._smoothed_history(tol, scale)
-        return History.piecewise_linear(t[idx], e[idx], out_time=self._t_obj)
-
-    def _smoothed_history(self, tol: float, scale: float) -> History:
-        # Following every noisy sample would keep ~all of them as breakpoints and turn
-        # the noise into strain-rate spikes of noise/Δt; follow bin means instead.
-        t, e = from_rest(*_bin_means(self._time, self._strain, MAX_BREAKPOINTS))
-        idx = None
-        while idx is None:
-            idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-            tol *= 2.0
-        t, e = t[idx], e[idx]
-        dev = np.interp(self._time, t, e) - self._strain
-        rms = float(np.sqrt(np.mean(dev * dev)))
-        _warn(
-            f"{self._where()}: the measured strain path is noisy or too detailed to follow "
-            f"sample by sample (more than {MAX_BREAKPOINTS} breakpoints within "
-            f"{PATH_RTOL:g} of its range, and noise would become strain-rate spikes): the "
-            f"simulated history follows a {MAX_BREAKPOINTS}-bin average of it with "
-            f"{idx.size} breakpoints (RMS deviation from the samples {rms:.3g} strain, "
-            f"{rms / scale:.2g} of the range); smooth the strain signal yourself, or raise "
-            f"vhfit.data.MAX_BREAKPOINTS, to choose differently"
+        """The loading history to simulate, with ``out_time`` at the objective points
+        (and ``out_direction`` saying which loaded direction each one is)."""
+        n = self._t1_obj.size
+        path = _Path(
+            self._deformation, self._rate if self.is_constant_rate else None, self._time,
+            self._strain, self._strain2, self._e_obj[:n],
+            None if self._e2_obj is None else self._e2_obj[:n], self._t1_obj,
+            self._stress2 is not None,
         )
-        return History.piecewise_linear(t, e, out_time=self._t_obj)
+        return _build_history(path, PATH_RTOL, MAX_BREAKPOINTS, self._where)
 
     def _sample_time(self) -> np.ndarray:
+        if self._equilibrium:  # no time: the sample numbers order the samples
+            return np.arange(self._strain.size, dtype=np.float64)
         return self._time if self._time is not None else self._strain / self._rate
 
     def _set_points(self) -> None:
         where = self._where
-        e_obj, s_obj, t_obj, self._by = _points_of(
-            self._strain, self._stress, self._sample_time(),
-            self._rate if self._time is None else None, self._window, self._bounds,
-            self._n_req, self._by_req, self._monotone, self._tol, self._window_desc,
-            MAX_POINTS, where,
+        cols = [self._strain, self._stress, self._sample_time()]
+        cols += [v for v in (self._strain2, self._stress2) if v is not None]
+        out, self._by = _points_of(
+            tuple(cols), self._rate if self.is_constant_rate else None, self._window,
+            self._bounds, self._n_req, self._by_req, self._monotone, self._tol,
+            self._window_desc, MAX_POINTS, where,
         )
+        e_obj, s_obj, t_obj = out[:3]
+        rest = list(out[3:])
+        e2_obj = rest.pop(0) if self._strain2 is not None else None
+        if self._equilibrium:  # the history's outputs are its samples, numbered
+            t_obj = np.arange(e_obj.size, dtype=np.float64)
+        self._t1_obj = _frozen(t_obj)
+        d_obj = np.ones(e_obj.size, dtype=np.int64)
+        if self._stress2 is not None:  # both directions compared: points concatenated
+            e_obj, t_obj = np.tile(e_obj, 2), np.tile(t_obj, 2)
+            e2_obj = None if e2_obj is None else np.tile(e2_obj, 2)
+            s_obj = np.concatenate([s_obj, rest[0]])
+            d_obj = np.concatenate([d_obj, 2 * d_obj])
+        self._d_obj = d_obj
+        self._d_obj.flags.writeable = False
+        self._e2_obj = None if e2_obj is None else _frozen(e2_obj)
         self._e_obj = _frozen(e_obj)
         self._s_obj = _frozen(s_obj)
         self._t_obj = _frozen(t_obj)
@@ -495,6 +393,9 @@ class Curve:
         >>> c.trim(strain=(-0.3, None)).target_strain
         array([-0.1, -0.2, -0.3])
         """
+        if time is not None and self._equilibrium:
+            raise DataError(f"{self._where()}: trim(time=...): an equilibrium curve has no "
+                            "time: trim it by strain")
         ts = self._sample_time()
         mask = np.ones(self._strain.size, dtype=bool) if self._window is None else self._window
         desc = list(self._window_desc)
@@ -553,8 +454,14 @@ class Curve:
         m = _norm_measure(measure, self._where)
         if m == self._measure:
             return self
+        if self._deformation == "simple_shear":  # σ12 = P12: the measures coincide
+            return self._derive(_measure=m)
         conv = engineering_to_true if m == "true" else true_to_engineering
-        return self._derive(_stress=_frozen(conv(self._stress, self._strain)), _measure=m)
+        attrs = {"_stress": _frozen(conv(self._stress, self._strain)), "_measure": m}
+        if self._stress2 is not None:  # direction 2 divides by λ2 (= λ1 if equibiaxial)
+            e2 = self._strain if self._strain2 is None else self._strain2
+            attrs["_stress2"] = _frozen(conv(self._stress2, e2))
+        return self._derive(**attrs)
 
     def replace(self, *, name: str | None = None, weight: float | None = None) -> Curve:
         """The same curve with another name and/or weight."""
@@ -570,15 +477,56 @@ class Curve:
         return self._derive(**attrs)
 
     def __repr__(self) -> str:
-        rate = f"rate {self._rate:g}/s" + (" (estimated)" if self._rate_estimated else "")
-        hist = "constant rate" if self._time is None else "time history"
+        if self._equilibrium:
+            rate = "equilibrium"
+        else:
+            rate = f"rate {self._rate:g}/s" + (" (estimated)" if self._rate_estimated else "")
         win = f", window {' '.join(self._window_desc)}" if self._window_desc else ""
-        extra = "" if self._time is None else f", {hist}"
+        extra = "" if self._time is None else ", time history"
+        mode = self._mode
+        if self._deformation == "simple_shear":
+            mode = {"tension": "γ > 0", "compression": "γ < 0"}.get(mode, "γ of both signs")
+        test = "" if self._deformation == "uniaxial" else f"{self._deformation} "
         return (
-            f"Curve({self._name!r}: {self._mode}, {self._measure} stress, {rate}{extra}, "
+            f"Curve({self._name!r}: {test}{mode}, {self._measure} stress, {rate}{extra}, "
             f"{self._strain.size} samples, {self.n_points} points by {self._by}{win})"
         )
 
+
+
+def _signed_samples(eps, sig, t, e2, s2, rate, mode, compression_positive, deformation, keep,
+                    where):
+    """The samples with the signs of their loading mode, checked (``Curve`` steps 3-4):
+    (strain, stress, strain2, stress2, mode, rate, sign tolerance)."""
+    tol = _sign_tolerance(eps if e2 is None else np.concatenate([eps, e2]), where)
+    declared = mode is not None or compression_positive
+    eps, sig, mode = _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep,
+                                     where, guess=deformation == "uniaxial")
+    if compression_positive:
+        e2 = None if e2 is None else -e2
+        s2 = None if s2 is None else -s2
+    rate = _rate_with_sign(rate, mode, compression_positive, where)
+    _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where, rate is None and t is None)
+    if deformation == "uniaxial":
+        sig = _stress_with_sign(sig, mode, declared, keep, where)
+    else:
+        _check_mode_signs(eps, sig, deformation, mode, keep, where)
+    _check_kinematics(eps, t, rate, keep, where, shear=deformation == "simple_shear")
+    return eps, sig, e2, s2, mode, rate, tol
+
+
+def _bounds_of(t, eps, e2, equilibrium: bool, max_breakpoints: int) -> np.ndarray:
+    """Sample indices bounding the segments of a curve's path (see ``Curve.n_segments``):
+    of the path that moves more (λ1, or λ2 of a biaxial test); at equilibrium, the
+    reversals of the samples' order; at constant rate, none."""
+    lead = eps if e2 is None or np.ptp(eps) >= np.ptp(e2) else e2
+    if equilibrium:
+        turns = [_turning_points(x, LEG_RTOL * float(np.ptp(x))) for x in (eps, e2)
+                 if x is not None]
+        return np.unique(np.concatenate(turns))
+    if t is None:
+        return np.array([0, eps.size - 1])
+    return _segment_bounds(t, lead, max_breakpoints)
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

@@ -64,14 +64,9 @@ def _compared_mask(
 
 
 def _sample_points(
-    eps: np.ndarray,
-    sig: np.ndarray,
-    ts: np.ndarray,
-    mask: np.ndarray,
-    bounds: np.ndarray,
-    cap: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
-    """Strain, stress and time of the compared samples, or of bin means above ``cap``.
+    cols: tuple[np.ndarray, ...], mask: np.ndarray, bounds: np.ndarray, cap: int
+) -> tuple[tuple[np.ndarray, ...], str]:
+    """Columns (strain, time, stress, ...) at the compared samples, or bin means above ``cap``.
 
     Bins are runs of consecutive compared samples, never straddling a gap of the window
     or a segment bound (so turning points and hold ends stay sharp), with about ``cap``
@@ -80,7 +75,7 @@ def _sample_points(
     """
     k = np.flatnonzero(mask)
     if k.size <= cap:
-        return eps[k], sig[k], ts[k], "samples"
+        return tuple(v[k] for v in cols), "samples"
     seg = np.searchsorted(bounds[1:-1], k, side="left")  # a bound ends its segment
     brk = (np.diff(seg) != 0) | (np.diff(k) > 1)
     starts = np.flatnonzero(np.concatenate([[True], brk]))
@@ -90,11 +85,7 @@ def _sample_points(
     pos = np.arange(k.size) - np.repeat(starts, sizes)
     b = np.repeat(first, sizes) + pos * np.repeat(nb, sizes) // np.repeat(sizes, sizes)
     cnt = np.bincount(b)
-
-    def mean(v: np.ndarray) -> np.ndarray:
-        return np.bincount(b, weights=v[k]) / cnt
-
-    return mean(eps), mean(sig), mean(ts), "bins"
+    return tuple(np.bincount(b, weights=v[k]) / cnt for v in cols), "bins"
 
 
 def _objective_indices(
@@ -153,9 +144,7 @@ def _objective_indices(
 
 
 def _points_of(
-    eps: np.ndarray,
-    sig: np.ndarray,
-    ts: np.ndarray,
+    cols: tuple[np.ndarray, ...],
     rate: float | None,
     window: np.ndarray | None,
     bounds: np.ndarray,
@@ -166,23 +155,25 @@ def _points_of(
     window_desc: tuple[str, ...],
     cap: int,
     where: _Where,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
-    """Strain, stress and time of a curve's objective points, and how they are spaced.
+) -> tuple[tuple[np.ndarray, ...], str]:
+    """The columns (strain, stress, time, any more) of a curve at its objective points,
+    and how the points are spaced.
 
     ``rate`` is the constant rate of a curve without time column (None otherwise): its
     point times are ``strain / rate``.
     """
+    eps, sig, ts = cols[:3]
     mask = _compared_mask(eps, ts, window, rate is not None, n_req, window_desc, where)
     idx, by = _objective_indices(eps, sig, ts, mask, bounds, n_req, by_req, monotone, tol,
                                  window_desc, where)
     if idx is None:
-        e_obj, s_obj, t_obj, by = _sample_points(eps, sig, ts, mask, bounds, cap)
+        out, by = _sample_points(cols, mask, bounds, cap)
     else:
         k = np.arange(eps.size, dtype=np.float64)
-        e_obj, s_obj, t_obj = (np.interp(idx, k, v) for v in (eps, sig, ts))
+        out = tuple(np.interp(idx, k, v) for v in cols)
     if rate is not None:
-        t_obj = e_obj / rate
-    return e_obj, s_obj, t_obj, by
+        out = (out[0], out[1], out[0] / rate, *out[3:])
+    return out, by
 
 
 def _point_weights(
