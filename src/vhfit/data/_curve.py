@@ -1,9 +1,10 @@
-"""The curve: :class:`Curve`, one measured uniaxial test, its stretch history and its
+"""The curve: :class:`Curve`, one measured homogeneous test, its loading history and its
 objective points.
 
-The constructor runs the checks and inferences of :mod:`vhfit.data._samples` in order;
-the objective points are placed by :mod:`vhfit.data._points` and the history is
-simplified by :mod:`vhfit.data._paths`. Conventions and errors: see :mod:`vhfit.data`.
+The constructor runs the checks and inferences of :mod:`vhfit.data._samples` (and of
+:mod:`vhfit.data._modes` for the test's deformation) in order; the objective points are
+placed by :mod:`vhfit.data._points` and the history is built by
+:mod:`vhfit.data._histories`. Conventions and errors: see :mod:`vhfit.data`.
 :func:`_curves_from_table` builds the curves of a table (the readers' last step).
 """
 
@@ -71,25 +72,42 @@ MAX_POINTS = 1000
 
 # ================================================================= the curve
 class Curve(_CurveAttributes):
-    """One uniaxial test: measured strain and stress, its loading history, objective points.
+    """One test: measured deformation and stress, its loading history, objective points.
 
     Parameters
     ----------
     strain : array_like
-        Engineering strain ε = λ − 1 of each sample (negative in compression).
+        Engineering strain ε = λ − 1 of each sample (negative in compression), in the
+        loaded direction 1; in simple shear, the amount of shear γ. Or give ``stretch``.
     stress : array_like
-        Stress of each sample in MPa, in the measure given by ``measure``.
+        Stress of each sample in MPa, in the measure given by ``measure``: the stress in
+        direction 1 (nominal P1 or true σ1), in simple shear the shear stress σ12 = P12.
     strain_rate : float, optional
         Engineering strain rate in 1/s (negative in compression). Without ``time`` the
         test is a constant-rate ramp from ε = 0 (paper Eq. 3), and the strain must be
         monotonic in the rate's direction; it need not start at 0. With ``time`` it is
-        only the nominal rate (used e.g. for the τ bounds of Eq. 22).
+        only the nominal rate (used e.g. for the τ bounds of Eq. 22). With neither rate
+        nor time the curve is an *equilibrium* curve: fully relaxed states compared with
+        the long-term law alone (:attr:`is_equilibrium`); its samples need no order.
     time : array_like, optional
         Time of each sample in s, for measured histories (loading–unloading, ramp–hold,
         drifting rates). The history is piecewise linear through the samples; the
         material is at rest at ε = 0 at t = 0, so a first sample at t > 0 is reached by
         a linear ramp from (0, 0). Samples at the same time and strain are merged (their
         stresses averaged).
+    stretch : array_like, optional
+        Stretch λ1 of each sample, instead of ``strain`` (not in simple shear).
+    deformation : {"uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear"}
+        The test (docs/modes.md): uniaxial (default, the paper's), equibiaxial (λ1 = λ2),
+        planar or pure shear (λ2 = 1), general biaxial (λ1 and λ2 both prescribed) or
+        simple shear. Lab names such as ``"pure shear"`` or ``"equibiaxial tension"``
+        are understood.
+    strain2, stretch2 : array_like, optional
+        λ2 − 1 or λ2 of each sample: required for ``"biaxial"``, refused otherwise.
+    stress2 : array_like, optional
+        Stress in direction 2 of each sample ("biaxial" or "equibiaxial"), same measure:
+        both stresses are then compared, the points of ``stress2`` after those of
+        ``stress`` (:attr:`target_direction`).
     measure : {"engineering", "true"}
         Stress measure of ``stress`` ("nominal" and "cauchy" are accepted as aliases).
     mode : {"compression", "tension", "mixed"}, optional
@@ -133,9 +151,11 @@ class Curve(_CurveAttributes):
     Raises
     ------
     DataError
-        Fewer than 2 samples, NaN/inf, no rate and no time, strain going back and forth
-        at constant rate, time running backwards, conflicting duplicate samples, signs
-        contradicting the declared mode, stretch ≤ 0.
+        Fewer than 2 samples, NaN/inf, strain going back and forth at constant rate,
+        time running backwards, conflicting duplicate samples, signs contradicting the
+        declared mode (or, in equibiaxial, planar and simple shear, a stress whose sign
+        contradicts the strain), stretch ≤ 0, an unknown deformation, a biaxial curve
+        without its second stretch, a simple-shear curve given stretches.
 
     Notes
     -----
@@ -186,6 +206,15 @@ class Curve(_CurveAttributes):
     ('tension', 'segments', 2, 20, 0.5)
     >>> float(lu.target_strain[9])           # the turning point is an objective point
     0.5
+
+    Every homogeneous test, at a rate, along a time history, or at equilibrium:
+
+    >>> lam = np.linspace(1.0, 2.0, 6)
+    >>> eb = Curve(stretch=lam, stress=0.3 * (lam - lam**-5), deformation="equibiaxial")
+    >>> eb.name, eb.deformation, eb.mode, eb.n_points
+    ('equibiaxial (equilibrium)', 'equibiaxial', 'tension', 6)
+    >>> eb.is_equilibrium, eb.history.is_equilibrium, eb.strain_rate
+    (True, True, None)
 
     A long record is compared at bin means of its samples:
 

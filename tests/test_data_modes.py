@@ -1,0 +1,209 @@
+"""Curves of every homogeneous test: deformation=, stretches, both stresses, equilibrium.
+
+Expectations are written by hand or from closed forms (neo-Hooke: the nominal stress of
+direction a is P_a = 2 C10 (λ_a − λ_a⁻¹ λ3²) with λ3 = 1/(λ1 λ2), docs/theory.md).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit.data import Curve, DataError
+
+LAM = np.array([1.0, 1.2, 1.5, 2.0])
+C10 = 0.25
+
+
+def neo_hooke_nominal(l1, l2):
+    """(P1, P2) of an incompressible neo-Hooke solid, direction 3 stress-free."""
+    l3 = 1.0 / (l1 * l2)
+    return 2 * C10 * (l1 - l3**2 / l1), 2 * C10 * (l2 - l3**2 / l2)
+
+
+def raises(*parts):
+    return pytest.raises(DataError, match=".*".join(map(_re, parts)))
+
+
+def _re(s):
+    import re
+
+    return re.escape(s)
+
+
+# ------------------------------------------------------------ unchanged calls
+def test_positional_uniaxial_calls_are_unchanged():
+    eps = np.linspace(0.0, -0.4, 5)
+    c = Curve(eps, 2 * eps, -10.0)
+    assert c.deformation == "uniaxial" and not c.is_equilibrium and c.is_constant_rate
+    assert c.strain_rate == -10.0 and c.name == "-10 1/s"
+    assert c.strain2 is None and c.stress2 is None and c.target_strain2 is None
+    np.testing.assert_array_equal(c.target_direction, np.ones(5))
+
+
+def test_stretch_is_one_plus_strain():
+    c = Curve(stretch=LAM, stress=LAM - 1.0, strain_rate=0.1)
+    np.testing.assert_allclose(c.strain, LAM - 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(c.stretch, LAM, rtol=1e-15)
+
+
+# ---------------------------------------------------------------- equilibrium
+def test_a_curve_without_rate_or_time_is_at_equilibrium_in_any_order():
+    lam = np.array([1.5, 1.1, 2.0, 1.1, 0.8])  # unsorted, a repeated state, both signs
+    sig = np.array([0.9, 0.2, 1.5, 0.25, -0.4])
+    c = Curve(stretch=lam, stress=sig)
+    assert c.is_equilibrium and not c.is_constant_rate and c.strain_rate is None
+    assert c.mode == "mixed" and c.name == "uniaxial (equilibrium)"
+    assert c.n_points == 5 and c.by == "samples"  # nothing merged or reordered
+    np.testing.assert_allclose(c.target_strain, lam - 1.0, atol=1e-15)
+    np.testing.assert_array_equal(c.target_stress, sig)
+    h = c.history
+    assert h.is_equilibrium
+    np.testing.assert_allclose(h.out_strain, lam - 1.0, atol=1e-15)
+    assert "equilibrium" in repr(c)
+
+
+def test_an_equilibrium_curve_has_no_time_to_trim():
+    c = Curve(stretch=LAM, stress=LAM - 1.0)
+    with raises("equilibrium curve has no time", "strain"):
+        c.trim(time=(0.0, 1.0))
+    assert c.trim(strain=(0.1, None)).n_points == 3
+
+
+def test_equilibrium_curves_compare_the_long_term_law():
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
+    for dfm, (p1, _) in [("equibiaxial", neo_hooke_nominal(LAM, LAM)),
+                         ("planar", neo_hooke_nominal(LAM, np.ones(4)))]:
+        c = Curve(stretch=LAM, stress=p1, deformation=dfm)
+        got = m.stress(dict(C10=C10, C01=0.0), c.history, measure=c.measure)
+        np.testing.assert_allclose(got, p1, rtol=1e-12, atol=1e-15)
+
+
+# ------------------------------------------------------------- biaxial tests
+def test_a_biaxial_curve_compares_both_stresses_direction_by_direction():
+    l1 = np.full(5, 1.5)  # λ1 held, λ2 varied: one biaxial curve as labs report it
+    l2 = np.array([0.9, 1.0, 1.2, 1.4, 1.6])
+    p1, p2 = neo_hooke_nominal(l1, l2)
+    c = Curve(stretch=l1, stretch2=l2, stress=p1, stress2=p2, deformation="biaxial")
+    assert c.n_points == 10 and c.name == "biaxial (equilibrium)"
+    np.testing.assert_array_equal(c.target_direction, [1] * 5 + [2] * 5)
+    np.testing.assert_array_equal(c.target_stress, np.concatenate([p1, p2]))
+    np.testing.assert_allclose(c.target_strain2, np.tile(l2 - 1, 2), atol=1e-15)
+    h = c.history
+    np.testing.assert_array_equal(h.out_direction, c.target_direction)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
+    got = m.stress(dict(C10=C10, C01=0.0), h, measure="engineering")
+    np.testing.assert_allclose(got, np.concatenate([p1, p2]), rtol=1e-12, atol=1e-15)
+
+
+def test_an_equibiaxial_curve_may_give_its_second_stress():
+    p1, _ = neo_hooke_nominal(LAM, LAM)
+    c = Curve(stretch=LAM, stress=p1, stress2=1.01 * p1, deformation="equibiaxial")
+    assert c.n_points == 8
+    np.testing.assert_array_equal(c.target_stress[4:], 1.01 * p1)
+    t = c.with_measure("true")  # σ2 = P2 λ2 and λ2 = λ1
+    np.testing.assert_allclose(t.stress2, 1.01 * p1 * LAM, rtol=1e-15)
+
+
+def test_a_biaxial_curve_converts_each_stress_with_its_own_stretch():
+    l1, l2 = np.array([1.0, 1.2, 1.4]), np.array([1.0, 1.1, 1.3])
+    c = Curve(stretch=l1, stretch2=l2, stress=[0, 1, 2], stress2=[0, 3, 4],
+              deformation="biaxial", strain_rate=0.1)
+    t = c.with_measure("true")
+    np.testing.assert_allclose(t.stress, [0, 1.2, 2.8], rtol=1e-15)
+    np.testing.assert_allclose(t.stress2, [0, 3.3, 5.2], rtol=1e-15)
+
+
+def test_a_biaxial_time_history_follows_both_stretches():
+    t = np.linspace(0.0, 4.0, 9)
+    l1 = 1 + 0.1 * t
+    l2 = 1 + 0.2 * np.minimum(t, 2.0)  # λ2 stops at t = 2 while λ1 goes on
+    c = Curve(stretch=l1, stretch2=l2, stress=t, time=t, deformation="biaxial")
+    h = c.history
+    np.testing.assert_allclose(h.stretch_at(t), l1, rtol=1e-14)
+    np.testing.assert_allclose(np.interp(t, h.time, h.stretch2), l2, rtol=1e-14)
+
+
+def test_a_biaxial_curve_whose_first_stretch_stays_at_one_is_still_deformed():
+    c = Curve(strain=np.zeros(3), strain2=[0.0, 0.1, 0.2], stress=[0.0, 0.1, 0.2],
+              deformation="biaxial")
+    assert c.n_points == 3
+
+
+# --------------------------------------------------------------- simple shear
+def test_simple_shear_takes_the_amount_of_shear_of_any_size():
+    g = np.array([0.0, -0.5, -1.5, -2.5])  # γ below -1 is no stretch <= 0
+    t = np.arange(4.0)
+    c = Curve(strain=g, stress=[0.0, -0.2, -0.5, -0.9], time=t, deformation="simple shear")
+    assert c.deformation == "simple_shear" and c.mode == "compression"
+    assert "γ < 0" in repr(c)
+    assert c.with_measure("true").stress is not None
+    np.testing.assert_array_equal(c.with_measure("true").stress, c.stress)  # σ12 = P12
+
+
+# ----------------------------------------------------------------------- names
+@pytest.mark.parametrize("label, name", [
+    ("pure shear", "planar"), ("Equibiaxial tension", "equibiaxial"),
+    ("uniaxial_tension_compression", "uniaxial"), ("planar-tension", "planar"),
+    ("SIMPLE_SHEAR", "simple_shear"), ("general biaxial", "biaxial"),
+])
+def test_lab_names_of_the_tests_are_understood(label, name):
+    more = {"strain2": LAM - 1.0} if name == "biaxial" else {}
+    c = Curve(strain=LAM - 1.0, stress=LAM - 1.0, deformation=label, **more)
+    assert c.deformation == name
+
+
+# ---------------------------------------------------------------------- errors
+@pytest.mark.parametrize("kwargs, parts", [
+    (dict(stretch=LAM, stress=LAM - 1, deformation="torsion"),
+     ["'torsion'", "'uniaxial', 'equibiaxial', 'planar', 'biaxial', 'simple_shear'"]),
+    (dict(stretch=LAM, stress=LAM - 1, deformation="biaxial"),
+     ["biaxial curve needs its second stretch", "stretch2="]),
+    (dict(stretch=LAM, stress=LAM - 1, deformation="simple_shear"),
+     ["simple shear", "give strain=γ", "not stretch="]),
+    (dict(stretch=LAM, strain2=LAM - 1, stress=LAM - 1, deformation="planar"),
+     ["strain2= is only for deformation='biaxial'", "'planar'"]),
+    (dict(stretch=LAM, stress=LAM - 1, stress2=LAM, deformation="planar"),
+     ["stress2=", "'equibiaxial' and 'biaxial'"]),
+    (dict(stretch=LAM, strain=LAM - 1, stress=LAM - 1), ["both strain= and stretch="]),
+    (dict(stress=LAM - 1), ["no strain= or stretch="]),
+    (dict(stretch=LAM), ["no stress="]),
+    (dict(stretch=[1.0, 0.0, 2.0], stress=[0, 1, 2]), ["row 1", "stretch = 0", "> 0"]),
+    (dict(stretch=LAM, stretch2=[1, 1, -1, 1], stress=LAM - 1, deformation="biaxial"),
+     ["row 2", "stretch2"]),
+    (dict(stretch=LAM, stretch2=LAM[:3], stress=LAM - 1, deformation="biaxial"),
+     ["stretch2 has 3 values", "4"]),
+])
+def test_bad_mode_arguments_raise_one_line_errors(kwargs, parts):
+    with raises(*parts) as info:
+        Curve(**kwargs)
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("deformation, stretch, stress", [
+    ("equibiaxial", [1.0, 0.9, 0.8], [0.0, 0.1, 0.3]),  # stretch < 1 but tensile
+    ("planar", [1.0, 1.2, 1.5], [0.0, -0.1, -0.3]),  # stretch > 1 but compressive
+])
+def test_a_sheet_stress_against_its_stretch_is_an_error_not_a_flip(deformation, stretch,
+                                                                    stress):
+    with raises(f"curve '{deformation} (equilibrium)' (row 2)", "wrong sign",
+                deformation, "thickness stretch"):
+        Curve(stretch=stretch, stress=stress, deformation=deformation)
+
+
+def test_a_shear_stress_against_its_shear_is_an_error():
+    with raises("row 2", "wrong sign for simple_shear", "same sign"):
+        Curve(strain=[0.0, 0.5, 1.0], stress=[0.0, -0.2, -0.5], strain_rate=1.0,
+              deformation="simple_shear")
+
+
+def test_compression_given_positive_negates_both_directions():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        c = Curve(strain=[0.0, 0.1], strain2=[0.0, 0.05], stress=[0.0, 1.0],
+                  stress2=[0.0, 0.5], deformation="biaxial", compression_positive=True)
+    np.testing.assert_array_equal(c.strain2, [0.0, -0.05])
+    np.testing.assert_array_equal(c.stress2, [0.0, -0.5])
