@@ -207,3 +207,91 @@ def test_compression_given_positive_negates_both_directions():
                   stress2=[0.0, 0.5], deformation="biaxial", compression_positive=True)
     np.testing.assert_array_equal(c.strain2, [0.0, -0.05])
     np.testing.assert_array_equal(c.stress2, [0.0, -0.5])
+
+
+# ------------------------------------------------------------------- read_csv
+def write(tmp_path, text, name="test.csv"):
+    p = tmp_path / name
+    p.write_text(text, encoding="utf-8")
+    return p
+
+
+def test_a_biaxial_file_gives_one_curve_with_both_stresses(tmp_path):
+    text = ("lambda1,lambda2,nominal_stress_1,nominal_stress_2\n"
+            "1.04,0.98,0.0434,0.0\n1.04,1.00,0.0583,0.0284\n1.04,1.10,0.0900,0.1500\n")
+    [c] = vhfit.read_csv(write(tmp_path, text, "kawabata.csv"))
+    assert c.deformation == "biaxial" and c.is_equilibrium and c.name == "kawabata"
+    np.testing.assert_allclose(c.strain, [0.04] * 3, rtol=1e-12)
+    np.testing.assert_allclose(c.strain2, [-0.02, 0.0, 0.1], atol=1e-12)
+    np.testing.assert_array_equal(c.stress2, [0.0, 0.0284, 0.15])
+    np.testing.assert_array_equal(c.target_stress, [0.0434, 0.0583, 0.09, 0.0, 0.0284, 0.15])
+    assert c.metadata["columns"]["strain2"] == "lambda2"
+
+
+def test_a_deformation_column_splits_the_tests(tmp_path):
+    text = ("test_type,stretch,stress_kPa\n"
+            "uniaxial tension,1.0,0\nuniaxial tension,1.5,300\n"
+            "equibiaxial,1.0,0\nequibiaxial,1.5,600\n"
+            "pure shear,1.0,0\npure shear,1.5,400\n")
+    cs = vhfit.read_csv(write(tmp_path, text, "rubber.csv"))
+    assert [c.deformation for c in cs] == ["uniaxial", "equibiaxial", "planar"]
+    assert [c.name for c in cs] == ["rubber [uniaxial tension]", "rubber [equibiaxial]",
+                                    "rubber [pure shear]"]
+    assert all(c.is_equilibrium for c in cs)
+    np.testing.assert_allclose(cs[1].stress, [0.0, 0.6])
+    np.testing.assert_allclose(cs[2].strain, [0.0, 0.5])
+
+
+def test_the_test_of_a_file_from_its_line_or_the_argument(tmp_path):
+    p = write(tmp_path, "# deformation: pure shear\nstretch,stress\n1,0\n1.2,0.1\n")
+    assert vhfit.read_csv(p)[0].deformation == "planar"
+    q = write(tmp_path, "stretch,stress\n1,0\n1.2,0.1\n", "q.csv")
+    cs = vhfit.read_csv([p, q], deformation=["equibiaxial", "planar"])
+    assert [c.deformation for c in cs] == ["equibiaxial", "planar"]  # the argument wins
+    with raises("2 deformations for 3 files"):
+        vhfit.read_csv([p, q, q], deformation=["equibiaxial", "planar"])
+
+
+def test_a_shear_file_is_simple_shear_driven_by_gamma(tmp_path):
+    text = "time_s,gamma,shear_stress_kPa\n0,0,0\n1,0.1,20\n2,0.2,35\n"
+    [c] = vhfit.read_csv(write(tmp_path, text))
+    assert c.deformation == "simple_shear" and c.strain_rate == pytest.approx(0.1)
+    np.testing.assert_allclose(c.strain, [0.0, 0.1, 0.2])
+    np.testing.assert_allclose(c.stress, [0.0, 0.02, 0.035])
+
+
+def test_a_stretch_or_shear_column_is_gamma_on_shear_rows(tmp_path):
+    text = ("region,mode,stretch_or_shear_amount,nominal_stress_kPa\n"
+            "cortex,uniaxial_tension_compression,0.9,-1.1\n"
+            "cortex,uniaxial_tension_compression,1.1,0.9\n"
+            "cortex,simple_shear,-0.2,-0.3\ncortex,simple_shear,0.2,0.3\n")
+    uni, shear = vhfit.read_csv(write(tmp_path, text, "brain.csv"))
+    assert (uni.deformation, shear.deformation) == ("uniaxial", "simple_shear")
+    np.testing.assert_allclose(uni.strain, [-0.1, 0.1], atol=1e-12)
+    np.testing.assert_allclose(shear.strain, [-0.2, 0.2])  # γ as written
+    np.testing.assert_allclose(shear.stress, [-3e-4, 3e-4])
+
+
+def test_a_file_without_rate_or_time_is_at_equilibrium(tmp_path):
+    [c] = vhfit.read_csv(write(tmp_path, "strain,stress\n0.2,1\n0,0\n0.1,0.4\n"))
+    assert c.is_equilibrium and c.strain_rate is None
+    np.testing.assert_array_equal(c.strain, [0.2, 0.0, 0.1])  # the file's order kept
+
+
+@pytest.mark.parametrize("text, kwargs, parts", [
+    ("stretch,stress\n1,0\n1.2,0.1\n", dict(deformation="simple_shear"),
+     ["test.csv", "column 'stretch'", "amount of shear", "'gamma'"]),
+    ("deformation,stretch,stress\nuniaxial,1,0\ntorsion,1.2,0.1\n", {},
+     ["test.csv, line 3, column 'deformation'", "'torsion'", "'simple_shear'"]),
+    ("deformation,stretch,stress\nplanar,1,0\nplanar,1.2,0.1\n",
+     dict(deformation="equibiaxial"), ["says 'planar'", "deformation='equibiaxial'"]),
+    ("stretch,stress\n1,0\n0.8,0.1\n", dict(deformation="equibiaxial"),
+     ["test.csv, line 3", "wrong sign for equibiaxial"]),
+    ("stretch,stress\n1,0\n1.2,0.1\n", dict(deformation="biaxial"),
+     ["test.csv", "second stretch"]),
+    ("stretch,stress\n1,0\n1.2,0.1\n", dict(deformation="cone"), ["test.csv", "'cone'"]),
+])
+def test_bad_mode_files_raise_one_line_errors_naming_the_file(tmp_path, text, kwargs, parts):
+    with raises(*parts) as info:
+        vhfit.read_csv(write(tmp_path, text), **kwargs)
+    assert "\n" not in str(info.value)

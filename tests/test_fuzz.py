@@ -794,7 +794,9 @@ def test_cli_bad_input_is_exit_code_2_and_one_line(tmp_path, capsys):
     cases = [("directory", tmp_path), ("missing", tmp_path / "missing.csv")]
     while len(cases) < max(60, settings.default.max_examples * 3):
         case = hostile_csv(rng)
-        if case.expect != "error":
+        # a rate given only as read_csv's argument is not in the file: for the command
+        # line that file is an equilibrium curve, and its "error" may be none there
+        if case.expect != "error" or "rate" in case.kwargs:
             continue
         p = tmp_path / f"input{len(cases)}.csv"
         p.write_bytes(case.data)
