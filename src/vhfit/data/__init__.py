@@ -1,7 +1,9 @@
 """Test data: measured stress–strain curves, their readers, and the objective points.
 
-A :class:`Curve` holds one uniaxial test as measured — strain, stress, and either a
-nominal constant strain rate or the time of every sample — plus the *objective points*
+A :class:`Curve` holds one test as measured — uniaxial (the paper's), equibiaxial,
+planar, general biaxial or simple shear; strain (or stretch) and stress, and either a
+nominal constant strain rate, the time of every sample, or neither (an equilibrium
+curve, fully relaxed states) — plus the *objective points*
 where the model is compared with it: by default its own samples (bin means of
 consecutive samples above ``MAX_POINTS``); the paper's 10 points a curve, evenly spaced
 in strain, with ``n_points=10``.
@@ -27,11 +29,13 @@ The tolerances below are module attributes read when a curve is built; setting o
 (e.g. ``vhfit.data.MAX_BREAKPOINTS = 5000``) changes it for the curves built afterwards.
 
 Layout (private modules, imported in this order, none importing a later one):
-``_errors`` (DataError, message locations) → ``_paths`` (path geometry) → ``_points``
-(objective points) → ``_samples`` (the checks of ``Curve(...)``) → ``_columns`` (header
-recognition, units) → ``_table`` (CSV decoding, tables) → ``_specs`` (table → curve
-arguments) → ``_curve`` (:class:`Curve`) → ``_readers`` (:func:`read_csv`,
-:func:`curves_from_arrays`, :func:`read_history`).
+``_errors`` (DataError, message locations) → ``_measures`` → ``_paths`` (path geometry)
+→ ``_points`` (objective points) → ``_samples`` (the checks of ``Curve(...)``) →
+``_modes`` (the deformation's arguments and signs) → ``_histories`` (every
+:class:`~vhfit.history.History` built for a curve) → ``_attributes`` (the curve's
+read-only properties) → ``_columns`` (header recognition, units) → ``_table`` (CSV
+decoding, tables) → ``_specs`` (table → curve arguments) → ``_curve`` (:class:`Curve`)
+→ ``_readers`` (:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
 """
 
 from __future__ import annotations
