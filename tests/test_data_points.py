@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import vhfit
 import vhfit.data
@@ -93,3 +95,33 @@ def test_exact_data_are_fitted_to_their_own_error_level():
     assert sum(c.n_points for c in curves) == 400
     assert cal.rmsape < 1e-6
     assert cal.params["tau1"] == pytest.approx(1e-2, rel=1e-6)
+
+
+@settings(max_examples=50, deadline=None)
+@given(n=st.integers(3, 400), cap=st.integers(2, 60), a=st.floats(0, 0.4), b=st.floats(0.5, 1),
+       turn=st.floats(0.2, 0.8))
+def test_bin_means_of_a_piecewise_linear_record_stay_on_it(n, cap, a, b, turn):
+    """Means of a linear function are the function at the means, so on a load-unload
+    record whose stress is linear in time on each leg, every bin's (time, stress) lies on
+    the record: no bin mixes the legs, whatever the length and the cap."""
+    import vhfit.data._curve as owner
+
+    saved = owner.MAX_POINTS
+    owner.MAX_POINTS = cap
+    try:
+        t = np.linspace(0.0, 1.0, n)
+        k = int(turn * (n - 1))
+        t_turn = t[k]
+        eps = np.where(t <= t_turn, t, 2 * t_turn - t) + 0.5  # up to sample k, then down
+        sig = np.where(t <= t_turn, a * t + b, -a * t + b + 2 * a * t_turn)
+        c = Curve(eps, sig, time=t)
+    finally:
+        owner.MAX_POINTS = saved
+    tt = c.target_time
+    expect = np.where(tt <= t_turn, a * tt + b, -a * tt + b + 2 * a * t_turn)
+    np.testing.assert_allclose(c.target_stress, expect, rtol=1e-9, atol=1e-9)
+    assert (np.diff(tt) > 0).all()
+    if n <= cap:
+        assert c.by == "samples" and c.n_points == n
+    else:  # about cap bins: at least one per leg
+        assert c.by == "bins" and c.n_points <= cap + 2
