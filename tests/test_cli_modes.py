@@ -22,11 +22,16 @@ def _sim(text):
     return np.array([[float(r["strain"]), float(r["stress"])] for r in rows])
 
 
-def test_simulate_an_equibiaxial_ramp(capsys):
+def _simulate(capsys, *args):
+    """stdout of ``vhfit simulate`` of Mooney-Rivlin (C10, C01) with ``args``."""
     assert cli.main(["simulate", "--model", "mooney_rivlin", "--param", f"C10={C10},C01={C01}",
-                     "--rate", "0.5", "--strain-max", "1", "--points", "5",
-                     "--deformation", "equibiaxial"]) == 0
-    out = capsys.readouterr().out
+                     *args]) == 0
+    return capsys.readouterr().out
+
+
+def test_simulate_an_equibiaxial_ramp(capsys):
+    out = _simulate(capsys, "--rate", "0.5", "--strain-max", "1", "--points", "5",
+                    "--deformation", "equibiaxial")
     assert "# deformation: equibiaxial" in out
     e, p = _sim(out).T
     lam = 1 + e
@@ -36,10 +41,8 @@ def test_simulate_an_equibiaxial_ramp(capsys):
 
 
 def test_simulate_simple_shear_reports_gamma_and_shear_stress(capsys):
-    assert cli.main(["simulate", "--model", "mooney_rivlin", "--param", f"C10={C10},C01={C01}",
-                     "--rate", "1", "--strain-max", "2", "--points", "3",
-                     "--deformation", "simple shear"]) == 0
-    out = capsys.readouterr().out
+    out = _simulate(capsys, "--rate", "1", "--strain-max", "2", "--points", "3",
+                    "--deformation", "simple shear")
     assert "amount of shear" in out
     g, s = _sim(out).T
     np.testing.assert_allclose(g, [0, 1, 2])  # γ, not λ − 1

@@ -116,20 +116,26 @@ def _clean_samples(eps, sig, t, where, equilibrium=False, e2=None, s2=None):
 
 def _merge_second(t, keep, e2, s2, where):
     """λ2 − 1 and stress2 of samples merged by time: λ2 must agree, stress2 is averaged."""
-    grp = np.concatenate([[0], np.cumsum(np.diff(t) != 0)])
+    dup = np.diff(t) == 0
+    grp = np.concatenate([[0], np.cumsum(~dup)])
     if e2 is not None:
-        bad = (np.diff(grp) == 0) & (np.diff(e2) != 0)
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise DataError(
-                f"{where(k + 1)}: two samples at the same time ({t[k]:g} s) have different "
-                f"second strains ({e2[k]:g} and {e2[k + 1]:g}): fix the time column (more "
-                "digits) or drop one of them"
-            )
+        _check_same_time(t, e2, dup, np.arange(t.size), "second strains", where)
         e2 = e2[keep]
     if s2 is not None:
         s2 = np.bincount(grp, weights=s2) / np.bincount(grp)
     return e2, s2
+
+
+def _check_same_time(t, x, dup, keep, what, where):
+    """Samples at one time (``dup``) must agree in ``x`` (a strain)."""
+    bad = dup & (np.diff(x) != 0)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise DataError(
+            f"{where(keep[k + 1])}: two samples at the same time ({t[k]:g} s) have "
+            f"different {what} ({x[k]:g} and {x[k + 1]:g}): fix the time column (more "
+            "digits) or drop one of them"
+        )
 
 
 def _clean_time_series(eps, sig, t, keep, where):
@@ -153,14 +159,7 @@ def _clean_time_series(eps, sig, t, keep, where):
         )
     dup = dt == 0
     if dup.any():
-        bad = dup & (np.diff(eps) != 0)
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise DataError(
-                f"{where(keep[k + 1])}: two samples at the same time ({t[k]:g} s) have "
-                f"different strains ({eps[k]:g} and {eps[k + 1]:g}): fix the time column (more "
-                "digits) or drop one of them"
-            )
+        _check_same_time(t, eps, dup, keep, "strains", where)
         grp = np.concatenate([[0], np.cumsum(~dup)])
         first = np.flatnonzero(np.concatenate([[True], ~dup]))
         sig = np.bincount(grp, weights=sig) / np.bincount(grp)
