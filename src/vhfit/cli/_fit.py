@@ -363,7 +363,10 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
 
 
 def _jsonable(d: dict) -> dict:
-    return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    if out.get("deformation", "") is None:  # not given: the files said (as before the flag)
+        del out["deformation"]
+    return out
 
 
 def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
