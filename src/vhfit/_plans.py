@@ -137,9 +137,8 @@ class GeneralPlan:
             ok = self._long_term(hm, hyper, 1.0 / E_inf[:, None], base)
         f0, f1, ok_f = self._factors(hm, hyper, E_inf)
         ov = _kernels.overstress_general(
-            np.repeat(f0, N, axis=0), np.repeat(f1, N, axis=0), self.w, self.step,
-            self.sample_off, self.step_off, np.ones((P * N, 1)), tau.reshape(P * N, 1),
-            _kernels.DERIV, parallel)
+            f0, f1, self.w, self.step, self.sample_off, self.step_off, np.ones((P * N, 1)),
+            np.ascontiguousarray(tau.reshape(P * N, 1)), _kernels.DERIV, parallel, repeat=N)
         h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, self.pos.size)
         return ok & ok_f
 
