@@ -439,6 +439,10 @@ def test_shape_columns_rebuild_a_mixed_batch_and_equilibrium_columns_are_zero():
     np.testing.assert_allclose(rebuilt, b(X), rtol=1e-12, atol=1e-14)
     for k in (4, 6):  # the equilibrium histories
         assert np.all(H[:, :, b.slices[k]] == 0.0)
+    # no Prony terms at all: the long-term columns alone
+    base0, H0 = b.shape_columns(hyper, np.zeros((2, 0)))
+    assert H0.shape == (2, 0, b.n_points)
+    np.testing.assert_array_equal(base0, base)
 
 
 def test_batch_marks_invalid_parameter_sets_in_every_mode():

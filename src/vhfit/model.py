@@ -498,7 +498,7 @@ class Batch:
                 np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
                 self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV, parallel,
             )
-            h[:, :, self._pos_u] = ov[:, self._gather_node].reshape(P, N, -1)
+            h[:, :, self._pos_u] = ov[:, self._gather_node].reshape(P, N, self._pos_u.size)
             base[:, self._pos_u] = s_hat[:, self._gather_sample]
         if self._general.jobs:
             ok &= self._general.shape_columns(self.model.hyperelastic, hyper, E_inf, tau,
