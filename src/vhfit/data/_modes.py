@@ -4,7 +4,7 @@
 (docs/modes.md): the uniaxial test of the paper, equibiaxial and planar (pure shear)
 tension of a sheet, a general biaxial test (λ1 and λ2 both prescribed, one or both
 nominal stresses measured) and simple shear (amount of shear γ, shear stress). These
-helpers read the mode's arguments at the front door — a stretch where an amount of
+functions read the mode's arguments at the front door — a stretch where an amount of
 shear is meant, a missing or stray second stretch, a stress whose sign contradicts the
 mode — with one-line messages that name the curve and the fix.
 """
