@@ -125,3 +125,15 @@ def test_bin_means_of_a_piecewise_linear_record_stay_on_it(n, cap, a, b, turn):
         assert c.by == "samples" and c.n_points == n
     else:  # about cap bins: at least one per leg
         assert c.by == "bins" and c.n_points <= cap + 2
+
+
+def test_all_means_every_sample_even_above_the_cap(monkeypatch):
+    monkeypatch.setattr(vhfit.data, "MAX_POINTS", 4)
+    t = np.arange(10.0)
+    c = Curve(0.1 * t, t**2, time=t)
+    assert c.by == "bins" and c.n_points == 4
+    every = c.resample("all")
+    assert every.by == "samples" and every.n_points == 10
+    np.testing.assert_array_equal(every.target_stress, t**2)
+    with pytest.raises(vhfit.data.DataError, match="'all' for every sample"):
+        c.resample("most")

@@ -125,6 +125,8 @@ class Curve(_CurveAttributes):
         samples, no bin straddling a segment bound. An int: that many points placed
         ``by`` (per segment with ``by="segments"``), their target stresses interpolated
         linearly between samples; ``n_points=10`` is the paper's scheme (§2.2).
+        ``"all"``: every sample, never binned (e.g. to score a fit made on bins on
+        every sample of a long record).
     by : {"strain", "time", "arclength", "segments"}, optional
         With an int ``n_points``, how the objective points are spaced: evenly in strain
         (the default for a strictly monotonic strain, as in the paper); in time; in arc
@@ -240,7 +242,7 @@ class Curve(_CurveAttributes):
         mode: str | None = None,
         name: str | None = None,
         weight: float = 1.0,
-        n_points: int | None = DEFAULT_N_POINTS,
+        n_points: int | str | None = DEFAULT_N_POINTS,
         by: str | None = None,
         compression_positive: bool = False,
         source: str | os.PathLike[str] | None = None,
@@ -387,11 +389,12 @@ class Curve(_CurveAttributes):
         self._w_obj = _frozen(w_obj)
 
     # ------------------------------------------------------------- variants
-    def resample(self, n_points: int | None = DEFAULT_N_POINTS, by: str | None = None) -> Curve:
+    def resample(self, n_points: int | str | None = DEFAULT_N_POINTS,
+                 by: str | None = None) -> Curve:
         """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
         ``n_points=None`` compares at the measured samples themselves (bin means above
-        ``MAX_POINTS``); ``n_points=10`` is the paper's scheme. ``by=None`` picks
+        ``MAX_POINTS``; ``"all"``: never binned); ``n_points=10`` is the paper's scheme. ``by=None`` picks
         ``"strain"`` for a strictly monotonic strain and ``"segments"`` otherwise.
 
         Examples

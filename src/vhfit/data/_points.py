@@ -24,16 +24,20 @@ DEFAULT_N_POINTS = None
 _BYS = ("strain", "time", "arclength", "segments")
 
 
-def _check_points_args(n_points: Any, by: Any, where: _Where) -> tuple[int | None, str | None]:
-    if n_points is not None:
+def _check_points_args(n_points: Any, by: Any, where: _Where
+                       ) -> tuple[int | str | None, str | None]:
+    """``n_points`` (an int, None, or ``"all"``: every sample, no bins) and ``by``, checked."""
+    if isinstance(n_points, str) and n_points == "all":
+        pass
+    elif n_points is not None:
         try:
             ok = int(n_points) == n_points and int(n_points) >= 1
         except (TypeError, ValueError):
             ok = False
         if not ok:
             raise DataError(
-                f"{where()}: n_points={n_points!r}: give a whole number >= 1, or None for the "
-                "measured samples"
+                f"{where()}: n_points={n_points!r}: give a whole number >= 1, None for the "
+                "measured samples, or 'all' for every sample without binning"
             )
         n_points = int(n_points)
     if by is not None and by not in _BYS:
@@ -54,7 +58,7 @@ def _compared_mask(
     mask = np.ones(eps.size, dtype=bool) if window is None else window.copy()
     if constant_rate:
         mask &= ts >= 0.0  # noise of the wrong sign near strain 0
-    if mask.sum() < 1 or (n_req is not None and mask.sum() < 2):
+    if mask.sum() < 1 or (isinstance(n_req, int) and mask.sum() < 2):
         raise DataError(
             f"{where()}: the compared window {' '.join(window_desc) or ''} keeps "
             f"{int(mask.sum())} sample(s): widen it (strain runs "
@@ -115,7 +119,7 @@ def _objective_indices(
             f"{where()}: cannot resample by strain: the strain is not monotonic (it "
             "unloads or holds): use by='segments', by='arclength' or by='time'"
         )
-    if n_req is None:
+    if n_req is None or n_req == "all":
         return None, "samples"
     if by == "strain":
         c = eps * np.sign(eps[-1] - eps[0])
@@ -167,7 +171,7 @@ def _points_of(
     idx, by = _objective_indices(eps, sig, ts, mask, bounds, n_req, by_req, monotone, tol,
                                  window_desc, where)
     if idx is None:
-        out, by = _sample_points(cols, mask, bounds, cap)
+        out, by = _sample_points(cols, mask, bounds, mask.size if n_req == "all" else cap)
     else:
         k = np.arange(eps.size, dtype=np.float64)
         out = tuple(np.interp(idx, k, v) for v in cols)

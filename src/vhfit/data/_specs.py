@@ -81,7 +81,7 @@ def _curve_specs(
     group_by: str | Sequence[str] | None = None,
     select: Mapping[str, Any] | None = None,
     sort: bool = False,
-    n_points: int | None = DEFAULT_N_POINTS,
+    n_points: int | str | None = DEFAULT_N_POINTS,
     by: str | None = None,
     name: str | None = None,
     deformation: str | None = None,
@@ -307,7 +307,7 @@ def _group_spec(
     name: str | None,
     stem: str,
     sort: bool,
-    n_points: int | None,
+    n_points: int | str | None,
     by: str | None,
 ) -> dict[str, Any]:
     """Keyword arguments of the curve made of rows ``grp.rows[g]``."""
