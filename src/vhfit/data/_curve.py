@@ -394,8 +394,9 @@ class Curve(_CurveAttributes):
         """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
         ``n_points=None`` compares at the measured samples themselves (bin means above
-        ``MAX_POINTS``; ``"all"``: never binned); ``n_points=10`` is the paper's scheme. ``by=None`` picks
-        ``"strain"`` for a strictly monotonic strain and ``"segments"`` otherwise.
+        ``MAX_POINTS``; ``"all"``: never binned); ``n_points=10`` is the paper's scheme.
+        ``by=None`` picks ``"strain"`` for a strictly monotonic strain and ``"segments"``
+        otherwise.
 
         Examples
         --------
