@@ -295,3 +295,11 @@ def test_bad_mode_files_raise_one_line_errors_naming_the_file(tmp_path, text, kw
     with raises(*parts) as info:
         vhfit.read_csv(write(tmp_path, text), **kwargs)
     assert "\n" not in str(info.value)
+
+
+def test_arrays_take_the_test_too():
+    [c] = vhfit.data.curves_from_arrays({"stretch": LAM, "stress": LAM - 1.0},
+                                        deformation="planar")
+    assert c.deformation == "planar" and c.is_equilibrium
+    c = Curve.from_array({"gamma": [0.0, 0.5], "shear_stress": [0.0, 0.2]}, rate=1.0)
+    assert c.deformation == "simple_shear" and c.strain_rate == 1.0
