@@ -111,7 +111,7 @@ def test_an_equibiaxial_curve_may_give_its_second_stress():
 def test_a_biaxial_curve_converts_each_stress_with_its_own_stretch():
     l1, l2 = np.array([1.0, 1.2, 1.4]), np.array([1.0, 1.1, 1.3])
     c = Curve(stretch=l1, stretch2=l2, stress=[0, 1, 2], stress2=[0, 3, 4],
-              deformation="biaxial", strain_rate=0.1)
+              deformation="biaxial")
     t = c.with_measure("true")
     np.testing.assert_allclose(t.stress, [0, 1.2, 2.8], rtol=1e-15)
     np.testing.assert_allclose(t.stress2, [0, 3.3, 5.2], rtol=1e-15)
@@ -303,3 +303,12 @@ def test_arrays_take_the_test_too():
     assert c.deformation == "planar" and c.is_equilibrium
     c = Curve.from_array({"gamma": [0.0, 0.5], "shear_stress": [0.0, 0.2]}, rate=1.0)
     assert c.deformation == "simple_shear" and c.strain_rate == 1.0
+
+
+def test_a_constant_rate_biaxial_curve_needs_a_proportional_second_stretch():
+    with raises("curve 'biaxial 1 1/s'", "proportional", "time"):
+        Curve(strain=[0.0, 0.1, 0.2], strain2=[0.0, 0.1, 0.1], stress=[0.0, 1.0, 2.0],
+              strain_rate=1.0, deformation="biaxial")
+    c = Curve(strain=[0.0, 0.1, 0.2], strain2=[0.0, 0.05, 0.1], stress=[0.0, 1.0, 2.0],
+              strain_rate=1.0, deformation="biaxial")
+    np.testing.assert_allclose(c.history.stretch2, [1.0, 1.1])

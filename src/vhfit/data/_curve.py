@@ -302,6 +302,8 @@ class Curve(_CurveAttributes):
         self._window_desc: tuple[str, ...] = ()
         self._point_weights: Any = None
         self._set_points()
+        if e2 is not None and self.is_constant_rate:
+            _ = self.history  # λ2 must ramp at a constant rate too: say so now, not later
 
     # ------------------------------------------------------------- building
     @classmethod
