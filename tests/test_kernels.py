@@ -245,3 +245,11 @@ def test_general_kernel_threads_and_layout(tmp_path):
         first = G.sum(axis=1) * (w[k_off[c] + c, 0] * f0[:, s_off[c]]
                                  + w[k_off[c] + c, 1] * f1[:, s_off[c]])
         np.testing.assert_allclose(seq[:, k_off[c] + c], first, rtol=1e-14)
+    # repeat: each row of the factors serves consecutive rows of G and tau, as copies would
+    G2, tau2 = rng.uniform(0, 10, (2 * P, N)), 10 ** rng.uniform(-3, 3, (2 * P, N))
+    np.testing.assert_array_equal(
+        overstress_general(f0, f1, w, h, so, ko, G2, tau2, DERIV, repeat=2),
+        overstress_general(np.repeat(f0, 2, axis=0), np.repeat(f1, 2, axis=0), w, h, so, ko,
+                           G2, tau2, DERIV))
+    with pytest.raises(ValueError, match="G has 8 rows; expected repeat"):
+        overstress_general(f0, f1, w, h, so, ko, G2, tau2, DERIV)

@@ -174,9 +174,13 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
 
 # ------------------------------------------------------------- every other test
 @njit(cache=True, error_model="numpy")
-def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, out):
-    """One parameter set on one curve: h = Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node."""
+def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
+    """One parameter set on one curve: h = Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node.
+
+    Row p of G and tau uses row p // rep of the factors.
+    """
     N = G.shape[1]
+    q = p // rep
     s0 = sample_off[c]
     k0 = step_off[c]
     nsteps = step_off[c + 1] - k0
@@ -185,10 +189,10 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, out):
     R1 = np.empty(N)
     acc = 0.0
     for i in range(N):
-        R0[i] = f0[p, s0]
-        R1[i] = f1[p, s0]
+        R0[i] = f0[q, s0]
+        R1[i] = f1[q, s0]
         acc += G[p, i]
-    out[p, node0] = acc * (w[node0, 0] * f0[p, s0] + w[node0, 1] * f1[p, s0])
+    out[p, node0] = acc * (w[node0, 0] * f0[q, s0] + w[node0, 1] * f1[q, s0])
     for k in range(nsteps):
         base = s0 + 4 * k
         da0 = 0.0
@@ -200,8 +204,8 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, out):
         db2 = 0.0
         db3 = 0.0
         for m in range(5):
-            fa = f0[p, base + m]
-            fb = f1[p, base + m]
+            fa = f0[q, base + m]
+            fb = f1[q, base + m]
             da0 += D[0, m] * fa
             da1 += D[1, m] * fa
             da2 += D[2, m] * fa
@@ -224,24 +228,27 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, out):
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D):
+def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D, rep):
     C = sample_off.shape[0] - 1
-    out = np.empty((f0.shape[0], h.shape[0] + C))
-    for job in prange(f0.shape[0] * C):
-        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, out)
+    out = np.empty((G.shape[0], h.shape[0] + C))
+    for job in prange(G.shape[0] * C):
+        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, rep,
+                     out)
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D):
+def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D, rep):
     C = sample_off.shape[0] - 1
-    out = np.empty((f0.shape[0], h.shape[0] + C))
-    for job in range(f0.shape[0] * C):
-        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, out)
+    out = np.empty((G.shape[0], h.shape[0] + C))
+    for job in range(G.shape[0] * C):
+        _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, rep,
+                     out)
     return out
 
 
-def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=None):
+def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=None,
+                       repeat: int = 1):
     """Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node of every curve, for every parameter set.
 
     Parameters
@@ -251,12 +258,19 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
     w : (K + C, 2) the weights c_k(t) at every node; curve c owns nodes from
         ``step_off[c] + c``.
     h, sample_off, step_off, G, tau, D, parallel : as in :func:`overstress`.
+    repeat : int
+        Rows of G and tau per row of the factors: row p of G, tau uses row
+        ``p // repeat`` of f0, f1 (G, tau have ``repeat`` times the rows of f0, f1), so
+        that one factor set serves several relaxation times without copies.
 
     Returns
     -------
-    (P, K + C) overstress at the nodes.
+    (G.shape[0], K + C) overstress at the nodes.
     """
+    if G.shape[0] != repeat * f0.shape[0]:
+        raise ValueError(f"G has {G.shape[0]} rows; expected repeat * f0 rows = "
+                         f"{repeat * f0.shape[0]}")
     if parallel is None:
-        parallel = f0.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
+        parallel = G.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
     f = _general_par if parallel else _general_seq
-    return f(f0, f1, w, h, sample_off, step_off, G, tau, D)
+    return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat))

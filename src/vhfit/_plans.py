@@ -32,6 +32,16 @@ def _groups(keys: list, parts: list[np.ndarray]) -> dict:
     return {k: np.concatenate(v) for k, v in out.items()}
 
 
+def _long_term_coefficients(key, x1, x2):
+    """:func:`vhfit.modes.long_term_coefficients` of a (deformation, direction) group
+    (None for uniaxial, whose stress is the law's own)."""
+    deformation, d = key
+    if deformation == "uniaxial":
+        return None
+    return modes.long_term_coefficients(deformation, x1,
+                                        x2 if deformation == "biaxial" else None, d)
+
+
 class GeneralPlan:
     """Kernel layout of the non-uniaxial histories with a rate or a time."""
 
@@ -81,6 +91,8 @@ class GeneralPlan:
         }
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
+        self.out_coefficients = {key: _long_term_coefficients(key, self.x1[idx], self.x2[idx])
+                                 for key, idx in self.out_groups.items()}
 
     def _factors(self, hm, hyper, E_inf):
         """f0, f1 (P, S) at every sample, and which parameter sets gave finite values."""
@@ -112,7 +124,8 @@ class GeneralPlan:
             for key, sidx in self.out_groups.items():
                 deformation, d = key
                 x2 = self.x2[sidx] if deformation == "biaxial" else None
-                s = modes.long_term_stress(hm, hyper, deformation, self.x1[sidx], x2, d)
+                s = modes.long_term_stress(hm, hyper, deformation, self.x1[sidx], x2, d,
+                                           self.out_coefficients[key])
                 s = s * scale
                 out[:, self.out_pos[key]] = s
                 ok &= np.all(np.isfinite(s), axis=1)
@@ -137,9 +150,8 @@ class GeneralPlan:
             ok = self._long_term(hm, hyper, 1.0 / E_inf[:, None], base)
         f0, f1, ok_f = self._factors(hm, hyper, E_inf)
         ov = _kernels.overstress_general(
-            np.repeat(f0, N, axis=0), np.repeat(f1, N, axis=0), self.w, self.step,
-            self.sample_off, self.step_off, np.ones((P * N, 1)), tau.reshape(P * N, 1),
-            _kernels.DERIV, parallel)
+            f0, f1, self.w, self.step, self.sample_off, self.step_off, np.ones((P * N, 1)),
+            np.ascontiguousarray(tau.reshape(P * N, 1)), _kernels.DERIV, parallel, repeat=N)
         h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, self.pos.size)
         return ok & ok_f
 
@@ -162,6 +174,8 @@ class EquilibriumPlan:
                     g[1].append(x2[sel] if x2 is not None else np.ones(sel.size))
                     g[2].append(sl.start + sel)
         self.groups = {k: tuple(np.concatenate(p) for p in v) for k, v in self.groups.items()}
+        self.coefficients = {k: _long_term_coefficients(k, x1, x2)
+                             for k, (x1, x2, _) in self.groups.items()}
 
     def fill(self, hm, hyper, scale, out) -> np.ndarray:
         """Write the long-term stress times ``scale`` into ``out[:, positions]``; valid sets."""
@@ -170,7 +184,8 @@ class EquilibriumPlan:
         with np.errstate(all="ignore"):
             for (deformation, d), (x1, x2, pos) in self.groups.items():
                 s = modes.long_term_stress(hm, hyper, deformation, x1,
-                                           x2 if deformation == "biaxial" else None, d)
+                                           x2 if deformation == "biaxial" else None, d,
+                                           self.coefficients[deformation, d])
                 s = np.broadcast_to(s * scale, (hyper.shape[0], pos.size))
                 out[:, pos] = s
                 ok &= np.all(np.isfinite(s), axis=1)

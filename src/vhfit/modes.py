@@ -171,8 +171,27 @@ def shear_kirchhoff_stress(model: Hyperelastic, params, gamma):
     return _shear(model, constant_columns(model, params), gamma)
 
 
+def long_term_coefficients(deformation: str, x1, x2=None, direction: int = 1):
+    """(I1, I2, p, q) with σ = W1 p + W2 q for an invariant law W(I1, I2).
+
+    σ_a = τ_a − τ_c = (λ_a² − λ_c²) (2 W1 + 2 W2 λ_b²), b the third direction;
+    simple shear: σ12 = 2γ (W1 + W2). The kinematic part of :func:`long_term_stress`,
+    computed once per history.
+    """
+    x1 = np.asarray(x1, dtype=np.float64)
+    if deformation == "simple_shear":
+        inv = 3.0 + x1 * x1
+        return inv, inv, 2.0 * x1, 2.0 * x1
+    a = [lk * lk for lk in principal_stretches(deformation, x1, x2)]
+    I1 = a[0] + a[1] + a[2]
+    I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
+    k = direction - 1
+    p = 2.0 * (a[k] - a[2])
+    return I1, I2, p, p * a[1 - k]
+
+
 def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
-                     direction: int = 1):
+                     direction: int = 1, coefficients=None):
     """Measured true stress of the long-term law: σ_a = τ_a − τ_c, or σ12 in simple shear.
 
     Parameters
@@ -185,6 +204,9 @@ def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
         λ1 (γ in simple shear) and, for biaxial, λ2.
     direction : {1, 2}
         The loaded direction a (2: equibiaxial or biaxial only).
+    coefficients : tuple, optional
+        :func:`long_term_coefficients` of the same arguments, if already computed
+        (invariant laws, not uniaxial).
 
     Returns
     -------
@@ -204,6 +226,11 @@ def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
     x1 = np.asarray(x1, dtype=np.float64)
     if deformation == "uniaxial":
         return model.stress(x1, params)
+    if model.kind == "invariant":
+        I1, I2, p, q = (coefficients if coefficients is not None
+                        else long_term_coefficients(deformation, x1, x2, direction))
+        W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
+        return W1 * p + W2 * q + 0.0 * cols[0]
     if deformation == "simple_shear":
         return _shear(model, cols, x1)[3] + 0.0 * cols[0]
     tau = _kirchhoff(model, cols, *principal_stretches(deformation, x1, x2))

@@ -56,8 +56,8 @@ def cmd_fit(args) -> int:
     """``vhfit fit CURVES...``."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
+    curves, inputs = _read_curves(args.curves, args)  # bad data: nothing written
     out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
-    curves, inputs = _read_curves(args.curves, args)
     return run_fit(curves, inputs, args, out, label=None, command=args._argv)
 
 
@@ -132,6 +132,14 @@ def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
         kw["rate"] = args.rate[0] if len(args.rate) == 1 else list(args.rate)
     if args.measure:
         kw["measure"] = args.measure
+    tests = getattr(args, "deformation", None)
+    if tests:
+        if len(tests) not in (1, len(files)):
+            raise UsageError(
+                f"--deformation given {len(tests)} times for {len(files)} files: give one "
+                "for all files or one per file, in file order"
+            )
+        kw["deformation"] = tests[0] if len(tests) == 1 else list(tests)
     kw["n_points"] = args.points
     curves = read_csv(files, **kw)
     if not curves:
@@ -355,7 +363,10 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
 
 
 def _jsonable(d: dict) -> dict:
-    return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    if out.get("deformation", "") is None:  # not given: the files said (as before the flag)
+        del out["deformation"]
+    return out
 
 
 def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
@@ -368,15 +379,26 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
               "kind=fine: model on a fine time grid (stress_data empty)\n")
     buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
+    # other tests than the paper's add two columns: the test, and the loaded direction
+    modes = any(getattr(c, "deformation", "uniaxial") != "uniaxial" for c in curves)
+    if modes:
+        buf.write("# deformation: the test; direction: 1, or 2 for the second stress of a "
+                  "biaxial/equibiaxial curve; equilibrium curves: time = sample number, "
+                  "strain_rate empty; simple shear: strain = amount of shear γ\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
-                "stress_model"])
+                "stress_model"] + (["deformation", "direction"] if modes else []))
     for c, f in zip(curves, fits):
         name = str(getattr(c, "name", ""))
-        rate = f"{float(getattr(c, 'strain_rate', float('nan'))):g}"
+        r = getattr(c, "strain_rate", float("nan"))
+        rate = "" if r is None else f"{float(r):g}"
         meas = getattr(c, "measure", "true")
-        for t, e, s, m in zip(f["time"], f["strain"], f["stress"], f["model"]):
-            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"])
+        dfm = [getattr(c, "deformation", "uniaxial")] if modes else []
+        dirs = getattr(c, "target_direction", np.ones(len(f["time"]), dtype=int))
+        for t, e, s, m, d in zip(f["time"], f["strain"], f["stress"], f["model"], dirs):
+            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"]
+                       + (dfm + [int(d)] if modes else []))
         for t, e, m in zip(f["fine_time"], f["fine_strain"], f["fine_model"]):
-            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"])
+            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"]
+                       + (dfm + [1] if modes else []))
     return buf.getvalue()
