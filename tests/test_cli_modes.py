@@ -109,3 +109,44 @@ def test_simulate_refuses_biaxial(capsys):
     assert cli.main(["simulate", "--model", "mooney_rivlin", "--param", "C10=0.2,C01=0.1",
                      "--rate", "1", "--deformation", "biaxial"]) == 2
     assert "second stretch" in capsys.readouterr().err
+
+
+def test_equilibrium_files_fit_without_prony_terms_and_give_abaqus_test_data(tmp_path, capsys):
+    lam = np.linspace(1.1, 1.8, 8)
+    eb, ps = tmp_path / "eb.csv", tmp_path / "ps.csv"
+    for path, p in ((eb, 2 * (lam - lam**-5) * (C10 + C01 * lam**2)),
+                    (ps, 2 * (lam - lam**-3) * (C10 + C01))):
+        rows = "\n".join(f"{float(x)!r},{float(y)!r}" for x, y in zip(lam, p))
+        path.write_text(f"stretch,nominal_stress_MPa\n{rows}\n")  # no rate, no time
+    out = tmp_path / "out"
+    assert cli.main(["fit", str(eb), str(ps), "--deformation", "equibiaxial",
+                     "--deformation", "planar", "--out", str(out), "--no-plot"]) == 0
+    err = capsys.readouterr().err
+    assert "fitting mooney_rivlin + 0 Prony term(s)" in err
+    assert "no Prony terms: only equilibrium (rate-free) curves" in err
+    summary = (out / "summary.txt").read_text()
+    assert "note: no Prony terms by default: only equilibrium" in summary
+    text = (out / "abaqus_test_data.inp").read_text()
+    assert "*HYPERELASTIC, MOONEY-RIVLIN, TEST DATA INPUT" in text
+    blocks = text.split("*BIAXIAL TEST DATA\n")[1].split("*PLANAR TEST DATA\n")
+    first = [float(v) for v in blocks[0].splitlines()[0].split(",")]
+    np.testing.assert_allclose(first, [2 * (1.1 - 1.1**-5) * (C10 + C01 * 1.21), 0.1],
+                               rtol=1e-12)
+    assert len(blocks[1].splitlines()) == lam.size
+
+
+def test_one_monotonic_rate_defaults_to_no_prony_terms_and_forcing_warns(tmp_path, capsys):
+    lam = np.linspace(1.05, 1.5, 10)
+    f = tmp_path / "one.csv"
+    p = 2 * (lam - lam**-2) * (C10 + C01 / lam)  # uniaxial Mooney-Rivlin, nominal
+    rows = "\n".join(f"{float(x - 1)!r},{float(y)!r}" for x, y in zip(lam, p))
+    f.write_text(f"# strain_rate: 0.1\nstrain,nominal_stress_MPa\n{rows}\n")
+    assert cli.main(["fit", str(f), "--out", str(tmp_path / "a"), "--no-plot"]) == 0
+    assert "no Prony terms: one strain rate (0.1 1/s)" in capsys.readouterr().err
+    assert cli.main(["fit", str(f), "--prony", "1", "--maxiter", "20",
+                     "--out", str(tmp_path / "b"), "--no-plot"]) == 0
+    summary = (tmp_path / "b" / "summary.txt").read_text().splitlines()
+    head = [ln for ln in summary if ln.startswith("WARNING: ")]
+    assert head and "cannot separate elastic from viscous response" in head[0]
+    card = (tmp_path / "b" / "abaqus.inp").read_text()
+    assert "** WARNING: the data cannot separate elastic from viscous" in card

@@ -25,7 +25,7 @@ import numpy as np
 
 from vhfit import datasets, plot
 from vhfit._io import atomic_write
-from vhfit.calibration import Calibration, CalibrationWarning, calibrate
+from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
 from vhfit.cli._common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -38,13 +38,15 @@ from vhfit.cli._common import (
 )
 from vhfit.cli._plugins import resolve_model_name, tau_strategies
 from vhfit.data import read_csv
-from vhfit.export import export
+from vhfit.export import export, to_abaqus_test_data
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "SOLVERS", "CARD_FILES", "DEMO_PRONY"]
 
 SOLVERS = ("abaqus", "lsdyna", "ansys")
 CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
               "json": "material.json"}
+#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
+TEST_DATA_FILE = "abaqus_test_data.inp"
 RESULTS = "results.json"
 CHECKPOINT = "checkpoint.json"
 DEMO_PRONY = 4
@@ -179,10 +181,19 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             "drop --resume to fit afresh"
         )
     if not args.quiet:
-        n_txt = f"auto (N = 1..{args.max_prony})" if args.prony == "auto" else str(args.prony)
+        why = None
+        if args.prony is None:
+            n, why = default_n_prony(curves)
+            n_txt = f"{n}"
+        else:
+            n_txt = (f"auto (N = 1..{args.max_prony})" if args.prony == "auto"
+                     else str(args.prony))
         print(f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed "
               f"{args.seed}, to {len(curves)} curve(s); outputs in {out}/"
               + (" (resuming)" if args.resume else ""), file=sys.stderr, flush=True)
+        if args.prony is None and why:
+            print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
+                  file=sys.stderr, flush=True)
     # a resumed scan starts mid-way: N cannot be counted from the generations then
     progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
                         first_n=None if args.resume else 1)
@@ -283,7 +294,7 @@ def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, 
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
 
-    cards_ok, card_errors, card_notes = _write_cards(cal, out)
+    cards_ok, card_errors, card_notes = _write_cards(cal, curves, out)
     written.update({f: f"{solver} card" for solver, f in cards_ok.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
@@ -318,14 +329,16 @@ def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, 
     return written
 
 
-def _write_cards(cal: Calibration, out: Path) -> tuple[dict, dict, dict]:
-    """Every solver card that can hold the model: (files, errors, notes) per solver."""
+def _write_cards(cal: Calibration, curves, out: Path) -> tuple[dict, dict, dict]:
+    """Every solver card that can hold the model: (files, errors, notes) per solver; and
+    the equilibrium curves as Abaqus test data, for Abaqus to fit the same law itself."""
     cards_ok, card_errors, card_notes = {}, {}, {}
     for solver in SOLVERS + ("json",):
         try:
             with warnings.catch_warnings(record=True) as ws:
                 warnings.simplefilter("always")
-                text = export(cal, to=solver)
+                text = export(cal, to=solver,
+                              **({} if solver == "json" else {"notes": cal.headlines}))
         except Exception as exc:  # a solver that cannot take this model is not fatal
             card_errors[solver] = one_line(exc)
             continue
@@ -334,6 +347,15 @@ def _write_cards(cal: Calibration, out: Path) -> tuple[dict, dict, dict]:
             card_notes[solver] = notes
         atomic_write(out / CARD_FILES[solver], text)
         cards_ok[solver] = CARD_FILES[solver]
+    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
+           for c in curves):
+        try:
+            text = to_abaqus_test_data(curves, cal.model.hyperelastic.name)
+        except ValueError as exc:
+            card_errors["abaqus test data"] = one_line(exc)
+        else:
+            atomic_write(out / TEST_DATA_FILE, text)
+            cards_ok["abaqus test data"] = TEST_DATA_FILE
     return cards_ok, card_errors, card_notes
 
 

@@ -207,9 +207,13 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     if not demo:
         p.add_argument("--model", default="mooney_rivlin",
                        help="hyperelastic model (default mooney_rivlin; see 'vhfit models')")
-    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else 2, metavar="N|auto",
-                   help=f"number of Prony terms, or 'auto' to scan N = 1..--max-prony "
-                        f"(default {DEMO_PRONY if demo else 2})")
+    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else None,
+                   metavar="N|auto",
+                   help="number of Prony terms, or 'auto' to scan N = 1..--max-prony "
+                        + (f"(default {DEMO_PRONY})" if demo else
+                           "(default 2, or 0 when the data cannot separate elastic from "
+                           "viscous response: one monotonic rate, or only equilibrium "
+                           "curves)"))
     p.add_argument("--max-prony", type=int, default=5, metavar="N",
                    help="largest N of --prony auto (default 5)")
     if not demo:
