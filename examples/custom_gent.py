@@ -1,10 +1,12 @@
 """Register your own strain energy (Gent) and calibrate a visco-hyperelastic model with it.
 
-Gent's energy W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm) stiffens sharply as I1 - 3
-approaches the locking limit Jm. It is written once, as the formula; vhfit derives
+vhfit has Gent built in (``"gent"``); this example writes it again as a user law named
+``"my_gent"`` to show how any energy is registered. Gent's energy
+W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm) stiffens sharply as I1 - 3 approaches the locking
+limit Jm. It is written once, as the formula; vhfit derives
 the uniaxial stress from it (by complex-step differentiation) and the calibration
-searches Jm (dimensionless, nonlinear) while solving mu and the Prony moduli exactly
-at every step. Runs in a few seconds.
+searches Jm (dimensionless, nonlinear) while solving mu (declared linear with
+``linear_params``) and the Prony moduli exactly at every step. Runs in a few seconds.
 
     python examples/custom_gent.py
 """
@@ -15,15 +17,15 @@ import vhfit
 
 
 @vhfit.hyperelastic.register(
-    "gent", units=("MPa", "-"), bounds=((0.0, np.inf), (0.5, 100.0)), example=(0.1, 10.0),
-    overwrite=True,
+    "my_gent", units=("MPa", "-"), bounds=((0.0, np.inf), (0.5, 100.0)), example=(0.1, 10.0),
+    linear_params=("mu",), overwrite=True,
 )
-def gent(I1, I2, mu, Jm):
+def my_gent(I1, I2, mu, Jm):
     """Gent: W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm)."""
     return -mu * Jm / 2 * np.log(1 - (I1 - 3) / Jm)
 
 
-model = vhfit.ViscoHyperelastic("gent", n_prony=1)
+model = vhfit.ViscoHyperelastic("my_gent", n_prony=1)
 print(model.param_names)  # ['mu', 'Jm', 'G1', 'tau1']
 
 # Synthetic tests of a Gent material in tension at two rates (up to 80 % strain).
@@ -39,7 +41,7 @@ curves = [
 # Jm's search range is given explicitly; the Drucker stability check is limited to
 # stretches where every mode (uniaxial, equibiaxial, planar) stays below Gent's locking
 # limit I1 - 3 < Jm, where the energy is defined.
-cal = vhfit.calibrate(curves, hyperelastic="gent", n_prony=1, seed=0,
+cal = vhfit.calibrate(curves, hyperelastic="my_gent", n_prony=1, seed=0,
                       bounds={"Jm": (0.5, 20.0)}, stability_range=(0.7, 1.6))
 print(cal.summary())
 for k, v in truth.items():

@@ -373,7 +373,7 @@ def test_time_window_warnings_fire_exactly_past_their_thresholds(tau, expected):
             found.add("slow")
         elif "relaxes before the first objective point" in w:
             found.add("fast")
-        elif "g_inf floor" in w:
+        elif "g_inf sits at its floor" in w:
             found.add("floor")
     assert found == expected
     if "floor" in expected:

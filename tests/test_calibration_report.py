@@ -32,6 +32,7 @@ from vhfit.calibration import calibrate
 from vhfit.calibration._report import (
     confidence,
     finish,
+    merge_terms,
     slack_warnings,
     time_window_warnings,
 )
@@ -213,7 +214,7 @@ def report(x, model=MR1, curves=CURVES, g_inf_min=0.0, stability_range=(0.2, 5.0
 
 
 def floor_msgs(cal):
-    return [w for w in cal.warnings if "g_inf floor" in w]
+    return [w for w in cal.warnings if "g_inf sits at its floor" in w]
 
 
 @pytest.mark.parametrize("g_inf, floor, fires", [
@@ -231,7 +232,13 @@ def test_g_inf_floor_message(g_inf, floor, fires):
     assert cal.g_inf == pytest.approx(g_inf, rel=1e-9)
     assert bool(floor_msgs(cal)) is fires
     if fires:
-        assert floor_msgs(cal)[0].startswith("the g_inf floor (0.01) is active")
+        assert floor_msgs(cal)[0].startswith("g_inf sits at its floor (0.01)")
+    # a floor-bound g_inf changes how the result may be used: it heads the summary
+    assert floor_msgs(cal) == cal.headlines
+    if fires:
+        assert cal.summary().splitlines()[2] == "WARNING: " + cal.headlines[0]
+    else:
+        assert not cal.headlines
 
 
 def test_g_inf_floor_through_calibrate_fires_and_stays_silent():
@@ -259,9 +266,24 @@ def test_two_terms_at_one_tau_are_unidentifiable():
     prob = Problem(MR2, curves, np.array([[-6.0, 3.0]] * 2), {}, 0.0)
     _, unident = confidence(prob, x)
     assert sorted(unident) == ["G1", "G2", "tau1", "tau2"]  # C10, C01 stay identified
+    # the report merges the coincident terms into one identified term of G1 + G2
     cal = report(x, MR2, curves, uncertainty=True)
-    assert "the data cannot identify G1, tau1, G2, tau2 (flat directions" in " ".join(
-        cal.warnings)
+    assert cal.n_prony == 1
+    assert cal.params["G1"] == 1.5 and cal.params["tau1"] == pytest.approx(0.01, rel=1e-15)
+    assert "tau1 and tau2" in " ".join(w for w in cal.warnings if "were merged" in w)
+    assert not [w for w in cal.warnings if "cannot identify" in w]
+
+
+@pytest.mark.parametrize("ratio, merged", [(1.005, True), (1.02, False)])
+def test_coincident_relaxation_times_merge_at_one_percent(ratio, merged):
+    G, tau, groups = merge_terms(np.array([1.0, 3.0, 2.0]), np.array([0.1, 0.1 * ratio, 10.0]))
+    if merged:
+        assert groups == [(0, 1), (2,)] and G.tolist() == [4.0, 2.0]
+        # modulus-weighted geometric mean: 0.1 * ratio**(3/4)
+        assert tau[0] == pytest.approx(0.1 * ratio**0.75, rel=1e-14) and tau[1] == 10.0
+    else:
+        assert groups == [(0,), (1,), (2,)] and G.tolist() == [1.0, 3.0, 2.0]
+        assert tau.tolist() == [0.1, 0.1 * ratio, 10.0]
 
 
 def test_well_separated_terms_are_identifiable():

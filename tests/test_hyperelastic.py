@@ -354,7 +354,7 @@ def test_unknown_model_name_lists_the_available_ones():
     for n in hyp.available():
         assert n in str(exc.value)
     with pytest.raises(ValueError, match="available: .*mooney_rivlin"):
-        ViscoHyperelastic("arruda_boyce", 1)
+        ViscoHyperelastic("extended_tube", 1)
 
 
 def test_wrong_number_of_constants_is_named():

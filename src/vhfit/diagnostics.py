@@ -274,7 +274,8 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
     curves : sequence of Curve
         Curves with ``strain_rate``, ``target_strain``, ``target_stress``, ``measure``,
         ``name`` and ``is_constant_rate`` (curves with a time column are skipped: the
-        bound is for ramps from rest).
+        bound is for ramps from rest; so are curves of another deformation than
+        uniaxial, for which the bound is not derived, and equilibrium curves).
     model_or_name, n_prony
         See :func:`rate_ratio_bounds`.
     tol : float
@@ -291,6 +292,8 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
     for i, c in enumerate(curves):
         r = getattr(c, "strain_rate", None)
         if r is None or not np.isfinite(r) or r == 0 or not getattr(c, "is_constant_rate", True):
+            continue
+        if getattr(c, "deformation", "uniaxial") != "uniaxial":
             continue
         cs.append((abs(float(r)), i, c))
     cs.sort(key=lambda t: t[0])

@@ -327,7 +327,7 @@ def calibrate_many(
     ...     print(r.name, r.ok, r.calibration.rmsape < 1e-3 if r.ok else r.error)
     N=1 True True
     N=2 True True
-    broken False ValueError: n_prony = -1: give a whole number >= 0 or 'auto'
+    broken False ValueError: n_prony = -1: give a whole number >= 0, 'auto', or None (the default)
     """
     executor, max_workers = _check_arguments(
         jobs, executor, max_workers, seed, threads_per_job, max_pending, mp_context,

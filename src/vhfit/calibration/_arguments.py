@@ -57,8 +57,8 @@ def _choices(a: dict) -> None:
     if a["method"] not in SPACES:
         _fail("method", a["method"], "choose 'separable' or 'full'")
     n = a["n_prony"]
-    if not (n == "auto" if isinstance(n, str) else _is_int(n) and n >= 0):
-        _fail("n_prony", n, "give a whole number >= 0 or 'auto'")
+    if not (n is None or (n == "auto" if isinstance(n, str) else _is_int(n) and n >= 0)):
+        _fail("n_prony", n, "give a whole number >= 0, 'auto', or None (the default)")
     ts = a["tau_strategy"]
     if not callable(ts) and ts not in tau_strategies():
         _fail("tau_strategy", ts, f"choose one of {sorted(tau_strategies())} or give a callable")

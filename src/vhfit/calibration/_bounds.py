@@ -6,7 +6,17 @@ import numpy as np
 
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["auto_bounds", "search_bounds"]
+__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
+
+#: Search ranges of the built-in laws' nonlinear constants where their physical bounds
+#: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
+#: λm > √3 (Van der Waals), Jm > 0 (Gent: I1 − 3 must stay below Jm; rubbers ~10–100,
+#: soft tissues ~1), a ≥ 0. Any other unbounded dimensionless constant gets [-10, 10].
+SEARCH_RANGES: dict[str, dict[str, tuple[float, float]]] = {
+    "arruda_boyce": {"lambda_m": (1.01, 10.0)},
+    "gent": {"Jm": (0.1, 100.0)},
+    "van_der_waals": {"lambda_m": (1.75, 10.0), "a": (0.0, 2.0)},
+}
 
 def rates(curves) -> np.ndarray:
     r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in curves])
@@ -29,11 +39,13 @@ def tau_bounds_log10(rates, n, strategy, below, above) -> np.ndarray:
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
     """Upper search limits (docs/theory.md §11): one term alone reaches every target stress.
 
-    For each hyperelastic modulus and each G_i, the smallest value that makes that
-    term alone (all others zero; a Prony term at the shortest τ of its bounds
-    ``tau_b``, log10 s, where its response is weakest) reach |σ| ≥ |σ_target| at every
-    objective point. Lower limits are 0. Dimensionless constants (e.g. Ogden α) get
-    their physical bounds, or [-10, 10] if unbounded.
+    For each linear hyperelastic constant (``linear_params``, or a constant in MPa) and
+    each G_i, the smallest value that makes that term alone (the other linear constants
+    zero, the nonlinear ones at the law's example values; a Prony term at the shortest τ
+    of its bounds ``tau_b``, log10 s, where its response is weakest) reach
+    |σ| ≥ |σ_target| at every objective point. Lower limits are 0. Nonlinear constants
+    (e.g. Ogden α, λm, Jm) get their physical bounds, narrowed by :data:`SEARCH_RANGES`
+    where those are open-ended, or [-10, 10] if unbounded.
     """
     hm = model.hyperelastic
     lam = np.concatenate([c.history.out_stretch for c in curves])
@@ -45,17 +57,20 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     lam, y_true = lam[keep], y_true[keep]
     out: dict[str, tuple[float, float]] = {}
     ex = np.array(hm.example, dtype=np.float64)
+    amp = [k in hm.linear_index or u == "MPa" for k, u in enumerate(hm.units)]
+    ranges = SEARCH_RANGES.get(hm.name, {})
     for k, name in enumerate(hm.param_names):
         lo_p, hi_p = hm.bounds[k]
-        if hm.units[k] == "MPa":
-            unit = np.where(np.arange(hm.n_params) == k, 1.0, 0.0)
-            if hm.kind == "stretch":  # keep dimensionless constants at their example values
-                unit = np.where([u == "MPa" for u in hm.units], unit, ex)
+        if amp[k]:
+            # this constant alone; the nonlinear ones keep their example values
+            unit = np.where(amp, np.where(np.arange(hm.n_params) == k, 1.0, 0.0), ex)
             with np.errstate(all="ignore"):
                 s = np.abs(hm.stress(lam, unit))
             ratio = y_true / np.where(s > 0, s, np.nan)
             hi = float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float(np.max(y_true))
             out[name] = (max(0.0, lo_p), hi)
+        elif name in ranges:
+            out[name] = (max(lo_p, ranges[name][0]), min(hi_p, ranges[name][1]))
         else:
             out[name] = (lo_p if np.isfinite(lo_p) else -10.0, hi_p if np.isfinite(hi_p) else 10.0)
     # a Prony term alone at the bottom of its τ range, where it responds least

@@ -14,7 +14,8 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.stability import drucker
 from vhfit.viscoelastic import prony_g
 
-__all__ = ["finish", "confidence", "time_window_warnings", "slack_warnings"]
+__all__ = ["finish", "merge_terms", "MERGE_RTOL", "confidence", "time_window_warnings",
+           "slack_warnings"]
 
 
 def confidence(prob: Problem, x: np.ndarray, level: float = 0.95):
@@ -115,28 +116,86 @@ def slack_warnings(model_stress, curves) -> list[str]:
     return out
 
 
-def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
-            stability_range, uncertainty, options) -> Calibration:
-    msgs: list[str] = []
+#: Relaxation times closer than this relative difference are one term (merged).
+MERGE_RTOL = 0.01
+
+
+def merge_terms(G: np.ndarray, tau: np.ndarray, rtol: float = MERGE_RTOL
+                ) -> tuple[np.ndarray, np.ndarray, list[tuple[int, ...]]]:
+    """Merge Prony terms whose relaxation times coincide (sorted τ in, sorted τ out).
+
+    Two branches with τ within ``rtol`` of each other act as one of modulus G_a + G_b;
+    the merged τ is their modulus-weighted geometric mean, so the change of the
+    stress is of second order in the difference.
+
+    Returns
+    -------
+    G, tau : ndarray
+        The merged terms.
+    groups : list of tuple of int
+        The original indices that each merged term gathers.
+
+    Examples
+    --------
+    >>> G, tau, groups = merge_terms(np.array([1.0, 3.0, 2.0]), np.array([0.1, 0.1005, 10.0]))
+    >>> G.tolist(), groups
+    ([4.0, 2.0], [(0, 1), (2,)])
+    """
+    groups: list[list[int]] = []
+    for i in range(tau.size):
+        if groups and tau[i] <= tau[groups[-1][0]] * (1.0 + rtol):
+            groups[-1].append(i)
+        else:
+            groups.append([i])
+    Gm, tm = np.empty(len(groups)), np.empty(len(groups))
+    for k, g in enumerate(groups):
+        if len(g) == 1:  # untouched, to the bit
+            Gm[k], tm[k] = G[g[0]], tau[g[0]]
+            continue
+        Gm[k] = G[g].sum()
+        w = G[g] / Gm[k] if Gm[k] > 0 else np.full(len(g), 1.0 / len(g))
+        tm[k] = np.exp(np.sum(w * np.log(tau[g])))
+    return Gm, tm, [tuple(g) for g in groups]
+
+
+def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
+    """Sort the Prony terms by τ, merge coincident ones, drop negligible ones."""
     nh = model.hyperelastic.n_params
     order = np.argsort(x[nh + 1::2], kind="stable")  # present terms from fastest to slowest
     x = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in order])
     prob.tau_b = prob.tau_b[order]
-    # prune Prony terms whose modulus is negligible, and report the effective N
-    G = x[nh::2]
-    keep = [i for i in range(model.n_prony) if G[i] > prune_tol * max(G.sum(), 1e-300)]
-    if len(keep) < model.n_prony:
-        pruned = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol)
-        x2 = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in keep])
+    G, tau, groups = merge_terms(x[nh::2], x[nh + 1::2])
+    merged = [g for g in groups if len(g) > 1]
+    if merged:
         msgs.append(
-            f"{model.n_prony - len(keep)} Prony term(s) came out negligible and were "
+            "relaxation times that coincide were merged: "
+            + "; ".join(" and ".join(f"tau{i + 1}" for i in g) for g in merged)
+            + f" (effective N = {len(groups)} before pruning)"
+        )
+    tau_b = np.array([[prob.tau_b[g, 0].min(), prob.tau_b[g, 1].max()] for g in groups]
+                     ).reshape(-1, 2)
+    # prune Prony terms whose modulus is negligible, and report the effective N
+    keep = [i for i in range(G.size) if G[i] > prune_tol * max(G.sum(), 1e-300)]
+    if len(keep) < len(groups):
+        msgs.append(
+            f"{len(groups) - len(keep)} Prony term(s) came out negligible and were "
             f"dropped: effective N = {len(keep)}"
         )
-        tau_b = prob.tau_b[keep] if len(keep) else np.zeros((0, 2))
-        prob = Problem(pruned, curves, tau_b, prob.bounds, prob.g_inf_min,
-                        prob.objective_spec)
-        model, x = pruned, x2
-        err = float(prob.errors(x[None, :])[0])
+    if len(keep) == model.n_prony:
+        return prob, model, x, err
+    reduced = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol)
+    x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
+    prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
+                   prob.g_inf_min, prob.objective_spec)
+    return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
+
+
+def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
+            stability_range, uncertainty, options) -> Calibration:
+    msgs: list[str] = []
+    heads: list[str] = []
+    nh = model.hyperelastic.n_params
+    prob, model, x, err = _reduce_terms(prob, curves, model, x, err, prune_tol, msgs)
     params = model.as_dict(x)
     E_inf = model.long_term_modulus(x)
     if model.n_prony and E_inf > 0:
@@ -144,10 +203,12 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
     else:
         g, g_inf = np.zeros(model.n_prony), 1.0
     if prob.g_inf_min > 0 and model.n_prony and g_inf <= prob.g_inf_min * (1 + 1e-6):
-        msgs.append(
-            f"the g_inf floor ({prob.g_inf_min:g}) is active: the best fit wants less long-term "
-            "stiffness than FE solvers accept; lower g_inf_min to see what it costs"
+        heads.append(
+            f"g_inf sits at its floor ({prob.g_inf_min:g}): the best fit wants less long-term "
+            "stiffness than FE solvers accept, so the material barely resists slow loading; "
+            "add slower or relaxation tests, or lower g_inf_min to see what the floor costs"
         )
+        msgs.append(heads[-1])
     conf: dict = {}
     if uncertainty:
         conf, unident = confidence(prob, x)
@@ -172,6 +233,6 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
         nit=int(nit), nfev=int(nfev), wall_time=time.perf_counter() - t0, stop_reason=str(stop),
         g=[float(v) for v in g], g_inf=float(g_inf), bounds=bounds, history=history,
-        confidence=conf, stability=stab, warnings=msgs, options=options,
+        confidence=conf, stability=stab, warnings=msgs, headlines=heads, options=options,
         curve_names=[str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)],
     )

@@ -83,6 +83,10 @@ class Calibration:
     order_scan : list of dict
         With ``n_prony="auto"``: error against N.
     warnings : list of str
+    headlines : list of str
+        The warnings that change how the result may be used (a g∞ at its floor, Prony
+        terms the data cannot identify): :meth:`summary` and the solver cards' comments
+        put them first.
     """
 
     model: ViscoHyperelastic
@@ -101,6 +105,7 @@ class Calibration:
     stability: StabilityReport | None = None
     order_scan: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
+    headlines: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
     curve_names: list = field(default_factory=list)
 
@@ -126,6 +131,9 @@ class Calibration:
             f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)",
             f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
             f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
+            *(f"WARNING: {h}" for h in self.headlines),
+            *([f"note: {self.options['n_prony_reason']}"]
+              if self.options.get("n_prony_reason") else []),
             "",
             f"{'parameter':<10}{'value':>14}  {'unit':<5}{'95 % interval':>30}",
         ]
@@ -154,7 +162,8 @@ class Calibration:
             lines.append("")
             lines.append("stability: " + self.stability.describe())
         for w in self.warnings:
-            lines.append("warning: " + w)
+            if w not in self.headlines:
+                lines.append("warning: " + w)
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -183,6 +192,7 @@ class Calibration:
             },
             "order_scan": self.order_scan,
             "warnings": list(self.warnings),
+            "headlines": list(self.headlines),
             "options": self.options,
         }
 
@@ -242,7 +252,8 @@ class Calibration:
             history=dict(res.get("history", {})),
             confidence={k: tuple(v) for k, v in res.get("confidence", {}).items()},
             stability=stab, order_scan=list(res.get("order_scan", [])),
-            warnings=list(res.get("warnings", [])), options=dict(res.get("options", {})),
+            warnings=list(res.get("warnings", [])),
+            headlines=list(res.get("headlines", [])), options=dict(res.get("options", {})),
             curve_names=list(res.get("curve_names", [])),
         )
 

@@ -7,8 +7,10 @@ their differential evolution (``popsize``, ``maxiter``, ``de_options``):
 * :class:`SeparableSpace`: for fixed relaxation times and a fixed shape of the
   hyperelastic law the stress of the corrected Eq. 19 is linear in the long-term
   modulus E∞ and the Prony moduli G_i (docs/theory.md §10). The search covers only
-  the law's shape and log10 τ_i; each evaluation solves the moduli exactly by
-  non-negative least squares (variable projection).
+  the law's shape (ratios of its linear constants, and its nonlinear constants such
+  as Ogden's α, λm, Jm) and log10 τ_i; each evaluation solves the moduli exactly by
+  non-negative least squares (variable projection). Without Prony terms every linear
+  constant is solved that way and only the nonlinear ones are searched.
 * :class:`FullSpace`: the paper's all-parameter search (hyperelastic constants, G_i,
   log10 τ_i).
 """
@@ -62,7 +64,20 @@ def log_tau_to_tau(Z: np.ndarray, nh: int) -> np.ndarray:
 
 
 class SeparableSpace:
-    """Search over (shape of the law, log10 τ); (E∞, G_i) by NNLS for every individual."""
+    """Search over (shape of the law, log10 τ); the linear moduli by least squares.
+
+    The law's constants split into the linear ones (``Hyperelastic.linear_params``: σ_h is
+    linear in them) and the rest (α, λm, Jm, ...), which are always searched.
+
+    * With Prony terms, DE searches the shape of the linear constants — a fraction
+      between two non-negative ones, or the constants themselves (a redundant scale)
+      when there are more or they may be negative; one is fixed to 1 — and log10 τ;
+      NNLS solves (E∞, G_i) for every individual.
+    * Without Prony terms the long-term stress is linear in the linear constants
+      themselves: least squares (each at least its lower search limit) solves all of
+      them exactly for every individual, and DE searches only the other constants
+      (nothing at all for the polynomial laws).
+    """
 
     method = "separable"
     popsize = 64
@@ -73,19 +88,26 @@ class SeparableSpace:
     def __init__(self, prob: Problem):
         self.prob = prob
         hm = prob.hm
-        self.amp = [k for k, u in enumerate(hm.units) if u == "MPa"]
-        self.other = [k for k, u in enumerate(hm.units) if u != "MPa"]
+        self.amp = list(hm.linear_index)
+        if not self.amp:
+            raise ValueError(
+                f"method='separable' needs a law with constants its stress is linear in; "
+                f"{hm.name!r} declares none (register it with linear_params=...): "
+                "use method='full'"
+            )
+        self.other = [k for k in range(hm.n_params) if k not in self.amp]
+        self.exact = prob.model.n_prony == 0
         lo_amp = [prob.bounds[hm.param_names[k]][0] for k in self.amp]
         # shape of the law: a fraction between two non-negative moduli, or the moduli
         # themselves (redundant scale) when there are more or they may be negative
-        self.beta = len(self.amp) == 2 and min(lo_amp) >= 0
+        self.beta = not self.exact and len(self.amp) == 2 and min(lo_amp) >= 0
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
 
     def bounds(self) -> list[tuple[float, float]]:
         hm, pb, b = self.prob.hm, self.prob.bounds, []
         if self.beta:
             b.append((0.0, 1.0))
-        elif len(self.amp) > 1:
+        elif len(self.amp) > 1 and not self.exact:
             b += [pb[hm.param_names[k]] for k in self.amp]
         b += [pb[hm.param_names[k]] for k in self.other]
         b += [tuple(self.prob.tau_b[i]) for i in self.free_tau]
@@ -100,7 +122,7 @@ class SeparableSpace:
             hyper[:, self.amp[0]] = 1.0 - Z[:, 0]
             hyper[:, self.amp[1]] = Z[:, 0]
             j = 1
-        elif len(self.amp) > 1:
+        elif len(self.amp) > 1 and not self.exact:
             hyper[:, self.amp] = Z[:, : len(self.amp)]
             j = len(self.amp)
         else:
@@ -137,13 +159,57 @@ class SeparableSpace:
             err[p] = rn
         return amps, err
 
+    def solve_constants(self, hyper) -> tuple[np.ndarray, np.ndarray]:
+        """Without Prony terms: the linear constants of every individual by least squares.
+
+        ``hyper`` (P, n_h) holds the other constants. By linearity the stress of each
+        unit linear constant is σ(B + e_k) − σ(B), with B all linear constants at 1 (a
+        shape with a positive initial modulus, which the batch requires) and σ(B) =
+        Σ_k σ(B + e_k)/(m + 1) for m linear constants; each constant
+        is kept at or above its lower search limit (a shift, or a ± pair of columns for
+        an unbounded one) and NNLS solves them. Returns the constants (P, n_h) and the
+        errors (P,); +inf where the law is invalid or the result has no stiffness.
+        """
+        from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
+
+        prob, amp = self.prob, self.amp
+        P, m = hyper.shape[0], len(amp)
+        X = np.repeat(hyper, m, axis=0).reshape(P, m, -1)
+        X[:, :, amp] = 1.0
+        X[:, np.arange(m), amp] += 1.0
+        S = prob.batch(X.reshape(P * m, -1)).reshape(P, m, -1)  # σ(B + e_k)
+        # Σ_k σ(B + e_k) = (m + 1) σ(B): σ(B) needs no evaluation of its own
+        cols = (S - S.sum(axis=1, keepdims=True) / (m + 1)) * prob.scale  # (P, m, n_points)
+        lo = np.array([prob.bounds[prob.hm.param_names[k]][0] for k in amp])
+        free = ~np.isfinite(lo)
+        lo0 = np.where(free, 0.0, lo)
+        ys = prob.y * prob.scale
+        out = np.array(hyper, dtype=np.float64, copy=True)
+        err = np.full(P, np.inf)
+        for p in range(P):
+            A = cols[p].T
+            if not np.all(np.isfinite(A)):
+                continue
+            c, rn = nnls(np.column_stack([A, -A[:, free]]), ys - A @ lo0)
+            out[p, amp] = lo0 + c[:m]
+            out[p, np.array(amp)[free]] -= c[m:]
+            err[p] = rn
+        with np.errstate(all="ignore"):
+            mu0 = prob.hm.initial_shear_modulus(out)
+        err[~(mu0 > 0)] = np.inf
+        return out, err
+
     def errors(self, Z: np.ndarray) -> np.ndarray:
         """Objective of search vectors Z (P, d)."""
         hyper, tau = self.decode(Z)
+        if self.exact:
+            return self.solve_constants(hyper)[1]
         return self.solve_linear(hyper, tau)[1]
 
     def to_params(self, z: np.ndarray) -> np.ndarray:
         hyper, tau = self.decode(z[None, :])
+        if self.exact:
+            return self.solve_constants(hyper)[0][0]
         amps, _ = self.solve_linear(hyper, tau)
         return self.assemble(hyper[0], amps[0, 0], amps[0, 1:], tau[0])
 

@@ -9,6 +9,7 @@ from collections.abc import Callable, Sequence
 
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
 from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
@@ -55,7 +56,7 @@ def _as_curves(curves) -> list:
 def calibrate(
     curves: Sequence,
     hyperelastic="mooney_rivlin",
-    n_prony: int | str = 2,
+    n_prony: int | str | None = None,
     *,
     tau_strategy: str | Callable = DEFAULT_TAU_STRATEGY,
     bounds: str | dict = "auto",
@@ -96,9 +97,13 @@ def calibrate(
         with :func:`vhfit.read_csv`.
     hyperelastic : str
         Registered hyperelastic model name.
-    n_prony : int or "auto"
+    n_prony : int, "auto" or None
         Number of Prony terms; "auto" fits N = 1..``max_prony`` and keeps the smallest
-        N whose error is within ``order_tol`` (relative) of the best.
+        N whose error is within ``order_tol`` (relative) of the best. None (default):
+        2, or 0 when the data cannot separate elastic from viscous response (one rate
+        and monotonic loading, or only equilibrium curves; the reason is recorded in
+        ``options["n_prony_reason"]`` and printed by :meth:`Calibration.summary`). A
+        number > 0 given for such data is fitted, with a headline warning.
     tau_strategy : {"free", "semifree", "fixed"} or callable
         How the τ bounds are cut from the Eq. 22 range (docs/theory.md §11). Default "free".
     bounds : "auto" or dict
@@ -193,6 +198,11 @@ def calibrate(
         rtol=rtol, de_options=de_options, prune_tol=prune_tol,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
     )
+    unidentified = viscous_evidence(curves)
+    if n_prony is None:
+        n_prony, default_reason = default_n_prony(curves)
+    else:
+        default_reason = None
     rate_msgs: list[str] = []
     if check_rates:
         n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
@@ -205,6 +215,15 @@ def calibrate(
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
     cal.warnings[:0] = rate_msgs
+    if default_reason:
+        cal.options["n_prony_reason"] = f"no Prony terms by default: {default_reason}"
+    elif unidentified and cal.n_prony > 0:
+        msg = (f"the data cannot separate elastic from viscous response ({unidentified}): "
+               f"the {cal.n_prony} Prony term(s) are not identified by them; add tests at "
+               "other rates, a hold or an unloading, or fit n_prony=0")
+        warnings.warn(msg, CalibrationWarning, stacklevel=2)
+        cal.warnings.insert(0, msg)
+        cal.headlines.insert(0, msg)
     return cal
 
 

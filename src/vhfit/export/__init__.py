@@ -23,7 +23,7 @@ import json
 from collections.abc import Callable
 
 from vhfit.export._common import Material, generator, resolve
-from vhfit.export.abaqus import from_abaqus, to_abaqus
+from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
 from vhfit.export.ansys import from_ansys, to_ansys
 from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
 from vhfit.model import ViscoHyperelastic
@@ -33,6 +33,7 @@ __all__ = [
     "parse",
     "to_abaqus",
     "from_abaqus",
+    "to_abaqus_test_data",
     "to_lsdyna",
     "from_lsdyna",
     "to_ansys",

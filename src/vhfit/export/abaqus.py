@@ -3,10 +3,13 @@
 Conventions (see docs/export.md for the sources):
 
 * ``*HYPERELASTIC, <model>, MODULI=LONG TERM`` takes the long-term constants, which
-  is what vhfit calibrates; ``MODULI=INSTANTANEOUS`` takes long-term / g∞. The Cij are
-  the Abaqus polynomial constants, W = Σ Cij (Ī1 − 3)^i (Ī2 − 3)^j; Ogden μ_p, α_p
-  are Abaqus's, W = Σ 2μ_p/α_p² (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3). Both are vhfit's own
-  conventions, so the constants go over unchanged.
+  is what vhfit calibrates; ``MODULI=INSTANTANEOUS`` takes long-term / g∞ (the
+  stress-like constants: Cij, μ_p, μ; α, λm, a, β unchanged). The Cij are the Abaqus
+  polynomial constants, W = Σ Cij (Ī1 − 3)^i (Ī2 − 3)^j (``REDUCED POLYNOMIAL, N``:
+  Ci0 only, N ≤ 6); Ogden μ_p, α_p are Abaqus's, W = Σ 2μ_p/α_p² (λ̄1^α_p + λ̄2^α_p +
+  λ̄3^α_p − 3), N ≤ 6; ``ARRUDA-BOYCE`` takes μ, λm and ``VAN DER WAALS`` μ, λm, a, β
+  in the forms of docs/theory.md §2. All are vhfit's own conventions, so the constants
+  go over unchanged. Abaqus has no Gent law.
 * Data lines: the constants, then D1..DN (0 = incompressible, Abaqus/Standard with
   hybrid elements), at most 8 values a line.
 * ``*VISCOELASTIC, TIME=PRONY`` data lines ``g_i, k_i, tau_i`` with g_i = G_i / G0 the
@@ -18,20 +21,30 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Sequence
+
+import numpy as np
 
 from vhfit.export._common import (
+    SUPPORT,
     Material,
     free_number,
+    generator,
     header,
+    model_hint,
     parse_number,
     resolve,
     unsupported,
 )
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_abaqus", "from_abaqus"]
+__all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data"]
 
 SOLVER = "Abaqus"
+
+def _ogden_order(n: int) -> tuple[str, ...]:
+    return tuple(x for p in range(1, n + 1) for x in (f"mu{p}", f"alpha{p}"))
+
 
 #: vhfit model -> (*HYPERELASTIC parameters, constant order on the data line, number of D)
 _CARDS = {
@@ -44,10 +57,17 @@ _CARDS = {
         ("C10", "C01", "C20", "C11", "C02", "C30", "C21", "C12", "C03"),
         3,
     ),
-    "ogden": ("OGDEN, N=1", ("mu1", "alpha1"), 1),
-    "ogden2": ("OGDEN, N=2", ("mu1", "alpha1", "mu2", "alpha2"), 2),
-    "ogden3": ("OGDEN, N=3", ("mu1", "alpha1", "mu2", "alpha2", "mu3", "alpha3"), 3),
+    **{name: (f"OGDEN, N={n}", _ogden_order(n), n)
+       for n, name in enumerate(("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6"), 1)},
+    **{f"reduced_polynomial{n}": (f"REDUCED POLYNOMIAL, N={n}",
+                                  tuple(f"C{i}0" for i in range(1, n + 1)), n)
+       for n in range(1, 7)},
+    # data line mu, lambda_m, D (Abaqus Keywords Reference, *HYPERELASTIC)
+    "arruda_boyce": ("ARRUDA-BOYCE", ("mu", "lambda_m"), 1),
+    # data line mu, lambda_m, a, beta, D
+    "van_der_waals": ("VAN DER WAALS", ("mu", "lambda_m", "a", "beta"), 1),
 }
+SUPPORT[SOLVER] = tuple(_CARDS)
 
 _MODULI = {"long_term": "LONG TERM", "instantaneous": "INSTANTANEOUS"}
 
@@ -66,6 +86,7 @@ def to_abaqus(
     moduli: str = "long_term",
     density: float | None = None,
     poisson: float | None = None,
+    notes: Sequence[str] = (),
 ) -> str:
     """Abaqus ``*MATERIAL`` block of a calibrated visco-hyperelastic model.
 
@@ -87,6 +108,9 @@ def to_abaqus(
     poisson : float, optional
         Poisson's ratio for a compressible D1 (see :meth:`Material.d1`); default None
         writes D = 0 (incompressible: Abaqus/Standard with hybrid elements only).
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
 
     Returns
     -------
@@ -136,7 +160,7 @@ def to_abaqus(
         "D1 = 0: incompressible (Abaqus/Standard hybrid elements)" if poisson is None
         else f"D1 = 2/K0 from Poisson's ratio {poisson:g} with the instantaneous shear modulus",
     ]
-    lines = header("**", solver=SOLVER, mat=mat, moduli=which, conventions=conventions)
+    lines = header("**", solver=SOLVER, notes=notes, mat=mat, moduli=which, conventions=conventions)
     lines.append(f"*MATERIAL, NAME={name}")
     if density is not None:
         if not (math.isfinite(density) and density > 0):
@@ -178,22 +202,22 @@ def _blocks(text: str) -> list[tuple[str, dict[str, str], list[list[str]]]]:
 def _hyper_kind(params: dict[str, str]) -> tuple[str, int]:
     """The vhfit model named by *HYPERELASTIC parameters, and the number of D values."""
     n = int(params.get("N", "1"))
-    if "MOONEY-RIVLIN" in params:
-        return "mooney_rivlin", 1
-    if "NEO HOOKE" in params:
-        return "neo_hooke", 1
-    if "YEOH" in params:
-        return "yeoh", 3
-    if "OGDEN" in params:
-        if 1 <= n <= 3:
-            return ("ogden", "ogden2", "ogden3")[n - 1], n
-        raise unsupported(SOLVER, f"OGDEN, N={n}", list(_CARDS), "vhfit has Ogden N = 1..3")
-    if "REDUCED POLYNOMIAL" in params:
-        if n == 1:
-            return "neo_hooke", 1
-        if n in (2, 3):
-            return "yeoh", n  # C30 = 0 for N = 2
-        raise unsupported(SOLVER, f"REDUCED POLYNOMIAL, N={n}", list(_CARDS))
+    fixed = {"MOONEY-RIVLIN": "mooney_rivlin", "NEO HOOKE": "neo_hooke", "YEOH": "yeoh",
+             "ARRUDA-BOYCE": "arruda_boyce", "VAN DER WAALS": "van_der_waals"}
+    for key, kind in fixed.items():
+        if key in params:
+            return kind, _CARDS[kind][2]
+    family = {
+        "OGDEN": ("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6"),
+        "REDUCED POLYNOMIAL": ("neo_hooke", "reduced_polynomial2", "yeoh",
+                               "reduced_polynomial4", "reduced_polynomial5",
+                               "reduced_polynomial6"),
+    }
+    for key, kinds in family.items():
+        if key in params:
+            if 1 <= n <= len(kinds):
+                return kinds[n - 1], n
+            raise unsupported(SOLVER, f"{key}, N={n}", list(_CARDS), "Abaqus allows N <= 6")
     named = [k for k in params if k not in ("N", "MODULI", "POISSON")]
     if named and named != ["POLYNOMIAL"]:
         raise unsupported(SOLVER, ", ".join(named), list(_CARDS))
@@ -253,9 +277,8 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
         raise ValueError("*HYPERELASTIC with test data, MARLOW or USER cannot be read: "
                          "give the constants on the data lines")
     kind, n_d = _hyper_kind(hp)
+    kind = model_hint(text, kind)  # e.g. reduced_polynomial3 written as REDUCED POLYNOMIAL, N=3
     order = list(_CARDS[kind][1])
-    if kind == "yeoh" and n_d == 2:  # REDUCED POLYNOMIAL, N=2: C10, C20
-        order = ["C10", "C20"]
     need = len(order) + n_d + 1  # constants, D's, temperature
     per_record = -(-need // 8)
     if len(hdata) > per_record:
@@ -288,3 +311,94 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
     mat = Material.from_card(kind, constants, g, tau, solver=SOLVER,
                              instantaneous=moduli == "INSTANTANEOUS" and bool(g))
     return mat.to_params()
+
+
+# --------------------------------------------------------------------- test data
+#: vhfit deformation -> Abaqus test-data keyword (nominal stress, nominal strain lines)
+_TEST_DATA = {
+    "uniaxial": "*UNIAXIAL TEST DATA",
+    "equibiaxial": "*BIAXIAL TEST DATA",  # Abaqus' biaxial test is the equibiaxial one
+    "planar": "*PLANAR TEST DATA",
+}
+
+
+def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
+                        name: str = "VHFIT_TEST_DATA") -> str:
+    """Abaqus ``*HYPERELASTIC, ..., TEST DATA INPUT`` block of the equilibrium curves.
+
+    Abaqus fits its own constants of the same law to these data (nominal stress,
+    nominal strain per line; ``*UNIAXIAL``, ``*BIAXIAL`` — equibiaxial — and ``*PLANAR
+    TEST DATA``), so its evaluation of the law can be compared with vhfit's fit. Only
+    equilibrium (rate-free) curves are written: rate curves are not a hyperelastic
+    response. General biaxial and simple-shear curves have no such keyword in Abaqus
+    and are left out with a comment.
+
+    Parameters
+    ----------
+    curves : sequence of Curve
+        The calibration curves; the equilibrium ones are written.
+    hyperelastic : str
+        The registered law whose Abaqus form Abaqus should fit.
+    name : str
+        Material name (``*MATERIAL, NAME=``).
+
+    Returns
+    -------
+    str
+        The block, comment lines first.
+
+    Raises
+    ------
+    ValueError
+        When no curve can be written, or Abaqus lacks the law.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> c = vhfit.Curve(stretch=[1.5, 2.0], stress=[0.4, 0.7], deformation="planar")
+    >>> print(to_abaqus_test_data([c], "neo_hooke").split("*MATERIAL")[1])
+    , NAME=VHFIT_TEST_DATA
+    *HYPERELASTIC, NEO HOOKE, TEST DATA INPUT
+    *PLANAR TEST DATA
+    0.4, 0.5
+    0.7, 1.0
+    <BLANKLINE>
+    """
+    law = getattr(hyperelastic, "name", hyperelastic)
+    if law not in _CARDS:
+        raise unsupported(SOLVER, law, list(_CARDS))
+    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
+        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+    blocks: dict[str, list[str]] = {}
+    skipped = []
+    for c in curves:
+        if not c.is_equilibrium:
+            continue
+        kw = _TEST_DATA.get(c.deformation)
+        if kw is None:
+            skipped.append(f"{c.name!r} ({c.deformation})")
+            continue
+        lam = 1.0 + np.asarray(c.strain, dtype=np.float64)
+        P = np.asarray(c.stress, dtype=np.float64)
+        if c.measure == "true":
+            P = P / lam
+        blocks.setdefault(kw, []).extend(
+            f"{free_number(p)}, {free_number(e)}" for p, e in zip(P, lam - 1.0))
+    if not blocks:
+        raise ValueError(
+            "no equilibrium uniaxial, equibiaxial or planar curve to write as Abaqus test "
+            "data: give curves with neither strain_rate nor time"
+        )
+    lines = [
+        f"** Generated by {generator()}: equilibrium test data for Abaqus to fit its own "
+        f"{_CARDS[law][0]} constants,",
+        "** to cross-check vhfit's long-term fit. Units: N, mm, s, MPa. Lines: nominal "
+        "stress, nominal strain.",
+    ]
+    if skipped:
+        lines.append("** Not written (no Abaqus test-data keyword): " + ", ".join(skipped))
+    lines += [f"*MATERIAL, NAME={name}", f"*HYPERELASTIC, {_CARDS[law][0]}, TEST DATA INPUT"]
+    for kw in _TEST_DATA.values():
+        if kw in blocks:
+            lines += [kw] + blocks[kw]
+    return "\n".join(lines) + "\n"

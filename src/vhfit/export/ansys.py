@@ -7,9 +7,12 @@ Conventions (see docs/export.md for the sources and what is verified):
   constants are the INSTANTANEOUS ones: long-term / g∞. The relative moduli are
   a_i = g_i = G_i / G0 (docs/theory.md §3), data order a1, t1, a2, t2, ...
 * ``TB,HYPER`` options: MOONEY (2 parameters: c10, c01, d), NEO (μ = 2 C10, d),
-  YEOH (c10, c20, c30, d1..d3), POLY N=2/3 (c10, c01, c20, c11, c02[, c30, c21,
-  c12, c03], d1..dN), OGDEN N (μ1, α1, ..., d1..dN). Ansys's Ogden energy is
-  W = Σ μ_p/α_p (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3), so μ_p(Ansys) = 2 μ_p / α_p.
+  YEOH with N terms (c10, ..., cN0, d1..dN: vhfit's yeoh and reduced_polynomial1..6),
+  POLY N=2/3 (c10, c01, c20, c11, c02[, c30, c21, c12, c03], d1..dN), OGDEN N
+  (μ1, α1, ..., d1..dN; N ≤ 6 here), BOYCE (μ, λL, d: the same five-term
+  Arruda–Boyce series as Abaqus's) and GENT (μ, Jm, d). Ansys's Ogden energy is
+  W = Σ μ_p/α_p (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3), so μ_p(Ansys) = 2 μ_p / α_p. Ansys
+  has no Van der Waals law.
 * d = 0 is incompressible (mixed u-P elements); a Poisson's ratio gives d = 2/K0.
 * At most 6 values per ``TBDATA`` command.
 """
@@ -18,11 +21,14 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 
 from vhfit.export._common import (
+    SUPPORT,
     Material,
     free_number,
     header,
+    model_hint,
     parse_number,
     resolve,
     unsupported,
@@ -33,6 +39,8 @@ __all__ = ["to_ansys", "from_ansys"]
 
 SOLVER = "Ansys"
 
+_OGDEN = ("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6")
+
 #: vhfit model -> (TBOPT, NPTS, vhfit constants in TBDATA order, number of d)
 _CARDS = {
     "mooney_rivlin": ("MOONEY", 2, ("C10", "C01"), 1),
@@ -42,10 +50,15 @@ _CARDS = {
     "polynomial3": (
         "POLY", 3, ("C10", "C01", "C20", "C11", "C02", "C30", "C21", "C12", "C03"), 3,
     ),
-    "ogden": ("OGDEN", 1, ("mu1", "alpha1"), 1),
-    "ogden2": ("OGDEN", 2, ("mu1", "alpha1", "mu2", "alpha2"), 2),
-    "ogden3": ("OGDEN", 3, ("mu1", "alpha1", "mu2", "alpha2", "mu3", "alpha3"), 3),
+    **{name: ("OGDEN", n, tuple(x for p in range(1, n + 1) for x in (f"mu{p}", f"alpha{p}")), n)
+       for n, name in enumerate(_OGDEN, 1)},
+    # the reduced polynomial is Ansys's Yeoh form with N terms: c10, ..., cN0, d1..dN
+    **{f"reduced_polynomial{n}": ("YEOH", n, tuple(f"C{i}0" for i in range(1, n + 1)), n)
+       for n in range(1, 7)},
+    "arruda_boyce": ("BOYCE", None, ("mu", "lambda_m"), 1),  # mu, lambda_L, d
+    "gent": ("GENT", None, ("mu", "Jm"), 1),  # mu, Jm, d
 }
+SUPPORT[SOLVER] = tuple(_CARDS)
 
 
 def _to_ansys_constants(kind: str, c: dict[str, float]) -> list[float]:
@@ -76,6 +89,7 @@ def to_ansys(
     mat: int = 1,
     density: float | None = None,
     poisson: float | None = None,
+    notes: Sequence[str] = (),
 ) -> str:
     """Ansys APDL material commands of a calibrated visco-hyperelastic model.
 
@@ -96,6 +110,9 @@ def to_ansys(
     poisson : float, optional
         Poisson's ratio for a compressible d1 = 2/K0 (K0 from the instantaneous shear
         modulus); default None writes d = 0 (incompressible, mixed u-P elements).
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
 
     Returns
     -------
@@ -138,7 +155,7 @@ def to_ansys(
     ]
     which = ("INSTANTANEOUS = vhfit long-term constants / g_inf (Ansys has no long-term "
              "option)" if m.n_prony else "long-term = instantaneous (no Prony terms)")
-    lines = header("!", solver=SOLVER, mat=m, moduli=which, conventions=conventions)
+    lines = header("!", solver=SOLVER, notes=notes, mat=m, moduli=which, conventions=conventions)
     if density is not None:
         lines.append(f"MP,DENS,{mat},{free_number(density)}")
     lines.append(f"TB,HYPER,{mat},,{'' if npts is None else npts},{tbopt}")
@@ -178,9 +195,10 @@ def _hyper_layout(tbopt: str, npts: int | None) -> tuple[str, list[str], int]:
         return "neo_hooke", ["mu"], 1
     if opt == "YEOH":
         n = npts or 1
-        if not 1 <= n <= 3:
+        if not 1 <= n <= 6:
             raise unsupported(SOLVER, f"YEOH order {n}", list(_CARDS))
-        return "yeoh", ["C10", "C20", "C30"][:n], n
+        kind = "yeoh" if n == 3 else f"reduced_polynomial{n}"
+        return kind, list(_CARDS[kind][2]), n
     if opt == "POLY":
         n = npts or 1
         layouts = {1: "mooney_rivlin", 2: "polynomial2", 3: "polynomial3"}
@@ -189,10 +207,12 @@ def _hyper_layout(tbopt: str, npts: int | None) -> tuple[str, list[str], int]:
         return layouts[n], list(_CARDS[layouts[n]][2]), n
     if opt == "OGDE":
         n = npts or 1
-        if not 1 <= n <= 3:
+        if not 1 <= n <= len(_OGDEN):
             raise unsupported(SOLVER, f"OGDEN with {n} terms", list(_CARDS))
-        kind = ("ogden", "ogden2", "ogden3")[n - 1]
-        return kind, list(_CARDS[kind][2]), n
+        return _OGDEN[n - 1], list(_CARDS[_OGDEN[n - 1]][2]), n
+    if opt in ("BOYC", "GENT"):
+        kind = "arruda_boyce" if opt == "BOYC" else "gent"
+        return kind, list(_CARDS[kind][2]), 1
     raise unsupported(SOLVER, f"TB,HYPER,,,,{tbopt}", list(_CARDS))
 
 
@@ -252,6 +272,7 @@ def from_ansys(text: str, *, mat: int | None = None) -> tuple[ViscoHyperelastic,
         raise ValueError(f"no TB,HYPER for material {matid} in the Ansys text")
     hyp = tables[("HYPE", matid)]
     kind, order, n_d = _hyper_layout(hyp["opt"], hyp["npts"])
+    kind = model_hint(text, kind)  # e.g. reduced_polynomial3 written as YEOH with 3 terms
     vals = [hyp["data"].get(i, 0.0) for i in range(1, len(order) + 1)]
     ansys = dict(zip(order, vals))
     if kind == "neo_hooke":

@@ -4,7 +4,10 @@ Conventions (see docs/export.md for the sources and what is verified):
 
 * The polynomial constants C10, C01, C11, C20, C02, C30 of MAT_077_H are the Abaqus /
   vhfit Cij. Only these six exist, so polynomial3 is exported only when its C21, C12
-  and C03 are zero.
+  and C03 are zero, and reduced_polynomial4..6 only when their C40.. are zero.
+* Ogden laws (up to 6 terms; MAT_077_O holds 8) go to MAT_077_O. Arruda–Boyce, Gent
+  and Van der Waals have no exact LS-DYNA card: MAT_127 (Arruda–Boyce) takes the
+  number of chain links N = λm² as an integer.
 * MAT_077_O's Ogden energy is W = Σ μ_p/α_p (λ̄1^α_p + λ̄2^α_p + λ̄3^α_p − 3), not
   Abaqus's 2μ_p/α_p²: MU_p = 2 μ_p / α_p (vhfit μ_p).
 * The hyperelastic constants are the LONG-TERM ones: the Prony stress is added on top
@@ -23,8 +26,11 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from collections.abc import Sequence
 
+from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
+    SUPPORT,
     Material,
     fixed_number,
     header,
@@ -39,9 +45,18 @@ __all__ = ["to_lsdyna", "from_lsdyna"]
 SOLVER = "LS-DYNA"
 
 _POLY = ("C10", "C01", "C11", "C20", "C02", "C30")  # MAT_077_H card order
-_POLY_MODELS = ("neo_hooke", "mooney_rivlin", "yeoh", "polynomial2", "polynomial3")
-_OGDEN_MODELS = ("ogden", "ogden2", "ogden3")
+_POLY_MODELS = ("neo_hooke", "mooney_rivlin", "yeoh", "polynomial2", "polynomial3",
+                *(f"reduced_polynomial{n}" for n in range(1, 7)))
+_OGDEN_MODELS = ("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6")
 SUPPORTED = (*_POLY_MODELS, *_OGDEN_MODELS)
+SUPPORT[SOLVER] = SUPPORTED
+#: Why the other built-in laws have no LS-DYNA card here
+_WHY = {
+    "arruda_boyce": "MAT_127 takes the number of chain links N = lambda_m^2 as a whole "
+                    "number, so a fitted lambda_m cannot be written exactly",
+    "gent": "no LS-DYNA material has Gent's energy",
+    "van_der_waals": "no LS-DYNA material has the Van der Waals energy",
+}
 #: Optional viscoelastic cards read by each keyword (LS-DYNA manual, via PyDyna's docs).
 MAX_PRONY = {"HYPERELASTIC_RUBBER": 6, "OGDEN_RUBBER": 12}
 
@@ -69,9 +84,9 @@ def _check_card(mat, mid, poisson, name, density, long_format) -> None:
     """Refuse what MAT_077_H/O cannot hold or what would not run, one line each."""
     kind = mat.hyperelastic
     if kind not in SUPPORTED:
-        raise unsupported(SOLVER, kind, SUPPORTED)
-    if kind == "polynomial3":
-        extra = {k: mat.constants[k] for k in ("C21", "C12", "C03") if mat.constants[k] != 0.0}
+        raise unsupported(SOLVER, kind, SUPPORTED, _WHY.get(kind, ""))
+    if kind in _POLY_MODELS:
+        extra = {k: v for k, v in mat.constants.items() if k not in _POLY and v != 0.0}
         if extra:
             raise unsupported(
                 SOLVER, kind, SUPPORTED,
@@ -106,6 +121,7 @@ def to_lsdyna(
     density: float | None = None,
     poisson: float = 0.4995,
     long_format: bool = True,
+    notes: Sequence[str] = (),
 ) -> str:
     """LS-DYNA keyword deck (``*KEYWORD`` ... ``*END``) of a calibrated model.
 
@@ -127,6 +143,9 @@ def to_lsdyna(
         RO in tonne/mm³; left blank (and flagged in a comment) when not given.
     poisson : float
         PR, from which LS-DYNA derives the bulk modulus; 0.4995 (K ≈ 1000 μ0) by default.
+    notes : sequence of str, optional
+        Warnings written at the head of the card's comments (``vhfit fit`` passes the
+        calibration's headlines, e.g. a g∞ at its floor).
     long_format : bool
         20-character fields (keyword suffix ``+``, 13 significant digits) when True;
         the classic 10-character fields (4-6 significant digits) when False.
@@ -186,7 +205,7 @@ def to_lsdyna(
     if density is None:
         conventions.append("RO (density, tonne/mm^3) is left blank: set it before running")
     lines = ["*KEYWORD"]
-    lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80,
+    lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80, notes=notes,
                     moduli="LONG-TERM (LS-DYNA adds the Prony stress to them)")
     lines.append(f"*MAT_{keyword}_TITLE" + ("+" if long_format else ""))
     lines.append(name)
@@ -232,8 +251,6 @@ def _fields(line: str, width: int) -> list[str]:
 
 def _infer_poly(constants: dict[str, float], hint: str | None) -> str:
     """The smallest built-in model holding the nonzero MAT_077_H constants."""
-    from vhfit import hyperelastic as _hyper
-
     nonzero = {k for k, v in constants.items() if v != 0.0}
     order = list(_POLY_MODELS)
     if hint in order:
@@ -332,9 +349,9 @@ def _read(cards, head, ogden: bool, hint: str | None):
         mus = [parse_number(f) for f in rest[0][:8]]
         alphas = [parse_number(f) for f in rest[1][:8]]
         pairs = [(mu, a) for mu, a in zip(mus, alphas) if mu != 0.0 or a != 0.0]
-        if not 1 <= len(pairs) <= 3:
+        if not 1 <= len(pairs) <= len(_OGDEN_MODELS):
             raise unsupported(SOLVER, f"Ogden with {len(pairs)} terms", SUPPORTED,
-                              "vhfit has Ogden with 1 to 3 terms")
+                              f"vhfit has Ogden with 1 to {len(_OGDEN_MODELS)} terms")
         kind = _OGDEN_MODELS[len(pairs) - 1]
         constants = {}
         for p, (mu_d, alpha) in enumerate(pairs, start=1):

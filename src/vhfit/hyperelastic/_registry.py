@@ -1,44 +1,17 @@
-"""Hyperelastic strain energies, their registry, and the uniaxial stress they give.
-
-A model is a plain function of the kinematics and its constants, written as the
-formula, and registered by name::
-
-    @register("gent")
-    def gent(I1, I2, mu, Jm):
-        "W = -mu Jm / 2 ln(1 - (I1 - 3) / Jm)"
-        return -mu * Jm / 2 * np.log(1 - (I1 - 3) / Jm)
-
-Invariant models take ``(I1, I2, *constants)``; principal-stretch models take
-``(l1, l2, l3, *constants)``. The derivatives the stress needs are taken by the
-complex step (exact to rounding for any energy written with numpy's analytic
-functions) unless the model gives them. On the incompressible uniaxial path
-λ1 = λ, λ2 = λ3 = λ^(-1/2) (docs/theory.md §1–2):
-
-* invariant models: σ_h = 2 (λ² − 1/λ) (∂W/∂I1 + ∂W/∂I2 / λ)
-* stretch models:   σ_h = λ1 ∂W/∂λ1 − λ2 ∂W/∂λ2
-
-Stresses are true (Cauchy), in MPa.
-"""
+"""The :class:`Hyperelastic` law and the registry of laws by name (``@register``)."""
 
 from __future__ import annotations
 
 import inspect
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from vhfit._derivatives import central, invariant_gradient, outside_domain, stretch_gradient
 
-__all__ = [
-    "Hyperelastic",
-    "register",
-    "get",
-    "available",
-    "unregister",
-    "invariants",
-]
+__all__ = ["Hyperelastic", "register", "get", "available", "unregister", "invariants"]
 
 _INVARIANT_ARGS = ("I1", "I2")
 _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
@@ -72,9 +45,15 @@ class Hyperelastic:
     energy : callable
         W(I1, I2, *c) or W(l1, l2, l3, *c).
     derivatives : callable or None
-        For invariant models, (I1, I2, *c) -> (∂W/∂I1, ∂W/∂I2) in closed form.
+        Closed form of the derivatives: for invariant models (I1, I2, *c) ->
+        (∂W/∂I1, ∂W/∂I2); for stretch models (l1, l2, l3, *c) ->
+        (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3). None: the complex step.
     linear : bool
-        Whether σ_h is linear in the constants (enables separable calibration).
+        Whether σ_h is linear in all of the constants (``basis`` gives its columns).
+    linear_params : tuple of str
+        The constants σ_h is linear in when the others are held fixed (all of them for
+        the polynomial laws, the μ's of Ogden, μ of Arruda–Boyce and Gent): the
+        separable calibration solves these by least squares and searches the rest.
     example : tuple of float
         A typical set of constants (docs, tests, starting points).
     """
@@ -90,10 +69,16 @@ class Hyperelastic:
     example: tuple[float, ...] = ()
     mu0: Callable | None = None
     doc: str = field(default="", repr=False)
+    linear_params: tuple[str, ...] = ()
 
     @property
     def n_params(self) -> int:
         return len(self.param_names)
+
+    @property
+    def linear_index(self) -> tuple[int, ...]:
+        """Positions of :attr:`linear_params` in :attr:`param_names`."""
+        return tuple(self.param_names.index(n) for n in self.linear_params)
 
     def __reduce__(self):
         # registered models travel to worker processes by name (their functions may be
@@ -120,6 +105,9 @@ class Hyperelastic:
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
         l2 = lam**-0.5
+        if self.derivatives is not None:
+            dW1, dW2, _ = self.derivatives(lam, l2, l2, *cols)
+            return dW1 - dW2
         # relative steps: dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
         dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1))
         return np.where(outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
@@ -244,6 +232,7 @@ def register(
     example: Sequence[float] | None = None,
     mu0: Callable | None = None,
     overwrite: bool = False,
+    linear_params: Sequence[str] | None = None,
 ) -> Callable[[Callable], Callable]:
     """Register a strain energy W by name (decorator).
 
@@ -256,15 +245,20 @@ def register(
     bounds : sequence of (lo, hi), optional
         Physical bounds of the constants (default (-inf, inf)).
     derivatives : callable, optional
-        Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models; else the complex step.
+        Closed-form (∂W/∂I1, ∂W/∂I2) for invariant models, (λa ∂W/∂λa for a = 1, 2, 3)
+        for stretch models; else the complex step.
     linear : bool
-        Declare σ_h linear in the constants (checked numerically at registration).
+        Declare σ_h linear in all the constants (checked numerically at registration).
     example : sequence of float, optional
         Typical constants; default 0.1 each.
     mu0 : callable, optional
         Closed-form initial shear modulus ``mu0(*constants)``; else from the derivatives.
     overwrite : bool
         Allow replacing an existing name.
+    linear_params : sequence of str, optional
+        The constants σ_h is linear in when the others are fixed (checked numerically
+        at registration). Default: all of them with ``linear=True``; otherwise the
+        constants in MPa if σ_h is linear in them at the example constants, else none.
 
     Returns
     -------
@@ -302,36 +296,73 @@ def register(
             raise ValueError(
                 f"{name!r}: units, bounds and example need one entry per constant {list(params)}"
             )
+        lp = _linear_names(name, params, u, linear, linear_params)
         model = Hyperelastic(
             name=name, param_names=params, units=u, bounds=b, kind=kind, energy=fn,
-            derivatives=derivatives, linear=bool(linear), example=ex, mu0=mu0,
-            doc=inspect.getdoc(fn) or "",
+            derivatives=derivatives, example=ex,
+            linear=bool(linear) or (linear_params is not None and lp == params),
+            mu0=mu0, doc=inspect.getdoc(fn) or "", linear_params=lp,
         )
-        _validate(model, strict=example is not None)
+        declared = bool(linear) or linear_params is not None
+        if not _validate(model, strict=example is not None, declared=declared):
+            model = replace(model, linear_params=())
         _REGISTRY[name] = model
         return fn
 
     return decorator
 
 
-def _validate(model: Hyperelastic, strict: bool) -> None:
+def _linear_names(name, params, units, linear, linear_params) -> tuple[str, ...]:
+    """The declared linear constants, or the candidates (the MPa constants) to check."""
+    if linear_params is None:
+        return params if linear else tuple(p for p, u in zip(params, units) if u == "MPa")
+    lp = tuple(linear_params)
+    unknown = [p for p in lp if p not in params]
+    if unknown or len(set(lp)) != len(lp):
+        raise ValueError(
+            f"{name!r}: linear_params {list(lp)} must name distinct constants of {list(params)}"
+        )
+    if linear and set(lp) != set(params):
+        raise ValueError(f"{name!r}: linear=True means every constant is linear; "
+                         f"linear_params {list(lp)} leaves some out")
+    return tuple(p for p in params if p in lp)  # in the order of the constants
+
+
+def _validate(model: Hyperelastic, strict: bool, declared: bool = True) -> bool:
+    """Refuse an example with a non-finite stress or a false linearity claim.
+
+    Returns whether ``model.linear_params`` holds (an undeclared, inferred candidate
+    that fails the check is dropped by the caller instead of refused).
+    """
     lam = np.array([0.6, 0.9, 1.3, 2.0])
     with np.errstate(all="ignore"):
         s = model.stress(lam, np.array(model.example))
     if not np.all(np.isfinite(s)):
         if not strict:  # default example constants may lie outside a model's domain
-            return
+            return declared
         raise ValueError(
             f"model {model.name!r} gives a non-finite stress at its example constants "
             f"{model.example}: check the energy (and pass example= with valid constants)"
         )
-    if model.linear:
-        rng = np.random.default_rng(0)
-        a, b = rng.uniform(0.1, 1.0, (2, model.n_params))
-        lhs = model.stress(lam, a + 2.0 * b)
-        rhs = model.stress(lam, a) + 2.0 * model.stress(lam, b)
-        if not np.allclose(lhs, rhs, rtol=1e-10, atol=1e-12 * np.abs(rhs).max()):
-            raise ValueError(f"model {model.name!r} is declared linear but its stress is not")
+    idx = list(model.linear_index)
+    if not idx:
+        return True
+    # σ(a + 2b) = σ(a) + 2σ(b) in the linear constants, the others at their example values
+    rng = np.random.default_rng(0)
+    a, b = rng.uniform(0.1, 1.0, (2, len(idx)))
+    x = np.tile(np.array(model.example), (3, 1))
+    x[0, idx], x[1, idx], x[2, idx] = a + 2.0 * b, a, b
+    with np.errstate(all="ignore"):
+        lhs, sa, sb = model.stress(lam, x)
+    rhs = sa + 2.0 * sb
+    if np.all(np.isfinite(lhs)) and np.allclose(
+        lhs, rhs, rtol=1e-10, atol=1e-12 * np.abs(rhs).max()
+    ):
+        return True
+    if not declared:
+        return False
+    what = "linear" if model.linear else f"linear in {list(model.linear_params)}"
+    raise ValueError(f"model {model.name!r} is declared {what} but its stress is not")
 
 
 def get(model: str | Hyperelastic) -> Hyperelastic:
@@ -340,8 +371,8 @@ def get(model: str | Hyperelastic) -> Hyperelastic:
     Examples
     --------
     >>> mr = get("mooney_rivlin")
-    >>> mr.param_names, mr.kind, mr.linear
-    (('C10', 'C01'), 'invariant', True)
+    >>> mr.param_names, mr.kind, mr.linear, mr.linear_params
+    (('C10', 'C01'), 'invariant', True, ('C10', 'C01'))
     >>> get(mr) is mr
     True
     """
@@ -370,84 +401,3 @@ def available() -> list[str]:
 def unregister(name: str) -> None:
     """Remove a model from the registry."""
     _REGISTRY.pop(name, None)
-
-
-# --------------------------------------------------------------- built-in models
-_POS = (0.0, math.inf)
-_FREE = (-math.inf, math.inf)
-
-
-def _mr_dW(I1, I2, C10, C01):
-    return C10, C01
-
-
-@register("mooney_rivlin", bounds=(_FREE, _FREE), derivatives=_mr_dW, linear=True,
-          example=(0.1, 0.05))
-def mooney_rivlin(I1, I2, C10, C01):
-    """Mooney–Rivlin (paper Eq. 5, m = l = 1): W = C10 (I1 − 3) + C01 (I2 − 3)."""
-    return C10 * (I1 - 3) + C01 * (I2 - 3)
-
-
-@register("neo_hooke", bounds=(_POS,), derivatives=lambda I1, I2, C10: (C10, 0.0 * C10),
-          linear=True, example=(0.1,))
-def neo_hooke(I1, I2, C10):
-    """neo-Hookean: W = C10 (I1 − 3)."""
-    return C10 * (I1 - 3)
-
-
-def _yeoh_dW(I1, I2, C10, C20, C30):
-    x = I1 - 3
-    return C10 + 2 * C20 * x + 3 * C30 * x**2, 0.0 * x
-
-
-@register("yeoh", bounds=(_POS, _FREE, _FREE), derivatives=_yeoh_dW, linear=True,
-          example=(0.1, -0.01, 0.001))
-def yeoh(I1, I2, C10, C20, C30):
-    """Yeoh: W = C10 (I1 − 3) + C20 (I1 − 3)² + C30 (I1 − 3)³."""
-    return C10 * (I1 - 3) + C20 * (I1 - 3) ** 2 + C30 * (I1 - 3) ** 3
-
-
-@register("polynomial2", linear=True, example=(0.1, 0.05, 0.01, 0.0, 0.0))
-def polynomial2(I1, I2, C10, C01, C20, C11, C02):
-    """Generalised polynomial of order 2: W = Σ_{i+j≤2} Cij (I1 − 3)^i (I2 − 3)^j."""
-    x, y = I1 - 3, I2 - 3
-    return C10 * x + C01 * y + C20 * x**2 + C11 * x * y + C02 * y**2
-
-
-@register("polynomial3", linear=True,
-          example=(0.1, 0.05, 0.01, 0.0, 0.0, 0.001, 0.0, 0.0, 0.0))
-def polynomial3(I1, I2, C10, C01, C20, C11, C02, C30, C21, C12, C03):
-    """Generalised polynomial of order 3: W = Σ_{i+j≤3} Cij (I1 − 3)^i (I2 − 3)^j."""
-    x, y = I1 - 3, I2 - 3
-    return (C10 * x + C01 * y + C20 * x**2 + C11 * x * y + C02 * y**2
-            + C30 * x**3 + C21 * x**2 * y + C12 * x * y**2 + C03 * y**3)
-
-
-def _ogden_term(l1, l2, l3, mu, alpha):
-    return 2 * mu / alpha**2 * (l1**alpha + l2**alpha + l3**alpha - 3)
-
-
-_OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
-
-
-@register("ogden", units=_OG["units"], bounds=_OG["bounds"], example=(0.1, 2.0),
-          mu0=lambda mu1, a1: mu1)
-def ogden(l1, l2, l3, mu1, alpha1):
-    """Ogden, one term (Abaqus form): W = 2μ1/α1² (λ1^α1 + λ2^α1 + λ3^α1 − 3); μ0 = μ1."""
-    return _ogden_term(l1, l2, l3, mu1, alpha1)
-
-
-@register("ogden2", units=_OG["units"] * 2, bounds=_OG["bounds"] * 2,
-          example=(0.1, 2.0, 0.01, -2.0), mu0=lambda m1, a1, m2, a2: m1 + m2)
-def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
-    """Ogden, two terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
-    return _ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
-
-
-@register("ogden3", units=_OG["units"] * 3, bounds=_OG["bounds"] * 3,
-          example=(0.1, 2.0, 0.01, -2.0, 0.001, 5.0),
-          mu0=lambda m1, a1, m2, a2, m3, a3: m1 + m2 + m3)
-def ogden3(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3):
-    """Ogden, three terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
-    return (_ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
-            + _ogden_term(l1, l2, l3, mu3, alpha3))
