@@ -86,19 +86,34 @@ def gelatin_reported_curves():
     σ_2500(ε) (r / 2500)^p with p = ln 4 / ln(5700/2500): ×4 in stress for ×2.28 in
     rate between 2500 and 5700 1/s, as the paper's discussion quotes for the data.
     """
-    cv = cases.curves_for(cases.GELATIN, cases.GELATIN_RATES)
+    cv = _paper_points(cases.curves_for(cases.GELATIN, cases.GELATIN_RATES))
     base = cv[1]
     p = math.log(4.0) / math.log(5700.0 / 2500.0)
     out = [cv[0], base]
     for c in cv[2:]:
         f = (c.strain_rate / base.strain_rate) ** p
         out.append(vhfit.Curve(strain=base.target_strain, stress=np.asarray(base.target_stress) * f,
-                               strain_rate=c.strain_rate, measure="engineering", name=c.name))
+                               strain_rate=c.strain_rate, measure="engineering", name=c.name,
+                               n_points=PAPER_POINTS))
     return out
 
 
+#: The paper's objective: 10 points a curve, evenly spaced in strain (its §2.2).
+PAPER_POINTS = 10
+
+
+def _paper_points(curves):
+    """The curves compared at the paper's 10 points, not at every sample (vhfit's default)."""
+    return [c.resample(PAPER_POINTS) for c in curves]
+
+
 def case_curves(case: str, noise_seed=None):
-    """Curves and the true parameters of a case name used in the jobs."""
+    """Curves (at the paper's 10 points) and the true parameters of a case name."""
+    curves, truth = _case_curves(case, noise_seed)
+    return _paper_points(curves), truth
+
+
+def _case_curves(case: str, noise_seed=None):
     if case.startswith("Random_"):
         truth = cases.random_material(int(case.split("_")[1]))
         if noise_seed is None:

@@ -62,9 +62,17 @@ EPS = np.linspace(0.0, -0.5, 51)
 
 
 # ===================================================================== Curve
-def test_constant_rate_defaults_follow_the_paper():
+def test_constant_rate_default_compares_every_sample():
     c = Curve(strain=EPS, stress=10 * EPS, strain_rate=-100.0)
-    assert c.n_points == DEFAULT_N_POINTS == 10
+    assert DEFAULT_N_POINTS is None and c.n_points == EPS.size and c.by == "samples"
+    np.testing.assert_array_equal(c.target_strain, EPS)
+    np.testing.assert_array_equal(c.target_stress, 10 * EPS)
+    np.testing.assert_allclose(c.history.out_time, EPS / -100.0, rtol=1e-15)
+
+
+def test_constant_rate_paper_scheme_on_request():
+    c = Curve(strain=EPS, stress=10 * EPS, strain_rate=-100.0, n_points=10)
+    assert c.n_points == 10
     assert c.by == "strain" and c.mode == "compression" and c.measure == "engineering"
     # evenly spaced in strain, the rest point left out, the last data strain included
     np.testing.assert_allclose(c.target_strain, -0.05 * np.arange(1, 11))
@@ -148,7 +156,7 @@ def test_ramp_and_hold_are_two_segments():
     t = np.linspace(0, 100, 1001)
     eps = np.minimum(0.01 * t, 0.2)
     sig = np.where(t < 20, eps, 0.2 * (0.5 + 0.5 * np.exp(-(t - 20) / 10)))
-    c = Curve(eps, sig, time=t)
+    c = Curve(eps, sig, time=t, n_points=10)
     assert c.n_segments == 2 and c.by == "segments" and c.n_points == 20
     assert (c.target_time > 20).sum() == 10 and (c.target_time <= 20).sum() == 10
     assert 20.0 in c.target_time and 100.0 in c.target_time  # hold start, test end
@@ -289,7 +297,6 @@ def test_mixed_signs_need_a_time_column():
          ["row 2", "strain = nan", "not finite"]),
         (dict(strain=[0, -0.1, -0.2], stress=[0, np.inf, -2], strain_rate=-1),
          ["row 1", "stress = inf"]),
-        (dict(strain=[0, -0.1, -0.2], stress=[0, -1, -2]), ["no strain rate and no time"]),
         (dict(strain=[0, -0.1, -0.2], stress=[0, -1], strain_rate=-1),
          ["stress has 2 values but strain has 3"]),
         (dict(strain=[0, -0.2, -0.1, -0.3], stress=[0, -2, -1, -3], strain_rate=-1),
@@ -344,7 +351,7 @@ def test_a_million_samples_give_a_short_history():
     t = np.linspace(0.0, 200.0, n)
     eps = np.where(t < 100, 0.01 * t, 2.0 - 0.01 * t)  # load to 1, unload to 0
     sig = eps + 0.1 * np.sin(t)
-    c = Curve(eps, sig, time=t)
+    c = Curve(eps, sig, time=t, n_points=10)
     h = c.history
     assert h.time.size < 50
     np.testing.assert_allclose(h.stretch_at(t) - 1, eps, atol=PATH_RTOL * 1.0 + 1e-12)
@@ -632,7 +639,6 @@ def test_hostile_but_valid_files_read_correctly(tmp_path, raw):
         ("time_fortnights,strain,stress\n0,0,0\n1,-0.1,-1\n", ["'fortnights'"]),
         ("strain,force_N\n0,0\n-0.1,-1\n", ["no stress column", "'force_N'"]),
         ("displacement,stress\n0,0\n-0.1,-1\n", ["no strain or stretch column"]),
-        ("strain,stress\n0,0\n-0.1,-1\n", ["test.csv", "no strain rate and no time"]),
         ("strain_rate,strain,stress\n-1,0,0\n,-0.1,-1\n", ["line 3", "rate is missing"]),
         ("strain,stress,true_stress_MPa,nominal_stress_MPa\n0,0,0,0\n-0.1,-1,-1,-1\n",
          ["several columns could be the stress"]),
@@ -862,8 +868,9 @@ def test_read_history_feeds_the_model(tmp_path):
 
 
 # ============================================================ package layout
-_DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_columns", "_table",
-                 "_specs", "_curve", "_readers"]
+_DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_modes",
+                 "_histories", "_attributes", "_columns", "_table", "_specs", "_curve",
+                 "_readers"]
 
 
 def test_the_data_package_imports_one_way():

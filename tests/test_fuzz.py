@@ -553,7 +553,7 @@ def array_case(rng: np.random.Generator) -> ArrayCase:
         what = "stretch <= 0"
     elif kind == 8:
         bad.pop("time", None)
-        opts = [0.0, np.nan, np.inf, "fast", None, [1.0, 2.0]]
+        opts = [0.0, np.nan, np.inf, "fast", [1.0, 2.0]]  # None: an equilibrium curve
         bad["strain_rate"] = opts[int(rng.integers(len(opts)))]
         what = f"bad rate {bad['strain_rate']!r}"
     elif kind == 9 and eps.size >= 3:
@@ -794,7 +794,9 @@ def test_cli_bad_input_is_exit_code_2_and_one_line(tmp_path, capsys):
     cases = [("directory", tmp_path), ("missing", tmp_path / "missing.csv")]
     while len(cases) < max(60, settings.default.max_examples * 3):
         case = hostile_csv(rng)
-        if case.expect != "error":
+        # a rate given only as read_csv's argument is not in the file: for the command
+        # line that file is an equilibrium curve, and its "error" may be none there
+        if case.expect != "error" or "rate" in case.kwargs:
             continue
         p = tmp_path / f"input{len(cases)}.csv"
         p.write_bytes(case.data)

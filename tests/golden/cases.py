@@ -28,7 +28,8 @@ A_PARAMS = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
 RATES = (-1.0, -10.0, -100.0, -1000.0)
 
 
-def _rate_curves(params, rates=RATES, *, hyper="mooney_rivlin", n=10, noise=0.0, seed=0):
+def _rate_curves(params, rates=RATES, *, hyper="mooney_rivlin", n=10, noise=0.0, seed=0,
+                 n_points=10):
     n_prony = sum(1 for k in params if k.startswith("tau"))
     m = vhfit.ViscoHyperelastic(hyper, n_prony)
     rng = np.random.default_rng(seed)
@@ -38,7 +39,8 @@ def _rate_curves(params, rates=RATES, *, hyper="mooney_rivlin", n=10, noise=0.0,
         s = m.stress(params, strain=eps, strain_rate=r, measure="engineering")
         if noise:
             s = s * (1 + rng.uniform(-noise, noise, s.size))
-        out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, measure="engineering"))
+        out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, measure="engineering",
+                               n_points=n_points))
     return out
 
 
@@ -53,7 +55,7 @@ def _history_curves(noise=0.02, seed=4):
     s = m.stress(A_PARAMS, strain=ee, time=tt, measure="engineering")[1:]
     tt, ee = tt[1:], ee[1:]
     s = s * (1 + rng.uniform(-noise, noise, s.size))
-    cyc = vhfit.Curve(strain=ee, stress=s, time=tt, measure="engineering")
+    cyc = vhfit.Curve(strain=ee, stress=s, time=tt, measure="engineering", n_points=10)
     return [cyc] + _rate_curves(A_PARAMS, (-1.0, -100.0), noise=noise, seed=seed + 1)
 
 
@@ -132,6 +134,12 @@ def case_sep_ogden_floor():
     curves = _rate_curves(dict(mu1=0.05, alpha1=2.0, G1=3.0, tau1=1e3), hyper="ogden",
                           noise=0.01, seed=12)
     return _cal(curves, hyperelastic="ogden", n_prony=1, seed=12, g_inf_min=0.05)
+
+
+def case_sep_samples_default():
+    # the default objective: every one of the 40 noisy samples a curve
+    curves = _rate_curves(A_PARAMS, n=40, noise=0.02, seed=15, n_points=None)
+    return _cal(curves, n_prony=2, seed=15)
 
 
 def case_checkpoint_resume(tmp: Path):

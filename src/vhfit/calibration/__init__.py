@@ -4,6 +4,7 @@ The public face is :func:`vhfit.calibrate` and its result, :class:`Calibration`.
 Inside, one module per concern:
 
 * ``_arguments`` — the front door: every argument checked before any computation;
+* ``_identify`` — which data identify a Prony series (the default N);
 * ``_bounds`` — τ ranges from the rates (Eq. 22) and the moduli's search limits;
 * ``_space`` — the fitted problem and the two search spaces (``separable``, ``full``);
 * ``_search`` — the differential evolution with its stopping tests and checkpoints;
@@ -14,7 +15,9 @@ Inside, one module per concern:
 """
 
 from vhfit.calibration._bounds import auto_bounds
+from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import RESULTS_FORMAT, Calibration, CalibrationWarning
 from vhfit.calibration._workflow import calibrate
 
-__all__ = ["calibrate", "Calibration", "CalibrationWarning", "auto_bounds", "RESULTS_FORMAT"]
+__all__ = ["calibrate", "Calibration", "CalibrationWarning", "auto_bounds", "RESULTS_FORMAT",
+           "default_n_prony", "viscous_evidence"]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from vhfit.model import ViscoHyperelastic
+from vhfit.modes import long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
 
@@ -19,7 +20,14 @@ SEARCH_RANGES: dict[str, dict[str, tuple[float, float]]] = {
 }
 
 def rates(curves) -> np.ndarray:
-    r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in curves])
+    """Nominal |rates| of the rate and time curves (equilibrium curves have none)."""
+    rated = [c for c in curves if not getattr(c, "is_equilibrium", False)]
+    if not rated:
+        raise ValueError(
+            "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
+            "(rate-free) curves carry no viscous response; fit n_prony=0"
+        )
+    r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in rated])
     if not np.all(np.isfinite(r) & (r > 0)):
         raise ValueError(
             "every curve needs a nominal strain rate to set the τ bounds (Eq. 22): "
@@ -36,6 +44,24 @@ def tau_bounds_log10(rates, n, strategy, below, above) -> np.ndarray:
     return np.asarray(getattr(b, "bounds", b), dtype=np.float64).reshape(n, 2)
 
 
+def _true_target(c) -> np.ndarray:
+    """|true stress| of a curve's targets (nominal ones times the loaded stretch)."""
+    y = np.abs(np.asarray(c.target_stress, dtype=np.float64))
+    if getattr(c, "measure", "true") == "engineering":
+        y = y * c.history.out_loaded_stretch
+    return y
+
+
+def _long_term_true(hm, params, h) -> np.ndarray:
+    """True stress of the long-term law at a history's outputs, in its mode and direction."""
+    x1, x2 = h.out_stretch, h.stretch2_at(h.out_time)
+    s = long_term_stress(hm, params, h.deformation, x1, x2, 1)
+    if (h.out_direction == 2).any():
+        s = np.where(h.out_direction == 2,
+                     long_term_stress(hm, params, h.deformation, x1, x2, 2), s)
+    return s
+
+
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
     """Upper search limits (docs/theory.md §11): one term alone reaches every target stress.
 
@@ -48,13 +74,17 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     where those are open-ended, or [-10, 10] if unbounded.
     """
     hm = model.hyperelastic
-    lam = np.concatenate([c.history.out_stretch for c in curves])
-    y = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in curves])
+    uni = [c for c in curves if getattr(c, "deformation", "uniaxial") == "uniaxial"]
+    other = [c for c in curves if getattr(c, "deformation", "uniaxial") != "uniaxial"]
+    lam = np.concatenate([c.history.out_stretch for c in uni] + [np.zeros(0)])
+    y = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in uni]
+                       + [np.zeros(0)])
     meas = np.concatenate([np.full(np.size(c.target_stress), getattr(c, "measure", "true"))
-                           for c in curves])
+                           for c in uni] + [np.zeros(0, dtype=str)])
     y_true = np.abs(np.where(meas == "engineering", y * lam, y))
     keep = np.abs(lam - 1) > 1e-9
     lam, y_true = lam[keep], y_true[keep]
+    y_other = [_true_target(c) for c in other]
     out: dict[str, tuple[float, float]] = {}
     ex = np.array(hm.example, dtype=np.float64)
     amp = [k in hm.linear_index or u == "MPa" for k, u in enumerate(hm.units)]
@@ -66,8 +96,13 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
             unit = np.where(amp, np.where(np.arange(hm.n_params) == k, 1.0, 0.0), ex)
             with np.errstate(all="ignore"):
                 s = np.abs(hm.stress(lam, unit))
-            ratio = y_true / np.where(s > 0, s, np.nan)
-            hi = float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float(np.max(y_true))
+                ratio = y_true / np.where(s > 0, s, np.nan)
+                for c, yo in zip(other, y_other):
+                    so = np.abs(_long_term_true(hm, unit, c.history))
+                    ratio = np.concatenate([ratio, yo / np.where(
+                        np.isfinite(so) & (so > 0), so, np.nan)])
+            ys = np.concatenate([y_true, *y_other])
+            hi = float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float(np.max(ys))
             out[name] = (max(0.0, lo_p), hi)
         elif name in ranges:
             out[name] = (max(lo_p, ranges[name][0]), min(hi_p, ranges[name][1]))

@@ -11,6 +11,7 @@ from datetime import datetime, timezone
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
 
@@ -38,11 +39,26 @@ def _versions() -> dict[str, str]:
 def _curve_info(c) -> dict:
     return {
         "name": str(getattr(c, "name", "")),
-        "strain_rate": float(getattr(c, "strain_rate", float("nan"))),
+        "strain_rate": (None if getattr(c, "strain_rate", None) is None
+                        else float(c.strain_rate)),
+        "deformation": getattr(c, "deformation", "uniaxial"),
         "measure": getattr(c, "measure", "true"),
         "n_points": int(np.size(c.target_stress)),
         "source": getattr(c, "source", None),
     }
+
+
+def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
+    """A fine grid along a history: uniform in time, or for an equilibrium curve uniform
+    in its strain (time NaN; a biaxial equilibrium curve keeps its own samples)."""
+    if not h.is_equilibrium:
+        t = np.linspace(0.0, h.duration, points)
+        return t, h.with_outputs(t)
+    if h.deformation == "biaxial":
+        return np.full(h.out_time.size, np.nan), h.with_outputs(h.out_time)
+    e = h.out_strain
+    fine = np.linspace(float(e.min()), float(e.max()), points)
+    return np.full(points, np.nan), History.equilibrium(fine, deformation=h.deformation)
 
 
 class CalibrationWarning(UserWarning):
@@ -272,22 +288,24 @@ class Calibration:
         list of dict
             Per curve: ``time``, ``strain``, ``stress`` (objective points: data and
             ``model``), and ``fine_time``, ``fine_strain``, ``fine_model``. Stresses are
-            in the curve's own measure, MPa.
+            in the curve's own measure, MPa; strain is λ1 − 1 (γ in simple shear). An
+            equilibrium curve has no time (NaN) and its fine grid is uniform in strain.
         """
         out = []
         for c in curves:
             h = c.history
             measure = getattr(c, "measure", "true")
             model = self.model.stress(self.params, h, measure=measure)
-            t_fine = np.linspace(0.0, h.duration, int(points))
-            fine = self.model.stress(self.params, h.with_outputs(t_fine), measure=measure)
+            t_fine, fh = _fine_history(h, int(points))
+            fine = self.model.stress(self.params, fh, measure=measure)
             out.append({
-                "time": np.asarray(h.out_time, dtype=np.float64),
+                "time": (np.full(h.out_time.size, np.nan) if h.is_equilibrium
+                         else np.asarray(h.out_time, dtype=np.float64)),
                 "strain": np.asarray(h.out_strain, dtype=np.float64),
                 "stress": np.asarray(c.target_stress, dtype=np.float64),
                 "model": np.asarray(model, dtype=np.float64),
                 "fine_time": t_fine,
-                "fine_strain": h.stretch_at(t_fine) - 1.0,
+                "fine_strain": np.asarray(fh.out_strain, dtype=np.float64),
                 "fine_model": np.asarray(fine, dtype=np.float64),
             })
         return out

@@ -25,7 +25,7 @@ import numpy as np
 
 from vhfit import datasets, plot
 from vhfit._io import atomic_write
-from vhfit.calibration import Calibration, CalibrationWarning, calibrate
+from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
 from vhfit.cli._common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -38,13 +38,15 @@ from vhfit.cli._common import (
 )
 from vhfit.cli._plugins import resolve_model_name, tau_strategies
 from vhfit.data import read_csv
-from vhfit.export import export
+from vhfit.export import export, to_abaqus_test_data
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "SOLVERS", "CARD_FILES", "DEMO_PRONY"]
 
 SOLVERS = ("abaqus", "lsdyna", "ansys")
 CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
               "json": "material.json"}
+#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
+TEST_DATA_FILE = "abaqus_test_data.inp"
 RESULTS = "results.json"
 CHECKPOINT = "checkpoint.json"
 DEMO_PRONY = 4
@@ -56,8 +58,8 @@ def cmd_fit(args) -> int:
     """``vhfit fit CURVES...``."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
+    curves, inputs = _read_curves(args.curves, args)  # bad data: nothing written
     out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
-    curves, inputs = _read_curves(args.curves, args)
     return run_fit(curves, inputs, args, out, label=None, command=args._argv)
 
 
@@ -132,6 +134,14 @@ def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
         kw["rate"] = args.rate[0] if len(args.rate) == 1 else list(args.rate)
     if args.measure:
         kw["measure"] = args.measure
+    tests = getattr(args, "deformation", None)
+    if tests:
+        if len(tests) not in (1, len(files)):
+            raise UsageError(
+                f"--deformation given {len(tests)} times for {len(files)} files: give one "
+                "for all files or one per file, in file order"
+            )
+        kw["deformation"] = tests[0] if len(tests) == 1 else list(tests)
     kw["n_points"] = args.points
     curves = read_csv(files, **kw)
     if not curves:
@@ -171,10 +181,19 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             "drop --resume to fit afresh"
         )
     if not args.quiet:
-        n_txt = f"auto (N = 1..{args.max_prony})" if args.prony == "auto" else str(args.prony)
+        why = None
+        if args.prony is None:
+            n, why = default_n_prony(curves)
+            n_txt = f"{n}"
+        else:
+            n_txt = (f"auto (N = 1..{args.max_prony})" if args.prony == "auto"
+                     else str(args.prony))
         print(f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed "
               f"{args.seed}, to {len(curves)} curve(s); outputs in {out}/"
               + (" (resuming)" if args.resume else ""), file=sys.stderr, flush=True)
+        if args.prony is None and why:
+            print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
+                  file=sys.stderr, flush=True)
     # a resumed scan starts mid-way: N cannot be counted from the generations then
     progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
                         first_n=None if args.resume else 1)
@@ -275,7 +294,7 @@ def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, 
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
 
-    cards_ok, card_errors, card_notes = _write_cards(cal, out)
+    cards_ok, card_errors, card_notes = _write_cards(cal, curves, out)
     written.update({f: f"{solver} card" for solver, f in cards_ok.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
@@ -310,14 +329,16 @@ def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, 
     return written
 
 
-def _write_cards(cal: Calibration, out: Path) -> tuple[dict, dict, dict]:
-    """Every solver card that can hold the model: (files, errors, notes) per solver."""
+def _write_cards(cal: Calibration, curves, out: Path) -> tuple[dict, dict, dict]:
+    """Every solver card that can hold the model: (files, errors, notes) per solver; and
+    the equilibrium curves as Abaqus test data, for Abaqus to fit the same law itself."""
     cards_ok, card_errors, card_notes = {}, {}, {}
     for solver in SOLVERS + ("json",):
         try:
             with warnings.catch_warnings(record=True) as ws:
                 warnings.simplefilter("always")
-                text = export(cal, to=solver)
+                text = export(cal, to=solver,
+                              **({} if solver == "json" else {"notes": cal.headlines}))
         except Exception as exc:  # a solver that cannot take this model is not fatal
             card_errors[solver] = one_line(exc)
             continue
@@ -326,6 +347,15 @@ def _write_cards(cal: Calibration, out: Path) -> tuple[dict, dict, dict]:
             card_notes[solver] = notes
         atomic_write(out / CARD_FILES[solver], text)
         cards_ok[solver] = CARD_FILES[solver]
+    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
+           for c in curves):
+        try:
+            text = to_abaqus_test_data(curves, cal.model.hyperelastic.name)
+        except ValueError as exc:
+            card_errors["abaqus test data"] = one_line(exc)
+        else:
+            atomic_write(out / TEST_DATA_FILE, text)
+            cards_ok["abaqus test data"] = TEST_DATA_FILE
     return cards_ok, card_errors, card_notes
 
 
@@ -355,7 +385,10 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
 
 
 def _jsonable(d: dict) -> dict:
-    return {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    if out.get("deformation", "") is None:  # not given: the files said (as before the flag)
+        del out["deformation"]
+    return out
 
 
 def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
@@ -368,15 +401,26 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
               "kind=fine: model on a fine time grid (stress_data empty)\n")
     buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
+    # other tests than the paper's add two columns: the test, and the loaded direction
+    modes = any(getattr(c, "deformation", "uniaxial") != "uniaxial" for c in curves)
+    if modes:
+        buf.write("# deformation: the test; direction: 1, or 2 for the second stress of a "
+                  "biaxial/equibiaxial curve; equilibrium curves: time = sample number, "
+                  "strain_rate empty; simple shear: strain = amount of shear γ\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
-                "stress_model"])
+                "stress_model"] + (["deformation", "direction"] if modes else []))
     for c, f in zip(curves, fits):
         name = str(getattr(c, "name", ""))
-        rate = f"{float(getattr(c, 'strain_rate', float('nan'))):g}"
+        r = getattr(c, "strain_rate", float("nan"))
+        rate = "" if r is None else f"{float(r):g}"
         meas = getattr(c, "measure", "true")
-        for t, e, s, m in zip(f["time"], f["strain"], f["stress"], f["model"]):
-            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"])
+        dfm = [getattr(c, "deformation", "uniaxial")] if modes else []
+        dirs = getattr(c, "target_direction", np.ones(len(f["time"]), dtype=int))
+        for t, e, s, m, d in zip(f["time"], f["strain"], f["stress"], f["model"], dirs):
+            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"]
+                       + (dfm + [int(d)] if modes else []))
         for t, e, m in zip(f["fine_time"], f["fine_strain"], f["fine_model"]):
-            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"])
+            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"]
+                       + (dfm + [1] if modes else []))
     return buf.getvalue()

@@ -18,6 +18,8 @@ from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
 from vhfit.cli._plugins import PLUGIN_GROUP
 from vhfit.cli._simulate import cmd_simulate
+from vhfit.data import MAX_POINTS
+from vhfit.history import DEFORMATIONS
 
 __all__ = ["build_parser", "glue_windows"]
 
@@ -53,6 +55,15 @@ def _ramp_points(text: str) -> int:
     if n is None:
         raise argparse.ArgumentTypeError("--points: give a whole number >= 2")
     return n
+
+
+def _deformation(text: str) -> str:
+    name = text.strip().lower().replace("-", "_").replace(" ", "_")
+    name = {"pure_shear": "planar", "shear": "simple_shear"}.get(name, name)
+    if name not in DEFORMATIONS:
+        raise argparse.ArgumentTypeError(
+            f"--deformation {text!r}: use one of {', '.join(DEFORMATIONS)}")
+    return name
 
 
 def _prony(text: str) -> int | str:
@@ -159,9 +170,14 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                         "per file)")
     p.add_argument("--measure", choices=("engineering", "true"),
                    help="stress measure when the file does not say (default engineering)")
-    p.add_argument("--points", type=_points, default=10, metavar="N|all",
-                   help="objective points per curve (default 10, the paper's; 'all' = every "
-                        "sample)")
+    p.add_argument("--deformation", type=_deformation, action="append", metavar="MODE",
+                   help="the test of files that do not say: " + ", ".join(DEFORMATIONS)
+                        + " (once for all files, or once per file; default: what the "
+                          "file's columns say, else uniaxial)")
+    p.add_argument("--points", type=_points, default=None, metavar="N|all",
+                   help="objective points per curve (default 'all': every sample, or the "
+                        f"means of {MAX_POINTS} bins of consecutive samples for longer "
+                        "records; 10 = the paper's scheme)")
     p.add_argument("--trim-strain", type=_window("--trim-strain"), metavar="LOW:HIGH",
                    action="append",
                    help="compare model and data only where LOW <= strain <= HIGH (signed; "
@@ -191,9 +207,13 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     if not demo:
         p.add_argument("--model", default="mooney_rivlin",
                        help="hyperelastic model (default mooney_rivlin; see 'vhfit models')")
-    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else 2, metavar="N|auto",
-                   help=f"number of Prony terms, or 'auto' to scan N = 1..--max-prony "
-                        f"(default {DEMO_PRONY if demo else 2})")
+    p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else None,
+                   metavar="N|auto",
+                   help="number of Prony terms, or 'auto' to scan N = 1..--max-prony "
+                        + (f"(default {DEMO_PRONY})" if demo else
+                           "(default 2, or 0 when the data cannot separate elastic from "
+                           "viscous response: one monotonic rate, or only equilibrium "
+                           "curves)"))
     p.add_argument("--max-prony", type=int, default=5, metavar="N",
                    help="largest N of --prony auto (default 5)")
     if not demo:
@@ -251,6 +271,9 @@ def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
                    help="points per ramp, from rest (default 50)")
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")
+    p.add_argument("--deformation", type=_deformation, default="uniaxial", metavar="MODE",
+                   help="the test: uniaxial (default), equibiaxial, planar or simple_shear "
+                        "(strain = the amount of shear γ); biaxial needs the Python API")
     p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
                    help="stress measure (default engineering)")
     p.add_argument("--out", metavar="FILE.csv", help="output CSV (default: standard output)")

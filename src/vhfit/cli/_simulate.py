@@ -34,7 +34,15 @@ def cmd_simulate(args) -> int:
     buf = io.StringIO()
     buf.write(f"# vhfit simulate: {name} + {n_prony} Prony term(s), from {source}\n")
     buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
-    buf.write(f"# stress measure: {args.measure} (MPa); strain: engineering; time: s\n")
+    dfm = getattr(args, "deformation", "uniaxial")
+    if dfm == "uniaxial":
+        buf.write(f"# stress measure: {args.measure} (MPa); strain: engineering; time: s\n")
+    elif dfm == "simple_shear":
+        buf.write("# deformation: simple_shear; strain: amount of shear γ; stress: shear "
+                  "stress σ12 (MPa); time: s\n")
+    else:
+        buf.write(f"# deformation: {dfm}; stress measure: {args.measure} (MPa) in the loaded "
+                  "direction; strain: engineering λ1 − 1; time: s\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["curve", "strain_rate", "time", "strain", "stress"])
     for label, r, h in loads:
@@ -68,6 +76,12 @@ def _material(args) -> tuple[str, dict[str, float], str]:
 def _loads(args) -> list[tuple[str, float, History]]:
     """(label, rate or NaN, history) of each --rate ramp and --history file."""
     loads: list[tuple[str, float, History]] = []
+    dfm = getattr(args, "deformation", "uniaxial")
+    if dfm == "biaxial":
+        raise UsageError("--deformation biaxial needs a second stretch path, which simulate "
+                         "does not take: use the Python API (ViscoHyperelastic.stress with "
+                         "stretch2=), or equibiaxial/planar")
+    kw = {} if dfm == "uniaxial" else {"deformation": dfm}
     if not args.rate and not args.history:
         raise UsageError("give the loading: --rate R (repeatable, 1/s) with --strain-max, "
                          "or --history FILE.csv (time, strain columns)")
@@ -83,7 +97,7 @@ def _loads(args) -> list[tuple[str, float, History]]:
             )
         eps = np.linspace(0.0, emax, args.points)
         try:
-            h = History.constant_rate(eps, r)
+            h = History.constant_rate(eps, r, **kw)
         except ValueError as exc:
             raise UsageError(f"--rate {r:g} --strain-max {emax:g}: {one_line(exc)}") from None
         loads.append((f"rate {r:g} 1/s", r, h))
@@ -93,7 +107,7 @@ def _loads(args) -> list[tuple[str, float, History]]:
         except DataError as exc:
             raise UsageError(str(exc)) from None
         try:
-            h = History.piecewise_linear(t, e)
+            h = History.piecewise_linear(t, e, **kw)
         except ValueError as exc:
             raise UsageError(f"{path}: {one_line(exc)}") from None
         loads.append((Path(path).name, float("nan"), h))

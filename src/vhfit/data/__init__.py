@@ -1,8 +1,12 @@
 """Test data: measured stress–strain curves, their readers, and the objective points.
 
-A :class:`Curve` holds one uniaxial test as measured — strain, stress, and either a
-nominal constant strain rate or the time of every sample — plus the *objective points*
-where the model is compared with it (paper: 10 points a curve, evenly spaced in strain).
+A :class:`Curve` holds one test as measured — uniaxial (the paper's), equibiaxial,
+planar, general biaxial or simple shear; strain (or stretch) and stress, and either a
+nominal constant strain rate, the time of every sample, or neither (an equilibrium
+curve, fully relaxed states) — plus the *objective points*
+where the model is compared with it: by default its own samples (bin means of
+consecutive samples above ``MAX_POINTS``); the paper's 10 points a curve, evenly spaced
+in strain, with ``n_points=10``.
 It knows the stretch history the model must follow (:attr:`Curve.history`) and the
 target stresses there (:attr:`Curve.target_stress`).
 
@@ -25,11 +29,13 @@ The tolerances below are module attributes read when a curve is built; setting o
 (e.g. ``vhfit.data.MAX_BREAKPOINTS = 5000``) changes it for the curves built afterwards.
 
 Layout (private modules, imported in this order, none importing a later one):
-``_errors`` (DataError, message locations) → ``_paths`` (path geometry) → ``_points``
-(objective points) → ``_samples`` (the checks of ``Curve(...)``) → ``_columns`` (header
-recognition, units) → ``_table`` (CSV decoding, tables) → ``_specs`` (table → curve
-arguments) → ``_curve`` (:class:`Curve`) → ``_readers`` (:func:`read_csv`,
-:func:`curves_from_arrays`, :func:`read_history`).
+``_errors`` (DataError, message locations) → ``_measures`` → ``_paths`` (path geometry)
+→ ``_points`` (objective points) → ``_samples`` (the checks of ``Curve(...)``) →
+``_modes`` (the deformation's arguments and signs) → ``_histories`` (every
+:class:`~vhfit.history.History` built for a curve) → ``_attributes`` (the curve's
+read-only properties) → ``_columns`` (header recognition, units) → ``_table`` (CSV
+decoding, tables) → ``_specs`` (table → curve arguments) → ``_curve`` (:class:`Curve`)
+→ ``_readers`` (:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
 """
 
 from __future__ import annotations
@@ -39,7 +45,7 @@ import types
 from typing import Any
 
 from vhfit.data import _curve, _paths, _samples
-from vhfit.data._curve import MAX_BREAKPOINTS, PATH_RTOL, Curve
+from vhfit.data._curve import MAX_BREAKPOINTS, MAX_POINTS, PATH_RTOL, Curve
 from vhfit.data._errors import DataError, DataWarning
 from vhfit.data._measures import engineering_to_true, true_to_engineering
 from vhfit.data._paths import HOLD_MIN_DURATION, HOLD_RTOL, LEG_RTOL
@@ -53,6 +59,7 @@ __all__ = [
     "HOLD_RTOL",
     "LEG_RTOL",
     "MAX_BREAKPOINTS",
+    "MAX_POINTS",
     "PATH_RTOL",
     "SIGN_RTOL",
     "Curve",
@@ -68,6 +75,7 @@ __all__ = [
 # Tolerance -> the module that reads it when a curve is built.
 _OWNERS: dict[str, types.ModuleType] = {
     "MAX_BREAKPOINTS": _curve,
+    "MAX_POINTS": _curve,
     "PATH_RTOL": _curve,
     "SIGN_RTOL": _samples,
     "LEG_RTOL": _paths,

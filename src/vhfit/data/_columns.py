@@ -63,8 +63,38 @@ _ENG_WORDS = {"engineering", "eng", "nominal", "nom", "piola", "pk1", "first", "
 _TRUE_WORDS = {"true", "cauchy"}
 _LOG_WORDS = {"true", "log", "logarithmic", "hencky", "natural"}
 _AXIAL_WORDS = {"axial", "uniaxial"}
-_ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate")
+_SHEAR_WORDS = {"gamma", "γ"}  # the amount of shear of simple shear, alone
+_ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate", "strain2", "stretch2", "stress2",
+              "deformation")
 _GROUP_NAMES = {"curve", "test", "specimen", "name"}
+#: Headers of a text column naming each row's test (its values: deformation names).
+_DEFORMATION_NAMES = {"deformation", "deformation_mode", "mode", "test_mode", "test_type",
+                      "loading_mode", "test_kind"}
+
+
+
+_DIRECTED = _STRESS_WORDS | _STRAIN_WORDS | _STRETCH_WORDS | {"lam", "l"}
+
+
+def _direction(tokens: list[str]) -> tuple[list[str], int]:
+    """The header's tokens without a direction mark, and the direction (1 or 2).
+
+    ``stress2``, ``lambda_2``, ``nominal_stress_1``: a keyword ending in, or followed by,
+    1 or 2 (``lambda1`` and ``λ1`` are direction 1 as they stand).
+    """
+    out, direction = [], 1
+    for tok in tokens:
+        m = re.fullmatch(r"(.+?)([12])", tok)
+        if m and m.group(1) in _DIRECTED and tok not in _STRETCH_WORDS:
+            out.append(m.group(1))
+            direction = int(m.group(2))
+        elif tok in ("1", "2") and out and out[-1] in _DIRECTED:
+            direction = int(tok)
+        else:
+            out.append(tok)
+    if out and out[0] == "l" and len(out) == 1:
+        out = ["lambda"]
+    return out, direction
 
 
 def _norm_unit(u: str) -> str:
@@ -91,7 +121,8 @@ class _Col:
     role: str  # strain | stretch | stress | time | rate
     rank: float  # lower is a better match
     unit: str  # as written ("" if none)
-    kind: str = ""  # strain: "eng" | "log"; stress: "engineering" | "true" | ""
+    kind: str = ""  # strain: "eng" | "log" | "shear"; stress: "engineering" | "true" | ""
+    # stretch: "" | "or_shear" (a stretch, or the amount of shear on simple-shear rows)
 
 
 def _split_header(h: str) -> tuple[list[str], str | None]:
@@ -105,9 +136,21 @@ def _split_header(h: str) -> tuple[list[str], str | None]:
 
 
 def _classify(index: int, header: str) -> _Col | None:
+    """What one header says: its role (a direction-2 role ends in 2), unit and kind."""
     tokens, unit = _split_header(header)
     if not tokens:
         return None
+    if "_".join(tokens) in _DEFORMATION_NAMES:
+        return _Col(index, header, "deformation", 0.0, "")
+    tokens, direction = _direction(tokens)
+    col = _classify_tokens(index, header, tokens, unit)
+    if col is not None and direction == 2 and col.role in ("strain", "stretch", "stress"):
+        col.role += "2"
+    return col
+
+
+def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | None
+                     ) -> _Col | None:
     joined = "_".join(tokens)
 
     def after_unit(k: int, qualifiers: set[str]) -> tuple[list[str], str]:
@@ -136,13 +179,19 @@ def _classify(index: int, header: str) -> _Col | None:
             if tok == "t" and _unit_factor("time", u) is None:
                 break
             return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
+    if tokens[0] in _SHEAR_WORDS or (
+            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS)):
+        # "gamma", "shear_strain", "amount_of_shear": the amount of shear γ
+        k = next(i for i, t in enumerate(tokens) if t in _SHEAR_WORDS | {"shear"})
+        quals, u = after_unit(k, _STRAIN_WORDS | {"amount"})
+        return _Col(index, header, "strain", 0.0, u, "shear")
     for k, tok in enumerate(tokens):
         before = set(tokens[:k])
         if tok in _STRESS_WORDS:
             quals, u = after_unit(k, _ENG_WORDS | _TRUE_WORDS)
             q = before | set(quals)
             kind = ("true" if q & _TRUE_WORDS else "engineering" if q & _ENG_WORDS else "")
-            other = q - _ENG_WORDS - _TRUE_WORDS
+            other = q - _ENG_WORDS - _TRUE_WORDS - {"shear"}
             return _Col(index, header, "stress", 2.0 if other else 0.0, u, kind)
         if tok in _STRAIN_WORDS:
             quals, u = after_unit(k, _ENG_WORDS | _LOG_WORDS | _AXIAL_WORDS)
@@ -156,6 +205,8 @@ def _classify(index: int, header: str) -> _Col | None:
             u = unit if unit is not None else ""
             if unit is None and rest and _unit_factor("stretch", "_".join(rest)) is not None:
                 rest = []
+            if "shear" in rest:  # "stretch_or_shear_amount": γ on simple-shear rows
+                return _Col(index, header, "stretch", 0.5, u, "or_shear")
             other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS
             return _Col(index, header, "stretch", 0.5 + (1.5 if other else 0.0), u)
     return None
@@ -171,6 +222,9 @@ class _Plan:
     rate: _Col | None
     factors: dict[str, float] = field(default_factory=dict)
     measure: str | None = None  # from the header
+    deform2: _Col | None = None  # λ2 or λ2 − 1 of a biaxial test
+    stress2: _Col | None = None  # stress in direction 2
+    deformation: _Col | None = None  # a text column naming each row's test
 
 
 
@@ -201,8 +255,14 @@ def _resolve_columns(
             "'stress [kPa]', ...), or pass columns={'stress': '<header>'}; force and "
             "displacement must first be converted with the specimen's area and gauge length"
         )
-    plan = _Plan(deform, stress, time, rate)
-    for role, col in (("deform", deform), ("stress", stress), ("time", time), ("rate", rate)):
+    deform2 = _second_deform_column(cols, explicit, src)
+    stress2 = _best_column(cols, explicit, ("stress2",), "second stress", src,
+                           prefer_measure=measure)
+    dcol = _best_column(cols, explicit, ("deformation",), "deformation", src)
+    plan = _Plan(deform, stress, time, rate, deform2=deform2, stress2=stress2,
+                 deformation=dcol)
+    for role, col in (("deform", deform), ("stress", stress), ("time", time), ("rate", rate),
+                      ("deform2", deform2), ("stress2", stress2)):
         if col is not None:
             plan.factors[role] = _column_factor(col, units, src)
     if stress.kind:
@@ -217,7 +277,8 @@ def _explicit_columns(
     explicit: dict[str, _Col | None] = {}
     for key, val in (columns or {}).items():
         role = _norm_key(key)
-        role = {"strain_rate": "rate", "stretch_ratio": "stretch"}.get(role, role)
+        role = {"strain_rate": "rate", "stretch_ratio": "stretch", "gamma": "strain",
+                "shear": "strain"}.get(role, role)
         if role not in _ROLE_KEYS:
             raise DataError(
                 f"{src}: columns={{{key!r}: ...}}: unknown role; use {', '.join(_ROLE_KEYS)}"
@@ -230,10 +291,11 @@ def _explicit_columns(
         if c is None or c.role != role:
             tokens, u = _split_header(names[j])
             c = _Col(j, names[j], role, 0.0, u if u is not None else "",
-                     "eng" if role == "strain" else "")
-            if role in ("stress", "time", "rate", "strain") and u is None and len(tokens) > 1:
+                     "eng" if role in ("strain", "strain2") else "")
+            base = role.rstrip("2")
+            if base in ("stress", "time", "rate", "strain") and u is None and len(tokens) > 1:
                 # "stress_kPa" mapped by hand: the last token may still be the unit
-                if _unit_factor(role, tokens[-1]) is not None:
+                if _unit_factor(base, tokens[-1]) is not None:
                     c.unit = tokens[-1]
         explicit[role] = c
     return explicit
@@ -268,6 +330,17 @@ def _deform_column(
     return _best_column(cols, explicit, roles, "strain or stretch", src) if roles else None
 
 
+def _second_deform_column(
+    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str
+) -> _Col | None:
+    """The λ2 − 1 column, else the λ2 column, of a biaxial test (a given one first)."""
+    for r in ("strain2", "stretch2"):
+        if explicit.get(r) is not None:
+            return explicit[r]
+    roles = tuple(r for r in ("strain2", "stretch2") if r not in explicit)
+    return _best_column(cols, explicit, roles, "second strain or stretch", src) if roles else None
+
+
 def _best_column(
     cols: list[_Col | None],
     explicit: dict[str, _Col | None],
@@ -281,7 +354,7 @@ def _best_column(
         if r in explicit:
             return explicit[r]
     cands = [c for c in cols if c is not None and c.role in roles]
-    if what == "stress":
+    if what in ("stress", "second stress"):
         cands = _stress_candidates(cands, prefer_measure)
     if not cands:
         return None
@@ -317,8 +390,10 @@ def _stress_candidates(cands: list[_Col], prefer_measure: str | None) -> list[_C
 
 def _column_factor(col: _Col, units: Mapping[str, str] | None, src: str) -> float:
     """Factor from the column's unit (the header's, or ``units=``) to MPa, s or 1/s."""
-    r = col.role
-    u = (units or {}).get(r, (units or {}).get("strain_rate") if r == "rate" else None)
+    r = col.role.rstrip("2")
+    u = (units or {}).get(col.role, (units or {}).get(r))
+    if u is None and r == "rate":
+        u = (units or {}).get("strain_rate")
     u = col.unit if u is None else u
     f = _unit_factor(r, u)
     if f is None:

@@ -1,9 +1,10 @@
-"""The curve: :class:`Curve`, one measured uniaxial test, its stretch history and its
+"""The curve: :class:`Curve`, one measured homogeneous test, its loading history and its
 objective points.
 
-The constructor runs the checks and inferences of :mod:`vhfit.data._samples` in order;
-the objective points are placed by :mod:`vhfit.data._points` and the history is
-simplified by :mod:`vhfit.data._paths`. Conventions and errors: see :mod:`vhfit.data`.
+The constructor runs the checks and inferences of :mod:`vhfit.data._samples` (and of
+:mod:`vhfit.data._modes` for the test's deformation) in order; the objective points are
+placed by :mod:`vhfit.data._points` and the history is built by
+:mod:`vhfit.data._histories`. Conventions and errors: see :mod:`vhfit.data`.
 :func:`_curves_from_table` builds the curves of a table (the readers' last step).
 """
 
@@ -16,15 +17,23 @@ from typing import Any
 
 import numpy as np
 
-from vhfit.data._errors import DataError, _norm_measure, _Subset, _warn, _Where
+from vhfit.data._attributes import _CurveAttributes
+from vhfit.data._errors import DataError, _norm_measure, _Subset, _Where
+from vhfit.data._histories import _build_history, _Path
 from vhfit.data._measures import engineering_to_true, true_to_engineering
-from vhfit.data._paths import _bin_means, _segment_bounds, _simplify_idx
+from vhfit.data._modes import (
+    _check_deformation,
+    _check_mode_signs,
+    _driving_strain,
+    _mode_name,
+    _second_path,
+)
+from vhfit.data._paths import LEG_RTOL, _segment_bounds, _turning_points
 from vhfit.data._points import (
     DEFAULT_N_POINTS,
     _check_points_args,
-    _compared_mask,
-    _objective_indices,
     _point_weights,
+    _points_of,
 )
 from vhfit.data._samples import (
     _check_deformed,
@@ -43,7 +52,7 @@ from vhfit.data._samples import (
 )
 from vhfit.data._specs import _curve_specs
 from vhfit.data._table import _Table, _table_from_data
-from vhfit.history import History, from_rest
+from vhfit.history import History
 
 #: A measured strain path is simplified (breakpoints dropped) only where that moves it by
 #: less than this fraction of its strain range; turning points are always kept.
@@ -53,29 +62,52 @@ PATH_RTOL = 1e-4
 #: grows with them): the history then follows an average over this many bins of
 #: consecutive samples, simplified likewise, with a DataWarning saying how closely.
 MAX_BREAKPOINTS = 2000
+#: By default a curve is compared with the model at its measured samples; a longer record
+#: is compared at the means of this many bins of consecutive samples (each bin within one
+#: segment of the history). 1000 bins resolve a curve to 0.1 % of its length, far finer
+#: than its features, and average its noise; the fit's cost grows with the points (4
+#: curves of 10^5 noisy samples: 3.1 s a fit at 1000 bins, 5.9 s at 2000, 2 cores).
+MAX_POINTS = 1000
 
 
 # ================================================================= the curve
-class Curve:
-    """One uniaxial test: measured strain and stress, its loading history, objective points.
+class Curve(_CurveAttributes):
+    """One test: measured deformation and stress, its loading history, objective points.
 
     Parameters
     ----------
     strain : array_like
-        Engineering strain ε = λ − 1 of each sample (negative in compression).
+        Engineering strain ε = λ − 1 of each sample (negative in compression), in the
+        loaded direction 1; in simple shear, the amount of shear γ. Or give ``stretch``.
     stress : array_like
-        Stress of each sample in MPa, in the measure given by ``measure``.
+        Stress of each sample in MPa, in the measure given by ``measure``: the stress in
+        direction 1 (nominal P1 or true σ1), in simple shear the shear stress σ12 = P12.
     strain_rate : float, optional
         Engineering strain rate in 1/s (negative in compression). Without ``time`` the
         test is a constant-rate ramp from ε = 0 (paper Eq. 3), and the strain must be
         monotonic in the rate's direction; it need not start at 0. With ``time`` it is
-        only the nominal rate (used e.g. for the τ bounds of Eq. 22).
+        only the nominal rate (used e.g. for the τ bounds of Eq. 22). With neither rate
+        nor time the curve is an *equilibrium* curve: fully relaxed states compared with
+        the long-term law alone (:attr:`is_equilibrium`); its samples need no order.
     time : array_like, optional
         Time of each sample in s, for measured histories (loading–unloading, ramp–hold,
         drifting rates). The history is piecewise linear through the samples; the
         material is at rest at ε = 0 at t = 0, so a first sample at t > 0 is reached by
         a linear ramp from (0, 0). Samples at the same time and strain are merged (their
         stresses averaged).
+    stretch : array_like, optional
+        Stretch λ1 of each sample, instead of ``strain`` (not in simple shear).
+    deformation : {"uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear"}
+        The test (docs/modes.md): uniaxial (default, the paper's), equibiaxial (λ1 = λ2),
+        planar or pure shear (λ2 = 1), general biaxial (λ1 and λ2 both prescribed) or
+        simple shear. Lab names such as ``"pure shear"`` or ``"equibiaxial tension"``
+        are understood.
+    strain2, stretch2 : array_like, optional
+        λ2 − 1 or λ2 of each sample: required for ``"biaxial"``, refused otherwise.
+    stress2 : array_like, optional
+        Stress in direction 2 of each sample ("biaxial" or "equibiaxial"), same measure:
+        both stresses are then compared, the points of ``stress2`` after those of
+        ``stress`` (:attr:`target_direction`).
     measure : {"engineering", "true"}
         Stress measure of ``stress`` ("nominal" and "cauchy" are accepted as aliases).
     mode : {"compression", "tension", "mixed"}, optional
@@ -86,12 +118,19 @@ class Curve:
         Name used in messages, plots and reports.
     weight : float, default 1
         Weight of the curve in the objective (it multiplies each point's squared term).
-    n_points : int or None, default DEFAULT_N_POINTS
-        Number of objective points (per segment with ``by="segments"``); ``None`` uses
-        the measured samples themselves.
+    n_points : int or None, default None
+        ``None`` (the default, ``DEFAULT_N_POINTS``): the objective points are the
+        measured samples themselves, or for a record of more than ``MAX_POINTS`` samples
+        the means (of strain, time and stress) of ``MAX_POINTS`` bins of consecutive
+        samples, no bin straddling a segment bound. An int: that many points placed
+        ``by`` (per segment with ``by="segments"``), their target stresses interpolated
+        linearly between samples; ``n_points=10`` is the paper's scheme (§2.2).
+        ``"all"``: every sample, never binned (e.g. to score a fit made on bins on
+        every sample of a long record).
     by : {"strain", "time", "arclength", "segments"}, optional
-        How the objective points are spaced: evenly in strain (the default for a
-        strictly monotonic strain, as in the paper); in time; in arc length along the
+        With an int ``n_points``, how the objective points are spaced: evenly in strain
+        (the default for a strictly monotonic strain, as in the paper); in time; in arc
+        length along the
         (strain, stress) curve normalised by its ranges; or ``"segments"`` (the default
         otherwise): ``n_points`` on each segment of the history — a loading leg between
         reversals of the strain by more than ``LEG_RTOL`` of its range, or a hold (the
@@ -114,13 +153,19 @@ class Curve:
     Raises
     ------
     DataError
-        Fewer than 2 samples, NaN/inf, no rate and no time, strain going back and forth
-        at constant rate, time running backwards, conflicting duplicate samples, signs
-        contradicting the declared mode, stretch ≤ 0.
+        Fewer than 2 samples, NaN/inf, strain going back and forth at constant rate,
+        time running backwards, conflicting duplicate samples, signs contradicting the
+        declared mode (or, in equibiaxial, planar and simple shear, a stress whose sign
+        contradicts the strain), stretch ≤ 0, an unknown deformation, a biaxial curve
+        without its second stretch, a simple-shear curve given stretches.
 
     Notes
     -----
-    *Objective points.* With ``n`` points on a curve whose data start from rest (ε ≈ 0),
+    *Objective points.* By default every sample is compared (Eq. 20 normalises each
+    curve by its own mean stress; a curve with more samples counts more, which
+    ``weight`` can balance); a long record by bin means, which average its noise instead
+    of picking noisy samples at chosen places. With ``n`` points on a curve whose data
+    start from rest (ε ≈ 0),
     the points sit at fractions ``1/n, 2/n, …, 1`` of the compared range: the rest point
     itself, where model and data are both 0, is not spent as a point (Eq. 20 divides by
     the curve's mean stress, not pointwise, so zero-stress points would be allowed, but
@@ -144,36 +189,60 @@ class Curve:
     >>> eps = np.linspace(0.0, -0.5, 51)
     >>> c = Curve(strain=eps, stress=10 * eps, strain_rate=-100.0, name="fast")
     >>> c
-    Curve('fast': compression, engineering stress, rate -100/s, 51 samples, 10 points by strain)
-    >>> c.target_strain[:4]
-    array([-0.05, -0.1 , -0.15, -0.2 ])
-    >>> c.history.out_time[:3]
-    array([0.0005, 0.001 , 0.0015])
-    >>> c.resample(4).target_stress
+    Curve('fast': compression, engineering stress, rate -100/s, 51 samples, 51 points by samples)
+    >>> c.target_strain[:3]
+    array([ 0.  , -0.01, -0.02])
+    >>> c.history.out_time[1:3]
+    array([0.0001, 0.0002])
+    >>> c.resample(4).target_stress          # 4 points evenly in strain from rest
     array([-1.25, -2.5 , -3.75, -5.  ])
+    >>> Curve(strain=eps, stress=10 * eps, strain_rate=-100.0, n_points=10).target_strain[:4]
+    array([-0.05, -0.1 , -0.15, -0.2 ])
 
     A loading–unloading test with its time column is resampled along the curve:
 
     >>> t = np.linspace(0.0, 2.0, 201)
-    >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t)
+    >>> lu = Curve(strain=0.5 - np.abs(0.5 - 0.5 * t), stress=np.sin(t), time=t,
+    ...            n_points=10)
     >>> lu.mode, lu.by, lu.n_segments, lu.n_points, lu.strain_rate
     ('tension', 'segments', 2, 20, 0.5)
     >>> float(lu.target_strain[9])           # the turning point is an objective point
     0.5
+
+    Every homogeneous test, at a rate, along a time history, or at equilibrium:
+
+    >>> lam = np.linspace(1.0, 2.0, 6)
+    >>> eb = Curve(stretch=lam, stress=0.3 * (lam - lam**-5), deformation="equibiaxial")
+    >>> eb.name, eb.deformation, eb.mode, eb.n_points
+    ('equibiaxial (equilibrium)', 'equibiaxial', 'tension', 6)
+    >>> eb.is_equilibrium, eb.history.is_equilibrium, eb.strain_rate
+    (True, True, None)
+
+    A long record is compared at bin means of its samples:
+
+    >>> t = np.linspace(0.0, 1.0, 10_001)
+    >>> long = Curve(strain=0.2 * t, stress=t, time=t)
+    >>> long.n_points, long.by, float(long.target_time[0])
+    (1000, 'bins', 0.0005)
     """
 
     def __init__(
         self,
-        strain: Any,
-        stress: Any,
+        strain: Any = None,
+        stress: Any = None,
         strain_rate: float | None = None,
         time: Any = None,
         *,
+        stretch: Any = None,
+        deformation: str = "uniaxial",
+        strain2: Any = None,
+        stretch2: Any = None,
+        stress2: Any = None,
         measure: str = "engineering",
         mode: str | None = None,
         name: str | None = None,
         weight: float = 1.0,
-        n_points: int | None = DEFAULT_N_POINTS,
+        n_points: int | str | None = DEFAULT_N_POINTS,
         by: str | None = None,
         compression_positive: bool = False,
         source: str | os.PathLike[str] | None = None,
@@ -181,57 +250,60 @@ class Curve:
         metadata: Mapping[str, Any] | None = None,
     ) -> None:
         # the arguments, checked at the front door in the order their messages are tested
-        name = _default_name(name, strain_rate)
         src = None if source is None else str(source)
-        where = _Where(name, src, rows)
+        where = _Where(_default_name(name, strain_rate), src, rows)
+        deformation = _check_deformation(deformation, where)
+        if name is None and (deformation != "uniaxial" or (strain_rate is None and time is None)):
+            where = _Where(_mode_name(deformation, strain_rate, time), src, rows)
+        strain = _driving_strain(strain, stretch, deformation, where)
+        if stress is None:
+            raise DataError(f"{where()}: no stress= given: give the stress of each sample")
         eps, sig, t = _sample_arrays(where, strain, stress, time, rows)
+        e2, s2 = _second_path(deformation, strain2, stretch2, stress2, eps.size, where)
         measure = _norm_measure(measure, where)
         weight = _check_weight(weight, where)
         rate = None if strain_rate is None else _parse_rate_value(strain_rate, where)
-        if rate is None and t is None:
-            raise DataError(
-                f"{where()}: no strain rate and no time column: give strain_rate in 1/s "
-                "(negative in compression) or the time of each sample"
-            )
+        equilibrium = rate is None and t is None
         n_points, by = _check_points_args(n_points, by, where)
-        _check_deformed(eps, where)
+        paths = eps if e2 is None else np.concatenate([eps, e2])
+        _check_deformed(paths, where)
         # the samples: duplicates merged, then signs and mode, then kinematics
-        eps, sig, t, keep = _clean_samples(eps, sig, t, where)
-        tol = _sign_tolerance(eps, where)
-        declared = mode is not None or compression_positive
-        eps, sig, mode = _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep,
-                                         where)
-        rate = _rate_with_sign(rate, mode, compression_positive, where)
-        _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where)
-        sig = _stress_with_sign(sig, mode, declared, keep, where)
-        _check_kinematics(eps, t, rate, keep, where)
-        rate_estimated = rate is None
-        if rate is None:
-            rate = _nominal_rate(t, eps, mode, tol, where)
+        eps, sig, t, keep, e2, s2 = _clean_samples(eps, sig, t, where, equilibrium, e2, s2)
+        eps, sig, e2, s2, mode, rate, tol = _signed_samples(
+            eps, sig, t, e2, s2, rate, mode, compression_positive, deformation, keep, where)
+        rate_estimated = rate is None and t is not None
+        if rate_estimated:
+            lead = eps if e2 is None or np.ptp(eps) >= np.ptp(e2) else e2
+            rate = _nominal_rate(t, lead, mode, tol, where)
 
         self._strain = _frozen(eps)
         self._stress = _frozen(sig)
         self._time = None if t is None else _frozen(t)
-        self._rate = float(rate)
+        self._strain2 = None if e2 is None else _frozen(e2)
+        self._stress2 = None if s2 is None else _frozen(s2)
+        self._deformation = deformation
+        self._equilibrium = equilibrium
+        self._rate = None if rate is None else float(rate)
         self._rate_estimated = rate_estimated
         self._measure = measure
         self._mode = mode
-        self._name = name
+        self._name = where.name
         self._weight = weight
         self._source = src
-        self._where = _Where(name, src, None if rows is None else _Subset(rows, keep))
+        self._where = _Where(where.name, src, None if rows is None else _Subset(rows, keep))
         self._metadata = dict(metadata or {})
         self._tol = tol
         d = np.diff(eps)
         self._monotone = bool((d > 0).all() or (d < 0).all())
-        self._bounds = (np.array([0, eps.size - 1]) if t is None
-                        else _segment_bounds(t, eps, MAX_BREAKPOINTS))
+        self._bounds = _bounds_of(t, eps, e2, equilibrium, MAX_BREAKPOINTS)
         self._n_req = n_points
         self._by_req = by
         self._window = None  # boolean mask over samples, or None
         self._window_desc: tuple[str, ...] = ()
         self._point_weights: Any = None
         self._set_points()
+        if e2 is not None and self.is_constant_rate:
+            _ = self.history  # λ2 must ramp at a constant rate too: say so now, not later
 
     # ------------------------------------------------------------- building
     @classmethod
@@ -269,169 +341,48 @@ class Curve:
         new._set_points()
         return new
 
-    # ------------------------------------------------------- measured data
-    @property
-    def strain(self) -> np.ndarray:
-        """Measured engineering strain of each sample (after merging duplicates)."""
-        return self._strain
-
-    @property
-    def stress(self) -> np.ndarray:
-        """Measured stress of each sample in MPa, in :attr:`measure`."""
-        return self._stress
-
-    @property
-    def time(self) -> np.ndarray | None:
-        """Measured time of each sample in s, or ``None`` for a constant-rate curve."""
-        return self._time
-
-    @property
-    def stretch(self) -> np.ndarray:
-        """λ = 1 + ε of each sample."""
-        return 1.0 + self._strain
-
-    @property
-    def strain_rate(self) -> float:
-        """Nominal engineering strain rate in 1/s (negative in compression).
-
-        As given; for a time curve without a given rate it is estimated as the median of
-        |dε/dt| over the samples, each step weighted by the strain it applies (so holds
-        and sensor noise do not count), with the sign of the loading mode (of the first
-        loading for a mixed curve). See :attr:`strain_rate_estimated`.
-        """
-        return self._rate
-
-    @property
-    def strain_rate_estimated(self) -> bool:
-        """True if :attr:`strain_rate` was estimated from the time column."""
-        return self._rate_estimated
-
-    @property
-    def is_constant_rate(self) -> bool:
-        """True if the history is a constant-rate ramp (no time column)."""
-        return self._time is None
-
-    @property
-    def measure(self) -> str:
-        """Stress measure: ``"engineering"`` or ``"true"``."""
-        return self._measure
-
-    @property
-    def mode(self) -> str:
-        """Loading mode: ``"compression"``, ``"tension"`` or ``"mixed"``."""
-        return self._mode
-
-    @property
-    def name(self) -> str:
-        """Name of the curve."""
-        return self._name
-
-    @property
-    def weight(self) -> float:
-        """Weight of the curve in the objective."""
-        return self._weight
-
-    @property
-    def source(self) -> str | None:
-        """File (or other source) the curve was read from."""
-        return self._source
-
-    @property
-    def metadata(self) -> dict[str, Any]:
-        """Free-form information (e.g. a file's ``# key: value`` lines)."""
-        return self._metadata
-
-    # ------------------------------------------------------- objective points
-    @property
-    def n_points(self) -> int:
-        """Number of objective points."""
-        return int(self._t_obj.size)
-
-    @property
-    def n_segments(self) -> int:
-        """Number of segments of the history: loading legs between strain reversals, and holds.
-
-        A constant-rate ramp is one segment; see ``by="segments"`` in :class:`Curve`.
-        """
-        return int(self._bounds.size - 1)
-
-    @property
-    def by(self) -> str:
-        """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
-        ``"segments"``, or ``"samples"`` (the measured samples themselves)."""
-        return self._by
-
-    @property
-    def target_strain(self) -> np.ndarray:
-        """Strain at the objective points."""
-        return self._e_obj
-
-    @property
-    def target_time(self) -> np.ndarray:
-        """Time of the objective points in the history (``strain / rate`` at constant rate)."""
-        return self._t_obj
-
-    @property
-    def target_stress(self) -> np.ndarray:
-        """Measured stress at the objective points, in :attr:`measure` (MPa)."""
-        return self._s_obj
-
-    @property
-    def target_weights(self) -> np.ndarray:
-        """Weight of each objective point (all 1 unless set by :meth:`with_point_weights`)."""
-        return self._w_obj
-
     @cached_property
     def history(self) -> History:
-        """The stretch history to simulate, with ``out_time`` at the objective points."""
-        if self._time is None:
-            return History.constant_rate(self._e_obj, self._rate)
-        t, e = from_rest(self._time, self._strain)
-        scale = max(float(np.ptp(e)), float(np.abs(e).max()))
-        tol = PATH_RTOL * scale
-        idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-        if idx is None:
-            return self._smoothed_history(tol, scale)
-        return History.piecewise_linear(t[idx], e[idx], out_time=self._t_obj)
-
-    def _smoothed_history(self, tol: float, scale: float) -> History:
-        # Following every noisy sample would keep ~all of them as breakpoints and turn
-        # the noise into strain-rate spikes of noise/Δt; follow bin means instead.
-        t, e = from_rest(*_bin_means(self._time, self._strain, MAX_BREAKPOINTS))
-        idx = None
-        while idx is None:
-            idx = _simplify_idx(t, e, tol, limit=MAX_BREAKPOINTS)
-            tol *= 2.0
-        t, e = t[idx], e[idx]
-        dev = np.interp(self._time, t, e) - self._strain
-        rms = float(np.sqrt(np.mean(dev * dev)))
-        _warn(
-            f"{self._where()}: the measured strain path is noisy or too detailed to follow "
-            f"sample by sample (more than {MAX_BREAKPOINTS} breakpoints within "
-            f"{PATH_RTOL:g} of its range, and noise would become strain-rate spikes): the "
-            f"simulated history follows a {MAX_BREAKPOINTS}-bin average of it with "
-            f"{idx.size} breakpoints (RMS deviation from the samples {rms:.3g} strain, "
-            f"{rms / scale:.2g} of the range); smooth the strain signal yourself, or raise "
-            f"vhfit.data.MAX_BREAKPOINTS, to choose differently"
+        """The loading history to simulate, with ``out_time`` at the objective points
+        (and ``out_direction`` saying which loaded direction each one is)."""
+        n = self._t1_obj.size
+        path = _Path(
+            self._deformation, self._rate if self.is_constant_rate else None, self._time,
+            self._strain, self._strain2, self._e_obj[:n],
+            None if self._e2_obj is None else self._e2_obj[:n], self._t1_obj,
+            self._stress2 is not None,
         )
-        return History.piecewise_linear(t, e, out_time=self._t_obj)
+        return _build_history(path, PATH_RTOL, MAX_BREAKPOINTS, self._where)
 
     def _sample_time(self) -> np.ndarray:
+        if self._equilibrium:  # no time: the sample numbers order the samples
+            return np.arange(self._strain.size, dtype=np.float64)
         return self._time if self._time is not None else self._strain / self._rate
 
     def _set_points(self) -> None:
         where = self._where
-        eps, sig, ts = self._strain, self._stress, self._sample_time()
-        mask = _compared_mask(eps, ts, self._window, self._time is None, self._n_req,
-                              self._window_desc, where)
-        idx, self._by = _objective_indices(
-            eps, sig, ts, mask, self._bounds, self._n_req, self._by_req, self._monotone,
-            self._tol, self._window_desc, where,
+        cols = [self._strain, self._stress, self._sample_time()]
+        cols += [v for v in (self._strain2, self._stress2) if v is not None]
+        out, self._by = _points_of(
+            tuple(cols), self._rate if self.is_constant_rate else None, self._window,
+            self._bounds, self._n_req, self._by_req, self._monotone, self._tol,
+            self._window_desc, MAX_POINTS, where,
         )
-        k = np.arange(eps.size, dtype=np.float64)
-        e_obj = np.interp(idx, k, eps)
-        s_obj = np.interp(idx, k, sig)
-        t_obj = e_obj / self._rate if self._time is None else np.interp(idx, k, ts)
+        e_obj, s_obj, t_obj = out[:3]
+        rest = list(out[3:])
+        e2_obj = rest.pop(0) if self._strain2 is not None else None
+        if self._equilibrium:  # the history's outputs are its samples, numbered
+            t_obj = np.arange(e_obj.size, dtype=np.float64)
+        self._t1_obj = _frozen(t_obj)
+        d_obj = np.ones(e_obj.size, dtype=np.int64)
+        if self._stress2 is not None:  # both directions compared: points concatenated
+            e_obj, t_obj = np.tile(e_obj, 2), np.tile(t_obj, 2)
+            e2_obj = None if e2_obj is None else np.tile(e2_obj, 2)
+            s_obj = np.concatenate([s_obj, rest[0]])
+            d_obj = np.concatenate([d_obj, 2 * d_obj])
+        self._d_obj = d_obj
+        self._d_obj.flags.writeable = False
+        self._e2_obj = None if e2_obj is None else _frozen(e2_obj)
         self._e_obj = _frozen(e_obj)
         self._s_obj = _frozen(s_obj)
         self._t_obj = _frozen(t_obj)
@@ -439,13 +390,15 @@ class Curve:
                                                     where)
         self._w_obj = _frozen(w_obj)
 
-
     # ------------------------------------------------------------- variants
-    def resample(self, n_points: int | None = DEFAULT_N_POINTS, by: str | None = None) -> Curve:
+    def resample(self, n_points: int | str | None = DEFAULT_N_POINTS,
+                 by: str | None = None) -> Curve:
         """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
-        ``n_points=None`` compares at the measured samples themselves. ``by=None`` picks
-        ``"strain"`` for a strictly monotonic strain and ``"segments"`` otherwise.
+        ``n_points=None`` compares at the measured samples themselves (bin means above
+        ``MAX_POINTS``; ``"all"``: never binned); ``n_points=10`` is the paper's scheme.
+        ``by=None`` picks ``"strain"`` for a strictly monotonic strain and ``"segments"``
+        otherwise.
 
         Examples
         --------
@@ -475,6 +428,9 @@ class Curve:
         >>> c.trim(strain=(-0.3, None)).target_strain
         array([-0.1, -0.2, -0.3])
         """
+        if time is not None and self._equilibrium:
+            raise DataError(f"{self._where()}: trim(time=...): an equilibrium curve has no "
+                            "time: trim it by strain")
         ts = self._sample_time()
         mask = np.ones(self._strain.size, dtype=bool) if self._window is None else self._window
         desc = list(self._window_desc)
@@ -533,8 +489,14 @@ class Curve:
         m = _norm_measure(measure, self._where)
         if m == self._measure:
             return self
+        if self._deformation == "simple_shear":  # σ12 = P12: the measures coincide
+            return self._derive(_measure=m)
         conv = engineering_to_true if m == "true" else true_to_engineering
-        return self._derive(_stress=_frozen(conv(self._stress, self._strain)), _measure=m)
+        attrs = {"_stress": _frozen(conv(self._stress, self._strain)), "_measure": m}
+        if self._stress2 is not None:  # direction 2 divides by λ2 (= λ1 if equibiaxial)
+            e2 = self._strain if self._strain2 is None else self._strain2
+            attrs["_stress2"] = _frozen(conv(self._stress2, e2))
+        return self._derive(**attrs)
 
     def replace(self, *, name: str | None = None, weight: float | None = None) -> Curve:
         """The same curve with another name and/or weight."""
@@ -550,15 +512,56 @@ class Curve:
         return self._derive(**attrs)
 
     def __repr__(self) -> str:
-        rate = f"rate {self._rate:g}/s" + (" (estimated)" if self._rate_estimated else "")
-        hist = "constant rate" if self._time is None else "time history"
+        if self._equilibrium:
+            rate = "equilibrium"
+        else:
+            rate = f"rate {self._rate:g}/s" + (" (estimated)" if self._rate_estimated else "")
         win = f", window {' '.join(self._window_desc)}" if self._window_desc else ""
-        extra = "" if self._time is None else f", {hist}"
+        extra = "" if self._time is None else ", time history"
+        mode = self._mode
+        if self._deformation == "simple_shear":
+            mode = {"tension": "γ > 0", "compression": "γ < 0"}.get(mode, "γ of both signs")
+        test = "" if self._deformation == "uniaxial" else f"{self._deformation} "
         return (
-            f"Curve({self._name!r}: {self._mode}, {self._measure} stress, {rate}{extra}, "
+            f"Curve({self._name!r}: {test}{mode}, {self._measure} stress, {rate}{extra}, "
             f"{self._strain.size} samples, {self.n_points} points by {self._by}{win})"
         )
 
+
+
+def _signed_samples(eps, sig, t, e2, s2, rate, mode, compression_positive, deformation, keep,
+                    where):
+    """The samples with the signs of their loading mode, checked (``Curve`` steps 3-4):
+    (strain, stress, strain2, stress2, mode, rate, sign tolerance)."""
+    tol = _sign_tolerance(eps if e2 is None else np.concatenate([eps, e2]), where)
+    declared = mode is not None or compression_positive
+    eps, sig, mode = _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep,
+                                     where, guess=deformation == "uniaxial")
+    if compression_positive:
+        e2 = None if e2 is None else -e2
+        s2 = None if s2 is None else -s2
+    rate = _rate_with_sign(rate, mode, compression_positive, where)
+    _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where, rate is None and t is None)
+    if deformation == "uniaxial":
+        sig = _stress_with_sign(sig, mode, declared, keep, where)
+    else:
+        _check_mode_signs(eps, sig, deformation, mode, keep, where)
+    _check_kinematics(eps, t, rate, keep, where, shear=deformation == "simple_shear")
+    return eps, sig, e2, s2, mode, rate, tol
+
+
+def _bounds_of(t, eps, e2, equilibrium: bool, max_breakpoints: int) -> np.ndarray:
+    """Sample indices bounding the segments of a curve's path (see ``Curve.n_segments``):
+    of the path that moves more (λ1, or λ2 of a biaxial test); at equilibrium, the
+    reversals of the samples' order; at constant rate, none."""
+    lead = eps if e2 is None or np.ptp(eps) >= np.ptp(e2) else e2
+    if equilibrium:
+        turns = [_turning_points(x, LEG_RTOL * float(np.ptp(x))) for x in (eps, e2)
+                 if x is not None]
+        return np.unique(np.concatenate(turns))
+    if t is None:
+        return np.array([0, eps.size - 1])
+    return _segment_bounds(t, lead, max_breakpoints)
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:

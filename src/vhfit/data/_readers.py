@@ -38,15 +38,18 @@ def read_csv(
     group_by: str | Sequence[str] | None = None,
     select: Mapping[str, Any] | None = None,
     sort: bool = False,
-    n_points: int | None = DEFAULT_N_POINTS,
+    n_points: int | str | None = DEFAULT_N_POINTS,
     by: str | None = None,
     encoding: str | None = None,
+    deformation: str | Sequence[str | None] | None = None,
 ) -> list[Curve]:
     """Read test curves from CSV files.
 
     One file per curve (columns such as ``strain``, ``stress_MPa``, optional ``time_s``
     and ``strain_rate``), or one long file with a rate column (one curve per distinct
-    rate) or a ``test``/``curve``/``specimen``/``name`` column.
+    rate), a ``test``/``curve``/``specimen``/``name`` column or a deformation column
+    (one curve per test named in it). A file with neither a rate nor a time gives
+    equilibrium curves (the long-term response, samples in any order).
 
     Parameters
     ----------
@@ -84,6 +87,13 @@ def read_csv(
     encoding : str, optional
         Text encoding; default: UTF-8 (with or without BOM), UTF-16 with BOM, else
         Latin-1.
+    deformation : str or sequence of str, optional
+        The test of the file's curves (one for all files, or one per file), as in
+        :class:`Curve`; beats the file's ``# deformation:`` line. A deformation column
+        (``deformation``, ``test_type``, ``mode`` holding test names) names each row's
+        test instead. Undeclared: biaxial for a file with a second stretch column,
+        simple shear for an amount-of-shear column (``gamma``, ``shear_strain``),
+        uniaxial otherwise.
 
     Returns
     -------
@@ -100,7 +110,10 @@ def read_csv(
     ``stress_kPa``, ``stress [MPa]``, ``Stress (Pa)``, ``nominal_stress_MPa``,
     ``true_stress_MPa``, ``strain``, ``strain_%``, ``engineering_strain``,
     ``true_strain`` (logarithmic: converted), ``stretch``/``lambda``, ``time_s``,
-    ``time_ms``, ``strain_rate``, ``rate_1/s``, ``nominal_strain_rate_per_s``. Other
+    ``time_ms``, ``strain_rate``, ``rate_1/s``, ``nominal_strain_rate_per_s``; for other
+    tests ``stretch2``/``lambda2``/``strain2`` (λ2 of a biaxial test), ``stress2`` or
+    ``nominal_stress_2`` (the second stress), ``gamma``/``shear_strain`` (amount of shear),
+    ``stretch_or_shear_amount`` (γ on simple-shear rows), and a deformation column. Other
     columns (force, displacement, text) are ignored. Stress units: Pa, kPa, MPa, GPa,
     N/mm², psi, ksi, kgf/cm², bar; no unit means MPa.
 
@@ -108,11 +121,13 @@ def read_csv(
     line); a decimal comma is understood with ``;`` or tab separators; UTF-8/UTF-16
     BOMs are skipped; blank lines are skipped. Lines ``# key: value`` before the
     header set ``strain_rate`` (``-100`` or ``-100 1/s``), ``measure``, ``mode``,
-    ``name``, ``weight``, ``compression_positive`` and ``<role>_unit``; other ``#``
+    ``deformation``, ``name``, ``weight``, ``compression_positive`` and ``<role>_unit``;
+    other ``#``
     lines are comments.
 
     *Curves.* A file with a time column gives a time-history curve; without one, a
-    constant-rate curve, which needs a rate (column, ``#`` line or ``rate=``). Rows
+    constant-rate curve if it has a rate (column, ``#`` line or ``rate=``), else an
+    equilibrium curve (fully relaxed states; docs/modes.md). Rows
     at the same rate and strain with different stresses are an error (two tests
     mixed up). Separate files at the same rate are separate curves (replicates).
 
@@ -133,22 +148,29 @@ def read_csv(
         paths = list(path_or_paths)
         if not paths:
             raise DataError("read_csv: no files given")
-    if rate is None or np.ndim(rate) == 0:
-        rates = [rate] * len(paths)
-    else:
-        rates = list(rate)  # type: ignore[arg-type]
-        if len(rates) != len(paths):
-            raise DataError(f"read_csv: {len(rates)} rates for {len(paths)} files: give one "
-                            "rate, or one per file")
+    rates = _per_file(rate, "rates", len(paths), np.ndim(rate) == 0)
+    tests = _per_file(deformation, "deformations", len(paths), isinstance(deformation, str))
     out: list[Curve] = []
-    for p, r in zip(paths, rates):
+    for p, r, dfm in zip(paths, rates, tests):
         table = _read_table(p, names, encoding)
         out.extend(_curves_from_table(
             table, rate=None if r is None else float(r), measure=measure, mode=mode,
             compression_positive=compression_positive, columns=columns, units=units,
             group_by=group_by, select=select, sort=sort, n_points=n_points, by=by, name=None,
+            deformation=dfm,
         ))
     return out
+
+
+def _per_file(value: Any, what: str, n: int, single: bool) -> list[Any]:
+    """One value for all ``n`` files, or one per file."""
+    if value is None or single:
+        return [value] * n
+    values = list(value)
+    if len(values) != n:
+        raise DataError(f"read_csv: {len(values)} {what} for {n} files: give one "
+                        f"{what[:-1]}, or one per file")
+    return values
 
 
 def curves_from_arrays(
@@ -164,10 +186,11 @@ def curves_from_arrays(
     group_by: str | Sequence[str] | None = None,
     select: Mapping[str, Any] | None = None,
     sort: bool = False,
-    n_points: int | None = DEFAULT_N_POINTS,
+    n_points: int | str | None = DEFAULT_N_POINTS,
     by: str | None = None,
     name: str | None = None,
     source: str | None = None,
+    deformation: str | None = None,
 ) -> list[Curve]:
     """Curves from a table in memory: the array counterpart of :func:`read_csv`.
 
@@ -186,6 +209,8 @@ def curves_from_arrays(
         What to call the data in messages.
     rate, measure, mode, compression_positive, columns, units, group_by, select, sort, n_points, by
         As in :func:`read_csv`.
+    deformation : str, optional
+        The test of the curves, as in :func:`read_csv` (one for all).
 
     Examples
     --------
@@ -202,6 +227,7 @@ def curves_from_arrays(
         table, rate=rate, measure=measure, mode=mode,
         compression_positive=compression_positive, columns=columns, units=units,
         group_by=group_by, select=select, sort=sort, n_points=n_points, by=by, name=name,
+        deformation=deformation,
     )
 
 

@@ -90,19 +90,52 @@ def _check_deformed(eps: np.ndarray, where: _Where) -> None:
 
 
 # ------------------------------------------------------------ duplicates and order
-def _clean_samples(eps, sig, t, where):
-    """Samples with duplicates merged: (strain, stress, time, index of each kept sample)."""
+def _clean_samples(eps, sig, t, where, equilibrium=False, e2=None, s2=None):
+    """Samples with duplicates merged: (strain, stress, time, index of each kept sample,
+    second strain, second stress). Equilibrium samples are kept as they are: repeated
+    states are repeated measurements, and their order means nothing."""
     keep = np.arange(eps.size)
+    if equilibrium:
+        return eps, sig, t, keep, e2, s2
     if t is not None:
+        t0 = t
         eps, sig, t, keep = _clean_time_series(eps, sig, t, keep, where)
+        if keep.size < t0.size:  # samples at one time: the second path merged alike
+            e2, s2 = _merge_second(t0, keep, e2, s2, where)
     else:
         eps, sig, keep = _clean_rate_series(eps, sig, keep, where)
+        e2 = None if e2 is None else e2[keep]
+        s2 = None if s2 is None else s2[keep]
     if eps.size < 2:
         raise DataError(
             f"{where()}: only one distinct sample remains after merging duplicates: a "
             "curve needs at least 2"
         )
-    return eps, sig, t, keep
+    return eps, sig, t, keep, e2, s2
+
+
+def _merge_second(t, keep, e2, s2, where):
+    """λ2 − 1 and stress2 of samples merged by time: λ2 must agree, stress2 is averaged."""
+    dup = np.diff(t) == 0
+    grp = np.concatenate([[0], np.cumsum(~dup)])
+    if e2 is not None:
+        _check_same_time(t, e2, dup, np.arange(t.size), "second strains", where)
+        e2 = e2[keep]
+    if s2 is not None:
+        s2 = np.bincount(grp, weights=s2) / np.bincount(grp)
+    return e2, s2
+
+
+def _check_same_time(t, x, dup, keep, what, where):
+    """Samples at one time (``dup``) must agree in ``x`` (a strain)."""
+    bad = dup & (np.diff(x) != 0)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise DataError(
+            f"{where(keep[k + 1])}: two samples at the same time ({t[k]:g} s) have "
+            f"different {what} ({x[k]:g} and {x[k + 1]:g}): fix the time column (more "
+            "digits) or drop one of them"
+        )
 
 
 def _clean_time_series(eps, sig, t, keep, where):
@@ -126,14 +159,7 @@ def _clean_time_series(eps, sig, t, keep, where):
         )
     dup = dt == 0
     if dup.any():
-        bad = dup & (np.diff(eps) != 0)
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise DataError(
-                f"{where(keep[k + 1])}: two samples at the same time ({t[k]:g} s) have "
-                f"different strains ({eps[k]:g} and {eps[k + 1]:g}): fix the time column (more "
-                "digits) or drop one of them"
-            )
+        _check_same_time(t, eps, dup, keep, "strains", where)
         grp = np.concatenate([[0], np.cumsum(~dup)])
         first = np.flatnonzero(np.concatenate([[True], ~dup]))
         sig = np.bincount(grp, weights=sig) / np.bincount(grp)
@@ -180,10 +206,10 @@ def _sign_class(eps: np.ndarray, tol: float) -> str:
     return "mixed"
 
 
-def _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep, where):
+def _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep, where, guess=True):
     """(strain, stress, mode): the declared mode checked against the strain's signs, or the
-    mode inferred from them (a tension-signed strain with a negative rate is compression
-    given as magnitudes: negated, with a warning)."""
+    mode inferred from them (with ``guess``, a tension-signed strain with a negative rate
+    is compression given as magnitudes: negated, with a warning)."""
     if compression_positive:
         eps, sig = -eps, -sig
     cls = _sign_class(eps, tol)
@@ -200,7 +226,7 @@ def _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep, where):
                 "or correct the mode"
             )
         return eps, sig, mode
-    if rate is not None and cls == "tension" and rate < 0:
+    if guess and rate is not None and cls == "tension" and rate < 0:
         _warn(
             f"{where()}: strain is >= 0 but strain_rate = {rate:g} < 0: took this as a "
             "compression test given as positive magnitudes and negated strain and "
@@ -231,8 +257,8 @@ def _rate_with_sign(rate, mode, compression_positive, where):
     return rate
 
 
-def _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where):
-    if t is None and mode == "mixed":
+def _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where, equilibrium=False):
+    if t is None and mode == "mixed" and not equilibrium:
         major = np.sign(eps[np.argmax(np.abs(eps))])
         k = int(np.flatnonzero(eps * major < -tol)[0])
         raise DataError(
@@ -265,9 +291,10 @@ def _stress_with_sign(sig, mode, declared, keep, where):
 
 
 # --------------------------------------------------------------- kinematic checks
-def _check_kinematics(eps, t, rate, keep, where):
-    """A constant-rate curve is monotonic in the rate's direction; every stretch is > 0."""
-    if t is None:
+def _check_kinematics(eps, t, rate, keep, where, shear=False):
+    """A constant-rate curve is monotonic in the rate's direction; every stretch is > 0
+    (``shear``: the strain is an amount of shear γ, of any value)."""
+    if t is None and rate is not None:
         d = np.diff(eps) * np.sign(rate)
         if (d < 0).any():
             k = int(np.flatnonzero(d < 0)[0])
@@ -277,7 +304,7 @@ def _check_kinematics(eps, t, rate, keep, where):
                 "give its time column, if the rows are out of order sort them "
                 "(read_csv(..., sort=True))"
             )
-    if (eps <= -1.0).any():
+    if not shear and (eps <= -1.0).any():
         k = int(np.flatnonzero(eps <= -1.0)[0])
         raise DataError(
             f"{where(keep[k])}: strain = {eps[k]:g} means a stretch 1 + strain <= 0: "

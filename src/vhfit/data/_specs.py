@@ -27,15 +27,18 @@ from vhfit.data._columns import (
     _split_header,
     _unit_factor,
 )
-from vhfit.data._errors import DataError, _norm_measure, _Where
+from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _Where
+from vhfit.data._modes import _deformation_name
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _Table
+from vhfit.history import DEFORMATIONS
 
 _META_KEYS = {
     "strain_rate": "rate", "rate": "rate", "nominal_strain_rate": "rate",
     "engineering_strain_rate": "rate", "measure": "measure", "stress_measure": "measure",
     "mode": "mode", "loading_mode": "mode", "name": "name", "curve": "name",
     "weight": "weight", "compression_positive": "compression_positive",
+    "deformation": "deformation", "deformation_mode": "deformation", "test_type": "deformation",
 }
 
 
@@ -49,6 +52,7 @@ class _Options:
     compression_positive: bool
     weight: float
     meta_rate: float | None
+    deformation: str | None  # deformation= or the '# deformation:' line (raw text)
     known: dict[str, str]  # the recognised '# key: value' lines, by option
     meta: dict[str, str]  # all '# key: value' lines
 
@@ -77,9 +81,10 @@ def _curve_specs(
     group_by: str | Sequence[str] | None = None,
     select: Mapping[str, Any] | None = None,
     sort: bool = False,
-    n_points: int | None = DEFAULT_N_POINTS,
+    n_points: int | str | None = DEFAULT_N_POINTS,
     by: str | None = None,
     name: str | None = None,
+    deformation: str | None = None,
 ) -> Iterator[dict[str, Any]]:
     """Keyword arguments of :class:`~vhfit.data.Curve` for each curve of ``table``, in order.
 
@@ -87,7 +92,8 @@ def _curve_specs(
     in the order of the curves (the caller builds each curve before asking for the next).
     Options as in :func:`vhfit.data.read_csv`.
     """
-    opts = _table_options(table, measure, mode, compression_positive, columns, units)
+    opts = _table_options(table, measure, mode, compression_positive, columns, units,
+                          deformation)
     grp = _split_rows(table, opts.plan, select, group_by, rate)
     stem = Path(table.source).stem if table.source and not table.source.startswith("<") else (
         table.source or "data")
@@ -102,11 +108,15 @@ def _table_options(
     compression_positive: bool | None,
     columns: Mapping[str, Any] | None,
     units: Mapping[str, str] | None,
+    deformation: str | None = None,
 ) -> _Options:
     """Columns and options of a table: the arguments, else its '# key: value' lines."""
     src = table.source
     meta = dict(table.meta)
     known = {_META_KEYS[k]: v for k, v in meta.items() if k in _META_KEYS}
+    if ("mode" in known and _norm_key(known["mode"]) not in _MODES
+            and _deformation_name(known["mode"])):  # '# mode: equibiaxial' names the test
+        known.setdefault("deformation", known.pop("mode"))
     units = dict(units or {})
     for k, v in meta.items():
         if k.endswith("_unit") and k[:-5] in _UNITS and k[:-5] not in units:
@@ -138,8 +148,32 @@ def _table_options(
         raise DataError(f"{src}: '# weight: {known['weight']}' is not a number: write e.g. "
                         "'# weight: 2'") from None
     meta_rate = _meta_rate(known["rate"], src) if "rate" in known else None
+    if deformation is None:
+        deformation = known.get("deformation")
+    _check_deformation_column(table, plan)
     return _Options(plan, meas or plan.measure or "engineering", mode, compression_positive,
-                    weight, meta_rate, known, meta)
+                    weight, meta_rate, deformation, known, meta)
+
+
+def _check_deformation_column(table: _Table, plan: _Plan) -> None:
+    """Every value of the deformation column names a test; a 'mode' column whose values
+    are not all test names (e.g. tension, compression) is no deformation column and is
+    left alone, as any other column."""
+    col = plan.deformation
+    if col is None:
+        return
+    texts = table.texts(col.index)
+    names = [_deformation_name(v) for v in texts]
+    if _norm_key(col.header) == "mode" and not all(names):
+        plan.deformation = None
+        return
+    bad = [k for k, n in enumerate(names) if n is None]
+    if bad:
+        k = bad[0]
+        raise DataError(
+            f"{table.source}, {table.label(k)}, column {col.header!r}: {texts[k]!r} is not a "
+            f"test vhfit knows: use one of {', '.join(map(repr, DEFORMATIONS))}"
+        )
 
 
 def _meta_rate(val: str, src: str) -> float:
@@ -189,6 +223,10 @@ def _split_rows(
                   "ignore the column with columns={'rate': None}",
         ) * plan.factors["rate"]
     gcols = _group_columns(table, group_by, rows)
+    if plan.deformation is not None and plan.deformation.index not in gcols:
+        j = plan.deformation.index
+        if len({_deformation_name(v) for v in table.texts(j)[rows]}) > 1:
+            gcols.append(j)  # each test its own curve
     key_cols = [table.texts(j)[rows] for j in gcols]
     by_rate = (rate_vals is not None and rate is None
                and plan.rate.index not in gcols and len(np.unique(rate_vals)) > 1)
@@ -269,7 +307,7 @@ def _group_spec(
     name: str | None,
     stem: str,
     sort: bool,
-    n_points: int | None,
+    n_points: int | str | None,
     by: str | None,
 ) -> dict[str, Any]:
     """Keyword arguments of the curve made of rows ``grp.rows[g]``."""
@@ -285,13 +323,8 @@ def _group_spec(
         cname = opts.known["name"]
     else:
         cname = stem if not parts else f"{stem} [{', '.join(parts)}]"
-    if crate is None and plan.time is None:
-        raise DataError(
-            f"{_Where(cname, src, None)()}: no strain rate and no time column: add a "
-            "'strain_rate' column, a '# strain_rate: -100' line (1/s, negative in "
-            "compression), or pass rate=..."
-        )
-    d, s, t, labels = _group_samples(table, plan, r, sort)
+    dfm = _group_deformation(table, opts, r, cname)
+    d, s, t, labels, more = _group_samples(table, plan, r, sort, dfm, cname)
     cmeta = dict(opts.meta)
     if parts:
         cmeta["group"] = ", ".join(parts)
@@ -300,12 +333,39 @@ def _group_spec(
         "time": None if plan.time is None else plan.time.header,
         "rate": None if plan.rate is None else plan.rate.header,
     }
+    for role, col in (("strain2", plan.deform2), ("stress2", plan.stress2),
+                      ("deformation", plan.deformation)):
+        if col is not None:
+            cmeta["columns"][role] = col.header
     return dict(
         strain=d, stress=s, strain_rate=crate, time=t, measure=opts.measure, mode=opts.mode,
         name=cname, weight=opts.weight, n_points=n_points, by=by,
         compression_positive=opts.compression_positive, source=src, rows=labels,
-        metadata=cmeta,
+        metadata=cmeta, deformation=dfm, **more,
     )
+
+
+def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str) -> Any:
+    """A curve's test: its rows' deformation column, else ``deformation=`` or the '#' line,
+    else what the columns say (a second stretch: biaxial; an amount of shear: simple
+    shear), else uniaxial. An unknown name is passed on for the curve to refuse."""
+    plan = opts.plan
+    if plan.deformation is not None:
+        text = table.texts(plan.deformation.index)[r[0]]
+        dfm = _deformation_name(text)
+        given = opts.deformation
+        if given is not None and _deformation_name(given) not in (None, dfm):
+            raise DataError(
+                f"{_Where(cname, table.source, None)()}: column {plan.deformation.header!r} "
+                f"says {text!r} but deformation={given!r} was given: drop deformation= "
+                "(the column names each row's test)"
+            )
+        return dfm
+    if opts.deformation is not None:
+        return opts.deformation
+    if plan.deform2 is not None:
+        return "biaxial"
+    return "simple_shear" if plan.deform.kind == "shear" else "uniaxial"
 
 
 def _group_rate(
@@ -328,25 +388,47 @@ def _group_rate(
 
 
 def _group_samples(
-    table: _Table, plan: _Plan, r: np.ndarray, sort: bool
-) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, Any]:
-    """Engineering strain, stress (MPa), time (s) and row labels of rows ``r``."""
-    d = table.floats(plan.deform.index, r) * plan.factors["deform"]
-    if plan.deform.role == "stretch":
-        d = d - 1.0
-    elif plan.deform.kind == "log":
-        d = np.expm1(d)
+    table: _Table, plan: _Plan, r: np.ndarray, sort: bool, deformation: Any, cname: str
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, Any, dict[str, np.ndarray]]:
+    """Engineering strain (γ in simple shear), stress (MPa), time (s), row labels of rows
+    ``r``, and the second strain and stress of a biaxial test (``strain2``, ``stress2``)."""
+    shear = _deformation_name(deformation) == "simple_shear"
+    if shear and plan.deform.role == "stretch" and plan.deform.kind != "or_shear":
+        raise DataError(
+            f"{_Where(cname, table.source, None)()}, column {plan.deform.header!r}: holds "
+            "stretches, but simple shear is driven by the amount of shear γ: give a 'gamma' "
+            "(or 'shear_strain') column, or correct the deformation"
+        )
+    d = _deformation_values(table, plan.deform, r, plan.factors["deform"], shear)
     s = table.floats(plan.stress.index, r) * plan.factors["stress"]
     t = None
     if plan.time is not None:
         t = table.floats(plan.time.index, r) * plan.factors["time"]
+    more = {}
+    if plan.deform2 is not None:
+        more["strain2"] = _deformation_values(table, plan.deform2, r, plan.factors["deform2"],
+                                              False)
+    if plan.stress2 is not None:
+        more["stress2"] = table.floats(plan.stress2.index, r) * plan.factors["stress2"]
     labels = table.labels[r]
     if sort:
         key = t if t is not None else np.abs(d)
         o = np.argsort(key, kind="stable")
         d, s, labels = d[o], s[o], labels[o]
         t = None if t is None else t[o]
-    return d, s, t, labels
+        more = {k: v[o] for k, v in more.items()}
+    return d, s, t, labels, more
+
+
+def _deformation_values(table: _Table, col: Any, r: np.ndarray, factor: float,
+                        shear: bool) -> np.ndarray:
+    """λ − 1 of a strain or stretch column (γ itself on simple-shear rows)."""
+    d = table.floats(col.index, r) * factor
+    if col.kind in ("log",):
+        return np.expm1(d)
+    if col.role.startswith("stretch") and not (shear and col.kind == "or_shear"):
+        return d - 1.0
+    return d
 
 
 def _try_float(v: Any) -> float:

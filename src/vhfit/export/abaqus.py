@@ -383,7 +383,8 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
         if c.measure == "true":
             P = P / lam
         blocks.setdefault(kw, []).extend(
-            f"{free_number(p)}, {free_number(e)}" for p, e in zip(P, lam - 1.0))
+            # 12 digits: λ − 1 of a stretch column carries rounding noise in the 17th
+            f"{free_number(p)}, {free_number(float(f'{e:.12g}'))}" for p, e in zip(P, lam - 1.0))
     if not blocks:
         raise ValueError(
             "no equilibrium uniaxial, equibiaxial or planar curve to write as Abaqus test "
