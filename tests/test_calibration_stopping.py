@@ -314,3 +314,22 @@ def test_energy_spread_tol_is_honoured_by_the_solver():
         assert e.std() <= tol * abs(e.mean())
         out[tol] = res.nit
     assert out[1e-6] > out[1e-2]
+
+
+def test_checkpoint_key_tells_other_deformations_apart():
+    from vhfit.calibration._bounds import search_bounds
+    from vhfit.calibration._checkpoint import fit_key
+    from vhfit.calibration._space import Problem
+
+    lam = np.linspace(1.1, 1.6, 6)
+    keys = set()
+    for mode in ("equibiaxial", "planar"):
+        for shift in (0.0, 1e-9):  # a change of one stretch by 1e-9 is another fit
+            c = vhfit.Curve(stretch=lam + shift, stress=np.linspace(0.1, 0.6, 6),
+                            deformation=mode)
+            m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
+            # fixed search limits: only the paths can tell the fits apart
+            tau_b, b = search_bounds(m, [c], "free", 3, 1, {"C10": (0, 1), "C01": (0, 1)})
+            prob = Problem(m, [c], tau_b, b, 0.0)
+            keys.add(fit_key(prob, "separable", 0, 64, 1e-6, 1e-4, None))
+    assert len(keys) == 4

@@ -24,6 +24,13 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     h = hashlib.sha256()
     for a in (prob.y, prob.scale, prob.batch.sample_stretch, prob.batch.step, prob.tau_b):
         h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    for hist in prob.batch.histories:  # the paths the uniaxial arrays above do not cover
+        if hist.deformation != "uniaxial" or hist.is_equilibrium:
+            h.update(repr((hist.deformation, hist.is_equilibrium)).encode())
+            for a in (hist.time, hist.stretch, hist.stretch2, hist.out_time,
+                      hist.out_direction):
+                if a is not None:
+                    h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
     h.update(repr((prob.model.hyperelastic.name, prob.model.n_prony, method, seed, popsize,
                    tol, target, sorted((de_options or {}).items()),
                    sorted(prob.bounds.items()))).encode())
