@@ -20,7 +20,7 @@ Prints one table per part; times are medians over repeats on the machine that ru
    data folder given by ``--data`` (skipped if absent). Goal: ≤ 1 s a fit, reaching the
    best error of an exhaustive multi-start search: bounded least squares
    (``scipy.optimize.least_squares``) on all constants of the same objective from
-   ``--starts`` Sobol points over the search box, the best of all kept.
+   ``--starts`` Sobol points (256) over the search box, the best of all kept.
 4. **Long records**: 4 noisy curves of 10^5 samples each (the SEBS material at its 4
    rates, 1 % noise). Goal: ≤ 3 s a fit.
 """
@@ -73,8 +73,20 @@ def median_fit(curves, repeats: int, **kw):
     return statistics.median(times), cal
 
 
+def canonical(params: dict) -> dict:
+    """Ogden terms sorted by α and Prony terms by τ: swapping two terms is the same law."""
+    out = dict(params)
+    for a, b in (("mu", "alpha"), ("G", "tau")):
+        n = sum(1 for k in params if k.startswith(b) and k[len(b):].isdigit())
+        pairs = sorted((params[f"{b}{i}"], params[f"{a}{i}"]) for i in range(1, n + 1))
+        for i, (y, x) in enumerate(pairs, start=1):
+            out[f"{a}{i}"], out[f"{b}{i}"] = x, y
+    return out
+
+
 def max_rel_error(params: dict, truth: dict) -> float:
-    return max(abs(params.get(k, 0.0) - v) / abs(v) for k, v in truth.items())
+    p, t = canonical(params), canonical(truth)
+    return max(abs(p.get(k, 0.0) - v) / abs(v) for k, v in t.items())
 
 
 def yes(ok: bool) -> str:
@@ -237,13 +249,13 @@ def part_long(repeats: int) -> list[str]:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--quick", action="store_true", help="1 repeat, 20 multi-starts")
+    ap.add_argument("--quick", action="store_true", help="1 repeat, 32 multi-starts")
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA,
                     help="folder with the Treloar CSV files")
-    ap.add_argument("--starts", type=int, default=None, help="multi-start count (200)")
+    ap.add_argument("--starts", type=int, default=None, help="multi-start count (256)")
     a = ap.parse_args(argv)
     repeats = 1 if a.quick else 3
-    starts = a.starts or (20 if a.quick else 200)
+    starts = a.starts or (32 if a.quick else 256)
     print(f"vhfit {vhfit.__version__}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores")
     vhfit.calibrate(multimode_curves("mooney_rivlin", MATERIALS["mooney_rivlin"], 20),

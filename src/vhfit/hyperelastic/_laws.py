@@ -65,8 +65,9 @@ def _ogden_term(l1, l2, l3, mu, alpha):
 def _ogden_dW(l1, l2, l3, *pairs):
     """λa ∂W/∂λa = Σ_p (2μp/αp) λa^αp for a = 1, 2, 3 (closed form: no complex powers)."""
     mus, alphas = pairs[::2], pairs[1::2]
-    return tuple(sum(2 * mu / alpha * la**alpha for mu, alpha in zip(mus, alphas))
-                 for la in (l1, l2, l3))
+    # λ^α as exp(α ln λ): one log per stretch instead of one per term (pow = exp + log)
+    return tuple(sum(2 * mu / alpha * np.exp(alpha * lnl) for mu, alpha in zip(mus, alphas))
+                 for lnl in (np.log(l1), np.log(l2), np.log(l3)))
 
 
 _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
