@@ -58,7 +58,7 @@ MATERIALS = {
 SEBS = dict(C10=0.00491, C01=0.00441, G1=3.49, tau1=10**-4.91, G2=0.0634, tau2=10**-1.99,
             G3=0.0603, tau3=10**0.581, G4=0.103, tau4=10**2.68)
 SEBS_RATES = (-0.0018, -0.18, -59.5, -820.0)
-FIT = dict(seed=0, uncertainty=False, target=1e-8, tol=1e-12)
+FIT = dict(seed=0, uncertainty=False)  # the defaults a user gets
 
 
 def median_fit(curves, repeats: int, **kw):
