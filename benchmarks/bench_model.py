@@ -316,12 +316,12 @@ def main(argv=None):
     t_hyper = median_time(lambda: b._s_hat(hyper), reps)[0]
     t_serial = None
     if hasattr(_kernels, "PARALLEL_MIN_JOBS"):  # the same Batch call, forced onto one thread
-        saved = _kernels.PARALLEL_MIN_JOBS
-        _kernels.PARALLEL_MIN_JOBS = 1 << 62
+        saved = _kernels.PARALLEL_MIN_JOBS, _kernels.PARALLEL_MIN_WORK
+        _kernels.PARALLEL_MIN_JOBS = _kernels.PARALLEL_MIN_WORK = 1 << 62
         try:
             t_serial, t_serial_min, _ = median_time(lambda: b(X), reps)
         finally:
-            _kernels.PARALLEL_MIN_JOBS = saved
+            _kernels.PARALLEL_MIN_JOBS, _kernels.PARALLEL_MIN_WORK = saved
     c0 = time.process_time()
     t0 = time.perf_counter()
     for _ in range(reps):

@@ -140,9 +140,21 @@ def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D):
     return out
 
 
-# Threads pay off only for large populations: on a small shared machine the threaded
-# kernel's median time under contention is several times the serial one's.
+# Threads pay off only for large populations or long histories: on a small shared
+# machine the threaded kernel's median time under contention is several times the
+# serial one's when the jobs are small (the paper's 10-point curves: ~5e4 step-terms a
+# call), while calls of >= 1e5 step-terms (multi-mode fits on every sample, long
+# records) run about twice as fast on 2 cores.
 PARALLEL_MIN_JOBS = 4096
+PARALLEL_MIN_WORK = 100_000  # rows x terms x steps of one call
+PARALLEL_MIN_JOBS_WORK = 8  # ... with at least this many (row, curve) jobs to share
+
+
+def use_threads(rows: int, terms: int, steps: int, curves: int) -> bool:
+    """Whether a kernel call is large enough for numba's threads (see above)."""
+    jobs = rows * curves
+    return jobs >= PARALLEL_MIN_JOBS or (
+        rows * terms * steps >= PARALLEL_MIN_WORK and jobs >= PARALLEL_MIN_JOBS_WORK)
 
 
 def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
@@ -158,16 +170,17 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
     G, tau : (P, N) Prony moduli and relaxation times.
     D : (4, 5) Lobatto values -> derivative coefficients (``DERIV``).
     parallel : bool or None
-        Use the threaded kernel; None: when there are at least ``PARALLEL_MIN_JOBS``
-        (parameter set, curve) jobs. False keeps numba's thread pool unstarted (merely
-        loading the threaded kernel starts it), so the process can still fork safely.
+        Use the threaded kernel; None: by :func:`use_threads` (at least
+        ``PARALLEL_MIN_JOBS`` (parameter set, curve) jobs, or ``PARALLEL_MIN_WORK``
+        step-terms). False keeps numba's thread pool unstarted (merely loading the
+        threaded kernel starts it), so the process can still fork safely.
 
     Returns
     -------
     (P, K + C) overstress at the nodes; curve c owns nodes from ``step_off[c] + c``.
     """
     if parallel is None:
-        parallel = s_hat.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
+        parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _overstress_par if parallel else _overstress_seq
     return f(s_hat, lam, h, sample_off, step_off, G, tau, D)
 
@@ -271,6 +284,6 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
         raise ValueError(f"G has {G.shape[0]} rows; expected repeat * f0 rows = "
                          f"{repeat * f0.shape[0]}")
     if parallel is None:
-        parallel = G.shape[0] * (sample_off.shape[0] - 1) >= PARALLEL_MIN_JOBS
+        parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _general_par if parallel else _general_seq
     return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat))
