@@ -18,7 +18,14 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from vhfit._kernels import DERIV, LOBATTO, _psi, overstress, overstress_general
+from vhfit._kernels import (
+    DERIV,
+    LOBATTO,
+    _psi,
+    overstress,
+    overstress_columns,
+    overstress_general,
+)
 
 
 def psi_reference(x: float, j: int) -> float:
@@ -253,3 +260,25 @@ def test_general_kernel_threads_and_layout(tmp_path):
                            G2, tau2, DERIV))
     with pytest.raises(ValueError, match="G has 8 rows; expected repeat"):
         overstress_general(f0, f1, w, h, so, ko, G2, tau2, DERIV)
+
+
+def test_overstress_columns_is_the_repeated_unit_modulus_call_to_the_bit():
+    # one interpolant per row serves every τ: the arithmetic per τ must be unchanged (the
+    # threaded variant runs the same job function; it is not started here, see above)
+    import vhfit
+    from vhfit.history import History
+
+    parallel = False
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    hs = [History.constant_rate(np.linspace(-0.01, -0.5, 40), r) for r in (-0.01, -100.0)]
+    hs.append(History.piecewise_linear([0.0, 1.0, 1.5, 3.0], [0.0, -0.3, -0.3, 0.2]))
+    b = m.batch(hs)
+    rng = np.random.default_rng(7)
+    P, N = 5, 3
+    s_hat = b._s_hat(rng.uniform(0.01, 1.0, (P, 2)))[0]
+    tau = 10.0 ** rng.uniform(-6.0, 3.0, (P, N))
+    ref = overstress(np.repeat(s_hat, N, axis=0), b.sample_stretch, b.step, b.sample_off,
+                     b.step_off, np.ones((P * N, 1)), tau.reshape(P * N, 1), DERIV, parallel)
+    got = overstress_columns(s_hat, b.sample_stretch, b.step, b.sample_off, b.step_off, tau,
+                             DERIV, parallel)
+    assert got.shape == ref.shape and np.array_equal(got, ref)

@@ -122,6 +122,80 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
         out[p, node0 + k + 1] = acc
 
 
+@njit(cache=True, error_model="numpy")
+def _job_columns(p, c, s_hat, lam, h, sample_off, step_off, tau, D, out):
+    """:func:`_job` with unit moduli for all of row p's relaxation times at once: the
+    step's interpolant is built once and serves every τ (rows p·N + i of ``out``). The
+    arithmetic per τ is _job's, so the results are the same to the bit."""
+    N = tau.shape[1]
+    s0 = sample_off[c]
+    k0 = step_off[c]
+    nsteps = step_off[c + 1] - k0
+    node0 = k0 + c
+    Ps = np.empty(N)
+    Qs = np.empty(N)
+    l0 = lam[s0]
+    a0 = s_hat[p, s0] / (l0 * l0)
+    b0 = s_hat[p, s0] * l0
+    for i in range(N):
+        Ps[i] = a0
+        Qs[i] = b0
+        acc = 0.0
+        acc += 1.0
+        out[p * N + i, node0] = acc * s_hat[p, s0]
+    for k in range(nsteps):
+        base = s0 + 4 * k
+        da0 = 0.0
+        da1 = 0.0
+        da2 = 0.0
+        da3 = 0.0
+        db0 = 0.0
+        db1 = 0.0
+        db2 = 0.0
+        db3 = 0.0
+        for m in range(5):
+            lm = lam[base + m]
+            fa = s_hat[p, base + m] / (lm * lm)
+            fb = s_hat[p, base + m] * lm
+            da0 += D[0, m] * fa
+            da1 += D[1, m] * fa
+            da2 += D[2, m] * fa
+            da3 += D[3, m] * fa
+            db0 += D[0, m] * fb
+            db1 += D[1, m] * fb
+            db2 += D[2, m] * fb
+            db3 += D[3, m] * fb
+        hk = h[k0 + k]
+        le = lam[base + 4]
+        w2 = (2.0 / 3.0) * le * le
+        w1 = (1.0 / 3.0) / le
+        for i in range(N):
+            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
+            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
+            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
+            acc = 0.0
+            acc += 1.0 * (w2 * Ps[i] + w1 * Qs[i])
+            out[p * N + i, node0 + k + 1] = acc
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _columns_par(s_hat, lam, h, sample_off, step_off, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((tau.shape[0] * tau.shape[1], h.shape[0] + C))
+    for job in prange(s_hat.shape[0] * C):
+        _job_columns(job // C, job % C, s_hat, lam, h, sample_off, step_off, tau, D, out)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _columns_seq(s_hat, lam, h, sample_off, step_off, tau, D):
+    C = sample_off.shape[0] - 1
+    out = np.empty((tau.shape[0] * tau.shape[1], h.shape[0] + C))
+    for job in range(s_hat.shape[0] * C):
+        _job_columns(job // C, job % C, s_hat, lam, h, sample_off, step_off, tau, D, out)
+    return out
+
+
 @njit(cache=True, parallel=True, error_model="numpy")
 def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D):
     C = sample_off.shape[0] - 1
@@ -183,6 +257,24 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _overstress_par if parallel else _overstress_seq
     return f(s_hat, lam, h, sample_off, step_off, G, tau, D)
+
+
+def overstress_columns(s_hat, lam, h, sample_off, step_off, tau, D, parallel=None):
+    """Each branch's overstress per unit modulus, h_i, for every row's N relaxation times.
+
+    The same as :func:`overstress` of ``np.repeat(s_hat, N, axis=0)`` with unit moduli
+    and ``tau.reshape(P * N, 1)`` — to the bit — without the copies, and with each
+    step's interpolant built once per row rather than once per τ.
+
+    Returns
+    -------
+    (P * N, K + C) overstress at the nodes; row p·N + i is row p's i-th τ.
+    """
+    P, N = tau.shape
+    if parallel is None:
+        parallel = use_threads(P * N, 1, h.shape[0], sample_off.shape[0] - 1)
+    f = _columns_par if parallel else _columns_seq
+    return f(s_hat, lam, h, sample_off, step_off, tau, D)
 
 
 # ------------------------------------------------------------- every other test

@@ -493,10 +493,9 @@ class Batch:
         base = np.zeros((P, self.n_points))
         h = np.zeros((P, N, self.n_points))
         if self._pos_u.size:
-            eye = np.ones((P * N, 1))
-            ov = _kernels.overstress(
-                np.repeat(s_hat, N, axis=0), self.sample_stretch, self.step, self.sample_off,
-                self.step_off, eye, tau.reshape(P * N, 1), _kernels.DERIV, parallel,
+            ov = _kernels.overstress_columns(
+                s_hat, self.sample_stretch, self.step, self.sample_off, self.step_off,
+                np.ascontiguousarray(tau), _kernels.DERIV, parallel,
             )
             h[:, :, self._pos_u] = ov[:, self._gather_node].reshape(P, N, self._pos_u.size)
             base[:, self._pos_u] = s_hat[:, self._gather_sample]
