@@ -217,3 +217,21 @@ def test_rate_pair_of_stress_tripled_when_rate_doubled():
     assert pair.judge(edge * 0.999).too_steep
     flat = RatePair("a", "b", -1.0, -2.0, 2.0, 0.5, 0.9, 1.5, eps).judge(0.05)
     assert flat.too_flat and not flat.too_steep  # 0.5 < 0.9 / 1.05
+
+
+def test_rate_check_compares_uniaxial_ramps_only():
+    # a stress rising x3 between rates x2 apart is beyond any Prony series in uniaxial
+    # compression; the same pair declared equibiaxial, or at equilibrium, is not checked
+    # (the bound is derived for uniaxial loading)
+    eps = np.linspace(-0.05, -0.5, 10)
+    pair = [vhfit.Curve(strain=eps, stress=eps, strain_rate=-1000.0, name="slow"),
+            vhfit.Curve(strain=eps, stress=3 * eps, strain_rate=-2000.0, name="fast")]
+    assert len(rate_pairs(pair, "mooney_rivlin", 3)) == 1
+    lam = 1.0 + np.linspace(0.05, 0.5, 10)
+    equi = [vhfit.Curve(stretch=lam, stress=(lam - 1) * k, strain_rate=r,
+                        deformation="equibiaxial", name=n)
+            for k, r, n in ((1.0, 1000.0, "slow"), (3.0, 2000.0, "fast"))]
+    assert rate_pairs(equi, "mooney_rivlin", 3) == []
+    assert rate_sensitivity(equi, "mooney_rivlin", 3) == []
+    eq = vhfit.Curve(stretch=lam, stress=lam - 1, name="relaxed")
+    assert rate_pairs([eq, *pair], "mooney_rivlin", 3)[0].slow == "slow"
