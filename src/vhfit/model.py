@@ -519,8 +519,11 @@ class Batch:
         return s_hat, ok, E_inf
 
     def _measure(self, s: np.ndarray) -> np.ndarray:
-        if self._eng.any():
-            s = np.where(self._eng, s / self.out_stretch, s)
+        """Nominal stress at the engineering curves' points, in place (``s`` is fresh)."""
+        if self._eng.all():
+            s /= self.out_stretch
+        elif self._eng.any():
+            s[..., self._eng] /= self.out_stretch[self._eng]
         return s
 
     def __call__(self, X) -> np.ndarray:

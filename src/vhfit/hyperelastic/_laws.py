@@ -63,11 +63,26 @@ def _ogden_term(l1, l2, l3, mu, alpha):
 
 
 def _ogden_dW(l1, l2, l3, *pairs):
-    """λa ∂W/∂λa = Σ_p (2μp/αp) λa^αp for a = 1, 2, 3 (closed form: no complex powers)."""
+    """λa ∂W/∂λa = Σ_p (2μp/αp) λa^αp for a = 1, 2, 3 (closed form: no complex powers).
+
+    λ^α is taken as exp(α ln λ), one log per stretch; a stretch passed twice (the same
+    array, as equibiaxial and uniaxial kinematics do) is evaluated once and its result
+    returned twice.
+    """
     mus, alphas = pairs[::2], pairs[1::2]
-    # λ^α as exp(α ln λ): one log per stretch instead of one per term (pow = exp + log)
-    return tuple(sum(2 * mu / alpha * np.exp(alpha * lnl) for mu, alpha in zip(mus, alphas))
-                 for lnl in (np.log(l1), np.log(l2), np.log(l3)))
+    done: dict[int, np.ndarray] = {}
+    out = []
+    for la in (l1, l2, l3):
+        if id(la) not in done:
+            lnl = np.log(la)
+            acc = None
+            for mu, alpha in zip(mus, alphas):
+                term = np.exp(alpha * lnl)
+                term *= 2 * mu / alpha
+                acc = term if acc is None else acc + term
+            done[id(la)] = acc
+        out.append(done[id(la)])
+    return tuple(out)
 
 
 _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
