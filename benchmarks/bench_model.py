@@ -305,7 +305,7 @@ def main(argv=None):
     hyper, G, tau = model.split(X)
     s_hat, _, _ = b._s_hat(hyper)
     kargs = (s_hat, b.sample_stretch, b.step, b.sample_off, b.step_off,
-             np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV)
+             np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV, False)
     par = getattr(_kernels, "_overstress_par", None)
     seq = getattr(_kernels, "_overstress_seq", None)
     kern = {}

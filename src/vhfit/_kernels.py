@@ -69,9 +69,14 @@ def _psi(x):
 
 
 @njit(cache=True, error_model="numpy")
-def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
-    """One parameter set on one curve: the recursion over the curve's steps."""
-    N = G.shape[1]
+def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out):
+    """One parameter set on one curve: the recursion over the curve's steps.
+
+    ``columns`` False: Σ_i G_i h_i into row p of ``out``. True: each branch's h_i per unit
+    modulus into row p·N + i (``G`` unused), the step's interpolant built once for all
+    τ — the same arithmetic per τ as unit moduli with one τ a row, to the bit.
+    """
+    N = tau.shape[1]
     s0 = sample_off[c]
     k0 = step_off[c]
     nsteps = step_off[c + 1] - k0
@@ -85,8 +90,12 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
     for i in range(N):
         Ps[i] = a0
         Qs[i] = b0
-        acc += G[p, i]
-    out[p, node0] = acc * s_hat[p, s0]
+        if columns:
+            out[p * N + i, node0] = (0.0 + 1.0) * s_hat[p, s0]
+        else:
+            acc += G[p, i]
+    if not columns:
+        out[p, node0] = acc * s_hat[p, s0]
     for k in range(nsteps):
         base = s0 + 4 * k
         da0 = 0.0
@@ -118,99 +127,31 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, out):
             e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
             Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
             Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
-            acc += G[p, i] * (w2 * Ps[i] + w1 * Qs[i])
-        out[p, node0 + k + 1] = acc
-
-
-@njit(cache=True, error_model="numpy")
-def _job_columns(p, c, s_hat, lam, h, sample_off, step_off, tau, D, out):
-    """:func:`_job` with unit moduli for all of row p's relaxation times at once: the
-    step's interpolant is built once and serves every τ (rows p·N + i of ``out``). The
-    arithmetic per τ is _job's, so the results are the same to the bit."""
-    N = tau.shape[1]
-    s0 = sample_off[c]
-    k0 = step_off[c]
-    nsteps = step_off[c + 1] - k0
-    node0 = k0 + c
-    Ps = np.empty(N)
-    Qs = np.empty(N)
-    l0 = lam[s0]
-    a0 = s_hat[p, s0] / (l0 * l0)
-    b0 = s_hat[p, s0] * l0
-    for i in range(N):
-        Ps[i] = a0
-        Qs[i] = b0
-        acc = 0.0
-        acc += 1.0
-        out[p * N + i, node0] = acc * s_hat[p, s0]
-    for k in range(nsteps):
-        base = s0 + 4 * k
-        da0 = 0.0
-        da1 = 0.0
-        da2 = 0.0
-        da3 = 0.0
-        db0 = 0.0
-        db1 = 0.0
-        db2 = 0.0
-        db3 = 0.0
-        for m in range(5):
-            lm = lam[base + m]
-            fa = s_hat[p, base + m] / (lm * lm)
-            fb = s_hat[p, base + m] * lm
-            da0 += D[0, m] * fa
-            da1 += D[1, m] * fa
-            da2 += D[2, m] * fa
-            da3 += D[3, m] * fa
-            db0 += D[0, m] * fb
-            db1 += D[1, m] * fb
-            db2 += D[2, m] * fb
-            db3 += D[3, m] * fb
-        hk = h[k0 + k]
-        le = lam[base + 4]
-        w2 = (2.0 / 3.0) * le * le
-        w1 = (1.0 / 3.0) / le
-        for i in range(N):
-            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
-            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
-            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
-            acc = 0.0
-            acc += 1.0 * (w2 * Ps[i] + w1 * Qs[i])
-            out[p * N + i, node0 + k + 1] = acc
+            if columns:
+                out[p * N + i, node0 + k + 1] = 0.0 + 1.0 * (w2 * Ps[i] + w1 * Qs[i])
+            else:
+                acc += G[p, i] * (w2 * Ps[i] + w1 * Qs[i])
+        if not columns:
+            out[p, node0 + k + 1] = acc
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _columns_par(s_hat, lam, h, sample_off, step_off, tau, D):
+def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D, columns):
     C = sample_off.shape[0] - 1
-    out = np.empty((tau.shape[0] * tau.shape[1], h.shape[0] + C))
+    rows = tau.shape[0] * (tau.shape[1] if columns else 1)
+    out = np.empty((rows, h.shape[0] + C))
     for job in prange(s_hat.shape[0] * C):
-        _job_columns(job // C, job % C, s_hat, lam, h, sample_off, step_off, tau, D, out)
+        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out)
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _columns_seq(s_hat, lam, h, sample_off, step_off, tau, D):
+def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D, columns):
     C = sample_off.shape[0] - 1
-    out = np.empty((tau.shape[0] * tau.shape[1], h.shape[0] + C))
+    rows = tau.shape[0] * (tau.shape[1] if columns else 1)
+    out = np.empty((rows, h.shape[0] + C))
     for job in range(s_hat.shape[0] * C):
-        _job_columns(job // C, job % C, s_hat, lam, h, sample_off, step_off, tau, D, out)
-    return out
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D):
-    C = sample_off.shape[0] - 1
-    out = np.empty((s_hat.shape[0], h.shape[0] + C))
-    for job in prange(s_hat.shape[0] * C):
-        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, out)
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D):
-    C = sample_off.shape[0] - 1
-    out = np.empty((s_hat.shape[0], h.shape[0] + C))
-    for job in range(s_hat.shape[0] * C):
-        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, out)
+        _job(job // C, job % C, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out)
     return out
 
 
@@ -256,7 +197,10 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
     if parallel is None:
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _overstress_par if parallel else _overstress_seq
-    return f(s_hat, lam, h, sample_off, step_off, G, tau, D)
+    return f(s_hat, lam, h, sample_off, step_off, G, tau, D, False)
+
+
+_NO_MODULI = np.ones((1, 1))  # the G argument of the per-τ columns, which ignore it
 
 
 def overstress_columns(s_hat, lam, h, sample_off, step_off, tau, D, parallel=None):
@@ -273,8 +217,8 @@ def overstress_columns(s_hat, lam, h, sample_off, step_off, tau, D, parallel=Non
     P, N = tau.shape
     if parallel is None:
         parallel = use_threads(P * N, 1, h.shape[0], sample_off.shape[0] - 1)
-    f = _columns_par if parallel else _columns_seq
-    return f(s_hat, lam, h, sample_off, step_off, tau, D)
+    f = _overstress_par if parallel else _overstress_seq
+    return f(s_hat, lam, h, sample_off, step_off, _NO_MODULI, tau, D, True)
 
 
 # ------------------------------------------------------------- every other test
