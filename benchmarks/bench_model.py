@@ -93,8 +93,12 @@ def curve_errors(S, ref, n_points=N_POINTS) -> float:
 
 
 # ---------------------------------------------------------------- reference
-def reference(x, rates=SEBS_RATES) -> np.ndarray:
-    """Corrected Eq. 19 (docs/theory.md §5, conditioned form) by adaptive quadrature."""
+def reference(x, rates=SEBS_RATES, strain=None) -> np.ndarray:
+    """Corrected Eq. 19 (docs/theory.md §5, conditioned form) by adaptive quadrature.
+
+    True stress of Mooney–Rivlin + Prony ``x`` at each strain (default :func:`strains`)
+    of a constant-rate ramp at each rate, the rates' results concatenated.
+    """
     C10, C01 = x[0], x[1]
     G, tau = x[2::2], x[3::2]
     E = 6 * (C10 + C01)
@@ -104,7 +108,7 @@ def reference(x, rates=SEBS_RATES) -> np.ndarray:
 
     out = []
     for r in rates:
-        for eps in strains():
+        for eps in strains() if strain is None else strain:
             t = eps / r
             lt = 1 + eps
             st = s_hat(lt)

@@ -32,12 +32,12 @@ import math
 import os
 import platform
 import statistics
+import sys
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import quad
 from scipy.optimize import least_squares
 from scipy.stats import qmc
 
@@ -46,6 +46,9 @@ from vhfit.calibration import CalibrationWarning
 from vhfit.objective import Objective
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import bench_model  # noqa: E402  (the independent quadrature of Eq. 19)
+
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "treloar1944_kawabata1981"
 
 MODES = ("uniaxial", "equibiaxial", "planar")
@@ -125,34 +128,11 @@ def part_recovery(repeats: int) -> list[str]:
 
 # ------------------------------------------------------------------- part 2
 def sebs_reference(rate: float, eps: np.ndarray) -> np.ndarray:
-    """Engineering stress of the corrected Eq. 19 (uniaxial) by adaptive quadrature."""
-    C10, C01 = SEBS["C10"], SEBS["C01"]
-    G = [SEBS[f"G{i}"] for i in range(1, 5)]
-    tau = [SEBS[f"tau{i}"] for i in range(1, 5)]
-    E = 6 * (C10 + C01)
-
-    def s_hat(lam):
-        return (2 * C10 * (lam * lam - 1 / lam) + 2 * C01 * (lam - 1 / lam**2)) / E
-
-    out = []
-    for e in eps:
-        t, lt = e / rate, 1 + e
-        st = s_hat(lt)
-        total = E * st
-        for Gi, ti in zip(G, tau):
-            def f(u, ti=ti, t=t, lt=lt, st=st):
-                lu = 1 + rate * u
-                K = (2 / 3) * (lt / lu) ** 2 + (1 / 3) * lu / lt
-                return math.exp(-(t - u) / ti) * (st - s_hat(lu) * K) / ti
-
-            pts = sorted(t - k * ti for k in (1, 4, 16, 64) if 0 < t - k * ti < t)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                val = quad(f, 0, t, points=pts or None, epsabs=1e-15, epsrel=1e-13,
-                           limit=2000)[0]
-            total += Gi * (st * math.exp(-t / ti) + val)
-        out.append(total / lt)
-    return np.array(out)
+    """Engineering stress of the corrected Eq. 19 (uniaxial) by adaptive quadrature
+    (``bench_model.reference``, not vhfit's recursion)."""
+    x = np.array([SEBS["C10"], SEBS["C01"]] + [SEBS[f"{k}{i}"] for i in range(1, 5)
+                                                for k in ("G", "tau")])
+    return bench_model.reference(x, (rate,), strain=eps) / (1.0 + eps)
 
 
 def part_sebs(repeats: int) -> list[str]:
