@@ -9,7 +9,7 @@ from collections.abc import Callable, Sequence
 
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
 from vhfit.calibration._bounds import search_bounds
-from vhfit.calibration._identify import default_n_prony, viscous_evidence
+from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
@@ -199,10 +199,9 @@ def calibrate(
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
     )
     unidentified = viscous_evidence(curves)
+    default_reason = unidentified if n_prony is None else None
     if n_prony is None:
-        n_prony, default_reason = default_n_prony(curves)
-    else:
-        default_reason = None
+        n_prony = 0 if unidentified else DEFAULT_N_PRONY
     rate_msgs: list[str] = []
     if check_rates:
         n_check = max_prony if isinstance(n_prony, str) else int(n_prony)

@@ -183,15 +183,14 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
     if not args.quiet:
         why = None
         if args.prony is None:
-            n, why = default_n_prony(curves)
-            n_txt = f"{n}"
+            n_txt, why = default_n_prony(curves)
         else:
             n_txt = (f"auto (N = 1..{args.max_prony})" if args.prony == "auto"
                      else str(args.prony))
         print(f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed "
               f"{args.seed}, to {len(curves)} curve(s); outputs in {out}/"
               + (" (resuming)" if args.resume else ""), file=sys.stderr, flush=True)
-        if args.prony is None and why:
+        if why:
             print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
                   file=sys.stderr, flush=True)
     # a resumed scan starts mid-way: N cannot be counted from the generations then

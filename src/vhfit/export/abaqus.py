@@ -72,6 +72,12 @@ SUPPORT[SOLVER] = tuple(_CARDS)
 _MODULI = {"long_term": "LONG TERM", "instantaneous": "INSTANTANEOUS"}
 
 
+def _check_name(name: str) -> None:
+    """``*MATERIAL, NAME=``: 1-80 characters, no commas, '*' or newlines."""
+    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
+        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+
+
 def _lines_of(values: list[str], per_line: int = 8) -> list[str]:
     """Data lines of at most ``per_line`` values; a continued line ends with a comma."""
     chunks = [values[i:i + per_line] for i in range(0, len(values), per_line)]
@@ -136,8 +142,7 @@ def to_abaqus(
         raise unsupported(SOLVER, mat.hyperelastic, list(_CARDS))
     if moduli not in _MODULI:
         raise ValueError(f"moduli = {moduli!r}; choose 'long_term' or 'instantaneous'")
-    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
-        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+    _check_name(name)
     kind, order, n_d = _CARDS[mat.hyperelastic]
     visco = mat.n_prony > 0
     inst = visco and moduli == "instantaneous"
@@ -367,8 +372,7 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     law = getattr(hyperelastic, "name", hyperelastic)
     if law not in _CARDS:
         raise unsupported(SOLVER, law, list(_CARDS))
-    if not name or re.search(r"[,\n\r*]", name) or len(name) > 80:
-        raise ValueError(f"material name {name!r}: 1-80 characters, no commas, '*' or newlines")
+    _check_name(name)
     blocks: dict[str, list[str]] = {}
     skipped = []
     for c in curves:
