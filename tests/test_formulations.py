@@ -263,15 +263,42 @@ def test_a_user_formulation_is_registered_and_used(registered):
 
 
 # ============================================================== calibration
-def test_calibrate_fits_in_the_chosen_formulation():
-    """Data made with the MAT_077 law: an "lsdyna" fit finds them, the model says so."""
+@pytest.fixture(scope="module")
+def lsdyna_curves():
+    """Two rates of compression made with the MAT_077 law, one Prony term."""
     true = dict(C10=0.05, C01=0.02, G1=1.0, tau1=0.01)
     m = ViscoHyperelastic("mooney_rivlin", 1, formulation="lsdyna")
     eps = np.linspace(-0.05, -0.6, 10)
-    curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
-                                                      measure="engineering"), strain_rate=r)
-              for r in (-1.0, -100.0)]
-    cal = vhfit.calibrate(curves, n_prony=1, seed=0, formulation="lsdyna", uncertainty=False)
+    return [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+                                                    measure="engineering"), strain_rate=r)
+            for r in (-1.0, -100.0)]
+
+
+def test_calibrate_fits_in_the_chosen_formulation(lsdyna_curves):
+    """Data made with the MAT_077 law: an "lsdyna" fit finds them, the model says so;
+    a "hereditary" fit cannot (the two laws differ at 60 % compression)."""
+    cal = vhfit.calibrate(lsdyna_curves, n_prony=1, seed=0, formulation="lsdyna",
+                          uncertainty=False)
     assert cal.model.formulation == "lsdyna"
     assert cal.rmsape < 1e-3
     assert formulations.get_formulation(cal.model.formulation).kinematic
+    other = vhfit.calibrate(lsdyna_curves, n_prony=1, seed=0, uncertainty=False)
+    assert other.model.formulation == "hereditary" and other.rmsape > 0.1
+
+
+def test_pruned_terms_keep_the_formulation(lsdyna_curves):
+    cal = vhfit.calibrate(lsdyna_curves, n_prony=3, seed=0, formulation="lsdyna",
+                          uncertainty=False)
+    assert cal.model.n_prony < 3 and cal.model.formulation == "lsdyna"
+
+
+def test_resume_refuses_a_checkpoint_of_another_formulation(lsdyna_curves, tmp_path):
+    ck = tmp_path / "ck.json"
+    opts = dict(n_prony=1, seed=0, checkpoint=ck, uncertainty=False, maxiter=3, polish=False,
+                bounds={"C10": (0, 1), "C01": (0, 1), "G1": (0, 10), "tau1": (1e-3, 1)})
+    vhfit.calibrate(lsdyna_curves, formulation="lsdyna", **opts)
+    vhfit.calibrate(lsdyna_curves, formulation="lsdyna", resume=True, **opts)  # its own: fine
+    # "lsdyna_deviatoric" has the same arrays and bounds: only the formulation differs
+    for other in ("hereditary", "lsdyna_deviatoric"):
+        with pytest.raises(ValueError, match="different fit"):
+            vhfit.calibrate(lsdyna_curves, formulation=other, resume=True, **opts)
