@@ -27,7 +27,13 @@ from test_modes import _lag_nodes, history_of, kirchhoff_ref, measured, path_of,
 
 import vhfit
 from vhfit import formulations, modes
-from vhfit.formulations import FORMULATIONS, Formulation, get_formulation, register_formulation
+from vhfit.formulations import (
+    FORMULATIONS,
+    SOLVER_FORMULATIONS,
+    Formulation,
+    get_formulation,
+    register_formulation,
+)
 from vhfit.history import DEFORMATIONS, History
 from vhfit.model import ViscoHyperelastic
 
@@ -169,6 +175,8 @@ def test_lsdyna_overstress_does_not_depend_on_the_hyperelastic_constants():
 # ================================================================ the registry
 def test_the_built_ins_and_their_names():
     assert {"hereditary", "lsdyna", "lsdyna_deviatoric"} <= set(FORMULATIONS)
+    assert SOLVER_FORMULATIONS == {"abaqus": "hereditary", "ansys": "hereditary",
+                                   "lsdyna": "lsdyna"}
     assert isinstance(FORMULATIONS["lsdyna"], Formulation)
     assert get_formulation("lsdyna") is FORMULATIONS["lsdyna"]
     m = ViscoHyperelastic("neo_hooke", 1)

@@ -5,7 +5,9 @@ Stress of the corrected, conditioned Eq. 19 (docs/theory.md §4–5):
     σ(t) = σ_h(λ(t)) + Σ_i G_i h_i(t),
 
 where h_i is the overstress of branch i per unit modulus, evaluated by the recursion
-of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy.
+of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy. What
+h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
+docs/theory.md §14): the corrected Eq. 19 by default, or LS-DYNA's MAT_077 law.
 Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
 """
 
@@ -293,7 +295,7 @@ class ViscoHyperelastic:
         deformation: str = "uniaxial",
         direction: int = 1,
     ) -> np.ndarray:
-        """Stress of the model along a history of any homogeneous test (corrected Eq. 19).
+        """Stress of the model along a history of any homogeneous test, in its formulation.
 
         Parameters
         ----------
