@@ -103,6 +103,18 @@ def test_lsdyna_load_unload_hold_cycles_match_the_quadrature(mode, form):
         assert relative_error(s, ref) <= 1e-6, d
 
 
+@pytest.mark.parametrize("mode, direction", [("uniaxial", 1), ("equibiaxial", 2),
+                                             ("planar", 1), ("simple_shear", 1)])
+def test_lsdyna_nominal_stress_is_the_true_stress_over_the_loaded_stretch(mode, direction):
+    m = ViscoHyperelastic("mooney_rivlin", 1, formulation="lsdyna")
+    kw = dict(strain=np.linspace(0.0, 0.6, 5), strain_rate=10.0, deformation=mode,
+              direction=direction)
+    true, nominal = (m.stress([0.1, 0.05, 2.0, 0.01], measure=k, **kw)
+                     for k in ("true", "engineering"))
+    loaded = 1.0 if mode == "simple_shear" else 1.0 + kw["strain"]
+    np.testing.assert_allclose(nominal, true / loaded, rtol=1e-15)
+
+
 def test_the_two_lsdyna_readings_differ_at_finite_strain():
     """Full or deviatoric E: the same small-strain law, not the same large-strain one."""
     p = params_of((0.1, 0.05), [2.0], [0.01])
