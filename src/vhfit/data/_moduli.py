@@ -323,8 +323,11 @@ def _storage_loss(loc: _Loc, n: int, storage, loss, modulus, tan_delta
                   ) -> tuple[np.ndarray, np.ndarray]:
     """(E′, E″) from the combination given, each checked; one-line errors."""
     if tan_delta is not None and storage is None and modulus is None:
+        fix = ("add a storage-modulus column (e.g. 'storage_MPa' or \"E' [MPa]\") or an |E*| "
+               "column ('complex_modulus_MPa') to the file" if loc.headers else
+               "give storage= (or modulus=, |E*|)")
         raise DataError(f"{loc('tan_delta')}: tan delta needs the storage modulus (or |E*|) "
-                        "beside it: give storage= (or modulus=), or a storage-modulus column")
+                        f"beside it: {fix}")
     if storage is not None and modulus is not None:
         raise DataError(f"{loc('modulus')}: give storage= or modulus= (|E*|), not both")
     if storage is None and modulus is None:
