@@ -86,7 +86,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true", help="2 repeats instead of 5")
     args = ap.parse_args()
     repeats = 2 if args.quick else 5
-    load = ", load average %.1f" % os.getloadavg()[0] if hasattr(os, "getloadavg") else ""
+    load = f", load average {os.getloadavg()[0]:.1f}" if hasattr(os, "getloadavg") else ""
     print(f"vhfit {vhfit.__version__}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores{load}")
     vhfit.calibrate(joint_case()[:2], n_prony=1, seed=0, maxiter=2)  # compile the kernels
