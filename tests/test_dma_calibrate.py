@@ -153,5 +153,18 @@ def test_tau_bounds_cover_the_frequencies_and_times():
     from vhfit.calibration._bounds import rates
 
     sweep = vhfit.FrequencySweep(omega=[0.01, 100.0], storage=[1.0, 2.0], loss=[0.1, 0.1])
-    relax = vhfit.Relaxation(time=[0.0, 1e-3, 1e3], modulus=[3.0, 2.0, 1.0])
-    np.testing.assert_allclose(np.sort(rates([sweep, relax])), [1e-3, 0.01, 100.0, 1e3])
+    relax = vhfit.Relaxation(time=[0.0, 1e-2, 10.0], modulus=[3.0, 2.0, 1.0])
+    np.testing.assert_allclose(np.sort(rates([sweep, relax])), [0.01, 0.1, 100.0, 100.0])
+
+
+def test_a_sweep_is_evidence_of_memory_for_the_default_n():
+    """One monotonic rate curve alone gets no Prony terms by default; beside a sweep
+    (whose loss modulus shows the memory) it gets the default N."""
+    from vhfit.calibration import default_n_prony
+
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    [curve] = rate_curves(m, TRUE, (-1.0,))
+    assert default_n_prony([curve])[0] == 0
+    assert default_n_prony([master_curve(TRUE, E_INF), curve]) == (2, None)
+    relax = vhfit.Relaxation(time=[0.0, 1.0], modulus=[2.0, 1.0])
+    assert default_n_prony([relax]) == (2, None)
