@@ -173,3 +173,13 @@ def test_bad_moduli_files_name_the_file_line_and_column(tmp_path, text, match):
     with pytest.raises(vhfit.DataError, match=match) as e:
         vhfit.read_csv(p)
     assert "\n" not in str(e.value)
+
+
+def test_curves_from_arrays_reads_a_mapping_of_moduli():
+    [s] = vhfit.data.curves_from_arrays({"frequency_Hz": [0.1, 1.0], "storage_MPa": [1.0, 2.0],
+                                         "loss_MPa": [0.1, 0.2]}, name="m")
+    assert isinstance(s, vhfit.FrequencySweep) and s.name == "m"
+    np.testing.assert_allclose(s.loss, [0.1, 0.2])
+    with pytest.raises(vhfit.DataError, match="column 'loss_MPa'.*loss modulus -0.2 < 0"):
+        vhfit.data.curves_from_arrays({"frequency_Hz": [0.1, 1.0], "storage_MPa": [1.0, 2.0],
+                                       "loss_MPa": [0.1, -0.2]})

@@ -202,8 +202,11 @@ def curves_from_arrays(
     name: str | None = None,
     source: str | None = None,
     deformation: str | None = None,
-) -> list[Curve]:
+) -> list[Curve | FrequencySweep | Relaxation]:
     """Curves from a table in memory: the array counterpart of :func:`read_csv`.
+
+    A table of moduli (named columns as in :func:`read_csv`) gives frequency sweeps or
+    relaxation tests.
 
     Parameters
     ----------
@@ -234,6 +237,9 @@ def curves_from_arrays(
     [(-1.0, -0.3), (-100.0, -0.6)]
     """
     table = _table_from_data(data, names, source)
+    plan = _moduli_plan(table.names, columns, table.source)
+    if plan is not None:  # moduli: frequency sweeps or relaxation tests
+        return _moduli_items(table, plan, units, name)
     return _curves_from_table(
         table, rate=rate, measure=measure, mode=mode,
         compression_positive=compression_positive, columns=columns, units=units,
