@@ -21,6 +21,7 @@ import numpy as np
 from vhfit._linear import LinearLoad
 from vhfit.data._columns import _STRESS_UNITS, _norm_unit
 from vhfit.data._errors import DataError
+from vhfit.data._samples import _check_weight
 from vhfit.viscoelastic import loss_modulus, relaxation_modulus, storage_modulus
 
 __all__ = ["FrequencySweep", "Relaxation"]
@@ -98,34 +99,26 @@ def _unit(loc: _Loc, unit: str) -> float:
     return f
 
 
+def _float(value: Any) -> float:
+    """``float(value)``, NaN for anything that is not a number."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return np.nan
+
+
 def _temperature(loc: _Loc, temperature: Any) -> float | None:
     if temperature is None:
         return None
-    try:
-        t = float(temperature)
-    except (TypeError, ValueError):
-        t = np.nan
+    t = _float(temperature)
     if not np.isfinite(t):
         raise DataError(f"{loc('temperature')}: temperature={temperature!r} is not a finite "
                         "number: give one temperature per item (or None)")
     return t
 
 
-def _weight(loc: _Loc, weight: Any) -> float:
-    try:
-        w = float(weight)
-    except (TypeError, ValueError):
-        w = np.nan
-    if not (np.isfinite(w) and w >= 0):
-        raise DataError(f"{loc()}: weight={weight!r}: give a finite weight >= 0")
-    return w
-
-
 def _shift(loc: _Loc, a_T: Any) -> float:
-    try:
-        a = float(a_T)
-    except (TypeError, ValueError):
-        a = np.nan
+    a = _float(a_T)
     if not (np.isfinite(a) and a > 0):
         raise DataError(f"{loc()}: shift factor a_T = {a_T!r} must be a finite number > 0")
     return a
@@ -257,7 +250,7 @@ class FrequencySweep(_Item):
         self.name = loc.name
         self.kind = k
         self.temperature = _temperature(loc, temperature)
-        self.weight = _weight(loc, weight)
+        self.weight = _check_weight(weight, loc)
         self.source = src
         self.omega = f if omega is not None else 2.0 * np.pi * f
         self.frequency = f if omega is None else f / (2.0 * np.pi)
@@ -400,7 +393,7 @@ class Relaxation(_Item):
         self.name = loc.name
         self.kind = k
         self.temperature = _temperature(loc, temperature)
-        self.weight = _weight(loc, weight)
+        self.weight = _check_weight(weight, loc)
         self.source = src
         self.time = t
         self.modulus = e * scale
