@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from vhfit.cli._cards import card_options
 from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, load_results, one_line
 from vhfit.cli._plugins import resolve_model_name
 from vhfit.export import export
@@ -23,6 +24,13 @@ def cmd_export(args) -> int:
     kw = {}
     if args.name:
         kw["name"] = args.name
+    if args.to != "json":
+        kw.update(card_options(args))
+        if args.abaqus_explicit:
+            if args.to != "abaqus":
+                raise UsageError(f"--explicit is an Abaqus variant: drop it, or give --to abaqus "
+                                 f"(not {args.to})")
+            kw["explicit"] = True
     try:
         text = export(model, params, to=args.to, **kw)
     except ValueError as exc:

@@ -22,7 +22,10 @@ from __future__ import annotations
 import json
 from collections.abc import Callable
 
-from vhfit.export._common import Material, generator, resolve
+from vhfit.export import abaqus as _abaqus
+from vhfit.export import ansys as _ansys
+from vhfit.export import lsdyna as _lsdyna
+from vhfit.export._common import SUPPORT, Material, generator, resolve
 from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
 from vhfit.export.ansys import from_ansys, to_ansys
 from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
@@ -40,6 +43,7 @@ __all__ = [
     "from_ansys",
     "to_json",
     "from_json",
+    "supported_laws",
     "FORMATS",
 ]
 
@@ -141,6 +145,25 @@ def _target(to: str) -> str:
     if key not in _WRITERS:
         raise ValueError(f"unknown export target {to!r}; choose one of {', '.join(_WRITERS)}")
     return key
+
+
+def supported_laws(solver: str) -> tuple[str, ...]:
+    """The built-in hyperelastic laws whose cards ``solver`` holds.
+
+    LS-DYNA's MAT_077_H also needs polynomial3's C21, C12, C03 (and the C40.. of
+    reduced polynomials) to be zero: that is checked on the constants when writing.
+
+    Examples
+    --------
+    >>> from vhfit.export import supported_laws
+    >>> "gent" in supported_laws("ansys"), "gent" in supported_laws("abaqus")
+    (True, False)
+    """
+    key = _target(solver)
+    if key == "json":
+        raise ValueError("every registered law has a JSON form: give abaqus, lsdyna or ansys")
+    module = {"abaqus": _abaqus, "lsdyna": _lsdyna, "ansys": _ansys}[key]
+    return SUPPORT[module.SOLVER]
 
 
 def export(model, params=None, *, to: str = "abaqus", **options) -> str:
