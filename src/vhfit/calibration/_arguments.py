@@ -7,6 +7,8 @@ import numbers
 import os
 from typing import Any
 
+from vhfit.formulations import FORMULATIONS
+
 __all__ = ["check_arguments", "DEFAULT_TOL"]
 
 DEFAULT_TOL = 1e-6
@@ -54,6 +56,8 @@ def _choices(a: dict) -> None:
     from vhfit.calibration._space import SPACES
     from vhfit.optimize import tau_strategies
 
+    if not isinstance(a["formulation"], str) or a["formulation"] not in FORMULATIONS:
+        _fail("formulation", a["formulation"], f"choose one of {', '.join(FORMULATIONS)}")
     if a["method"] not in SPACES:
         _fail("method", a["method"], "choose 'separable' or 'full'")
     n = a["n_prony"]
