@@ -186,6 +186,7 @@ class Calibration:
         """JSON-ready dict with everything needed to reproduce and export the result."""
         return {
             "hyperelastic": self.model.hyperelastic.name,
+            "formulation": self.model.formulation,
             "n_prony": self.n_prony,
             "param_names": list(self.model.param_names),
             "units": list(self.model.units),
@@ -252,7 +253,8 @@ class Calibration:
         if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
             raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
                              "'params'); give the results.json written by vhfit")
-        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)))
+        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)),
+                                  formulation=str(res.get("formulation", "hereditary")))
         x = model.check(res["params"])
         lo_hi = res.get("options", {}).get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],

@@ -7,6 +7,7 @@ import json
 import os
 from pathlib import Path
 
+from vhfit import datasets
 from vhfit.cli._cards import CARD_FILES, check_table
 from vhfit.cli._common import EXIT_OK, UsageError, count_prony, load_results, one_line
 from vhfit.cli._fit import read_curves
@@ -26,10 +27,7 @@ def cmd_check(args) -> int:
     folder = Path(args.results).resolve().parent
     fits = _fits(res, args.results)
     cards = _cards(args, res, folder)
-    data = args.data or [i["path"] for i in res.get("inputs", []) if "path" in i]
-    if not data:
-        raise UsageError(f"{args.results}: no input files recorded; give the data with --data")
-    curves, _ = read_curves(data, _data_args(args, res.get("cli_options") or {}))
+    curves = _curves(args, res)
     primary = str(res.get("formulation", "hereditary"))
     card_fits = res.get("card_fits") or {}
     checks = {}
@@ -48,6 +46,19 @@ def cmd_check(args) -> int:
             print(f"WARNING: {c.warning()}")
     print("\n".join(check_table(checks, names)))
     return EXIT_OK
+
+
+def _curves(args, res: dict) -> list:
+    """The data: ``--data``, else the input files the results record (the demo's bundled
+    set as the demo reads it)."""
+    inputs = res.get("inputs") or []
+    if not args.data and any(i.get("bundled") == "vhfit.datasets.sebs" for i in inputs):
+        return datasets.load_sebs()
+    data = args.data or [i["path"] for i in inputs if "path" in i]
+    if not data:
+        raise UsageError(f"{args.results}: no input files recorded; give the data with --data")
+    curves, _ = read_curves(data, _data_args(args, res.get("cli_options") or {}))
+    return curves
 
 
 def _fits(res: dict, path: str) -> dict:

@@ -95,9 +95,10 @@ def cmd_demo(args) -> int:
 
 def _check_card_flags(args) -> None:
     """``--for`` a solver that lacks the law: refused before anything is fitted or written."""
-    targets = getattr(args, "targets", None)
-    if targets:
-        check_targets(targets, resolve_model_name(args.model))
+    given = getattr(args, "targets", None)
+    if given:  # --for a,b --for c: one list, each solver once
+        args.targets = list(dict.fromkeys(s for group in given for s in group))
+        check_targets(args.targets, resolve_model_name(args.model))
 
 
 def _demo_check(out: Path) -> None:
