@@ -188,3 +188,17 @@ def test_check_cards_takes_one_fit_or_one_per_solver():
     assert per["lsdyna"].fit_formulation == "lsdyna"
     assert per["lsdyna"].rmsape == pytest.approx(per["lsdyna"].fit_rmsape, rel=1e-9)
     assert check_cards(cards, curves)["abaqus"].fit_rmsape is None
+
+
+def test_lsdyna_pr_inverts_lsdyna_bulk_modulus_and_laws_per_solver():
+    """K = 2 G (1 + PR) / (3 (1 - 2 PR)) (docs/export.md): PR = 0.25 gives K = 5 G / 3."""
+    from vhfit.export import supported_laws
+    from vhfit.export.lsdyna import lsdyna_bulk_modulus, lsdyna_pr
+
+    assert lsdyna_bulk_modulus(0.25, 3.0) == pytest.approx(5.0)
+    assert lsdyna_pr(5.0, 3.0) == pytest.approx(0.25)
+    assert lsdyna_pr(1e4, 1.0) == pytest.approx((3e4 - 2) / (6e4 + 2), rel=1e-15)
+    assert "gent" in supported_laws("ansys") and "gent" not in supported_laws("abaqus")
+    assert "arruda_boyce" not in supported_laws("lsdyna")
+    with pytest.raises(ValueError, match="JSON"):
+        supported_laws("json")

@@ -91,7 +91,7 @@ def _cards(args, res: dict, folder: Path) -> dict:
             out[os.path.basename(f)] = (model_solver, text)
         return out
     listed = res.get("cards") or {}
-    for key, name in CARD_FILES.items():
+    for key in CARD_FILES:
         if key == "json" or key not in listed:
             continue
         out[key] = (key.split("_")[0], _read(str(folder / listed[key])))

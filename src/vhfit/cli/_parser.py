@@ -12,9 +12,9 @@ from collections.abc import Callable
 from typing import Any
 
 from vhfit._version import __version__
+from vhfit.cli._check import cmd_check
 from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
-from vhfit.cli._check import cmd_check
 from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
 from vhfit.cli._plugins import PLUGIN_GROUP

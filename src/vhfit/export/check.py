@@ -232,7 +232,7 @@ def card_solver(text: str) -> str:
 
     Examples
     --------
-    >>> card_solver("*KEYWORD\n*MAT_HYPERELASTIC_RUBBER\n"), card_solver("TB,HYPER,1,,,NEO")
+    >>> card_solver("*MAT_HYPERELASTIC_RUBBER"), card_solver("TB,HYPER,1,,,NEO")
     ('lsdyna', 'ansys')
     """
     body = "\n".join(ln for ln in text.splitlines()
