@@ -213,3 +213,16 @@ def test_export_takes_the_card_flags(default_run, capsys):
     assert float(rows[4].split(",")[2]) == 2 / 400
     assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna", "--explicit"]) == 2
     assert "--explicit" in capsys.readouterr().err
+
+
+def test_export_takes_each_solvers_own_fit(data, tmp_path, capsys):
+    out = tmp_path / "o"
+    res = fit(data, out, "--for", "abaqus,lsdyna")
+    capsys.readouterr()
+    assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna"]) == 0
+    rows = data_lines(capsys.readouterr().out, "$")
+    assert float(rows[4][20:40]) == pytest.approx(res["fits"]["lsdyna"]["params"]["C01"],
+                                                  rel=1e-12)
+    assert cli.main(["export", str(out / "results.json"), "--to", "abaqus"]) == 0
+    rows = data_lines(capsys.readouterr().out, "**")
+    assert float(rows[2].split(",")[1]) == res["params"]["C01"]

@@ -14,6 +14,10 @@ __all__ = ["cmd_export"]
 def cmd_export(args) -> int:
     """``vhfit export RESULTS.json --to SOLVER``."""
     res = load_results(args.results)
+    # several fits (vhfit fit --for abaqus,lsdyna): the card of a solver from its own fit
+    own = (res.get("fits") or {}).get((res.get("card_fits") or {}).get(args.to))
+    if isinstance(own, dict) and "params" in own and "hyperelastic" in own:
+        res = own
     name = resolve_model_name(res["hyperelastic"])
     params = res["params"]
     try:
