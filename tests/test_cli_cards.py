@@ -160,6 +160,7 @@ def test_for_lsdyna_and_abaqus_runs_two_fits_and_says_which_card_is_whose(data, 
     summary = (out / "summary.txt").read_text()
     assert "fits: 'hereditary' for abaqus" in summary and "'lsdyna' for lsdyna" in summary
     assert "== the fit in the 'lsdyna' formulation, for lsdyna ==" in summary
+    assert "mooney_rivlin + 1 Prony term(s), 'lsdyna' formulation" in summary
     # the LS-DYNA constants are the lsdyna fit's
     cards = data_lines((out / "lsdyna.k").read_text(), "$")
     assert float(cards[4][20:40]) == pytest.approx(res["fits"]["lsdyna"]["params"]["C01"],

@@ -202,3 +202,13 @@ def test_lsdyna_pr_inverts_lsdyna_bulk_modulus_and_laws_per_solver():
     assert "arruda_boyce" not in supported_laws("lsdyna")
     with pytest.raises(ValueError, match="JSON"):
         supported_laws("json")
+
+
+def test_json_material_keeps_the_formulation_it_was_fitted_in():
+    from vhfit.export import from_json, to_json
+
+    dyna = vhfit.ViscoHyperelastic("mooney_rivlin", 2, formulation="lsdyna")
+    m, p = from_json(to_json(dyna, P))
+    assert m.formulation == "lsdyna" and p == P
+    m, _ = from_json('{"hyperelastic": "neo_hooke", "params": {"C10": 0.5}}')
+    assert m.formulation == "hereditary"

@@ -144,7 +144,9 @@ class Calibration:
         """A readable table of constants, intervals, errors and checks."""
         units = dict(zip(self.model.param_names, self.model.units))
         lines = [
-            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)",
+            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)"
+            + ("" if self.model.formulation == "hereditary"
+               else f", '{self.model.formulation}' formulation"),
             f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
             f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
             *(f"WARNING: {h}" for h in self.headlines),

@@ -32,7 +32,7 @@ def cmd_check(args) -> int:
     card_fits = res.get("card_fits") or {}
     checks = {}
     for key, (solver, text) in cards.items():
-        fit = fits.get(card_fits.get(key, primary), fits[primary])
+        fit = fits.get(card_fits.get(key, card_fits.get(solver, primary)), fits[primary])
         try:
             checks[key] = check_card(text, curves, solver=solver, fit=fit)
         except ValueError as exc:

@@ -61,8 +61,9 @@ JSON_FORMAT = "vhfit-material"
 def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
     """The calibrated material as JSON: vhfit parameters plus the derived solver values.
 
-    ``hyperelastic``, ``n_prony`` and ``params`` define the model (this is what
-    :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
+    ``hyperelastic``, ``formulation`` (the viscoelastic formulation the constants were
+    fitted in, :mod:`vhfit.formulations`), ``n_prony`` and ``params`` define the model
+    (this is what :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
     constants for reference.
 
     Examples
@@ -82,6 +83,7 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "generator": generator(),
         "name": name,
         "hyperelastic": mat.hyperelastic,
+        "formulation": model.formulation,
         "n_prony": mat.n_prony,
         "params": params,
         "units": {

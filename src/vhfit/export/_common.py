@@ -100,7 +100,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     ``.model`` and ``.params`` attributes (``params`` omitted); or a mapping with
     ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
     name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
-    from the ``G1, tau1, ...`` keys).
+    from the ``G1, tau1, ...`` keys), ``"formulation"`` optional (default
+    ``"hereditary"``; a results file of a fit for LS-DYNA says ``"lsdyna"``).
     """
     if params is None:
         if isinstance(model, ViscoHyperelastic):
@@ -114,8 +115,9 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
             params = model["params"]
             spec = model.get("model", model.get("hyperelastic"))
             n_prony = model.get("n_prony")
+            formulation = str(model.get("formulation", "hereditary"))
         elif hasattr(model, "params") and hasattr(model, "model"):
-            params, spec, n_prony = model.params, model.model, None
+            params, spec, n_prony, formulation = model.params, model.model, None, "hereditary"
         else:
             raise TypeError(
                 f"cannot export {type(model).__name__}: give (model, params), an object with "
@@ -133,7 +135,7 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
                 if not isinstance(params, Mapping):
                     raise TypeError("give 'n_prony' when the parameters are an array")
                 n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
-            model = ViscoHyperelastic(spec, n_prony=int(n_prony))
+            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation)
     if not isinstance(model, ViscoHyperelastic):
         raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
     x = model.check(params)
