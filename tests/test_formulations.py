@@ -23,7 +23,7 @@ from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
 from test_model import params_of, relative_error
-from test_modes import E_inf_ref, F_of, _lag_nodes, history_of, kirchhoff_ref, laws, measured, paths
+from test_modes import _lag_nodes, history_of, kirchhoff_ref, measured, path_of, viscous_cases
 
 import vhfit
 from vhfit import formulations, modes
@@ -46,10 +46,7 @@ def green(F: np.ndarray, deviatoric: bool) -> np.ndarray:
 def lsdyna_reference(law, c, G, tau, mode, direction, time, x1, x2, t_out,
                      deviatoric=False) -> np.ndarray:
     """True stress of the MAT_077 law (module docstring) at ``t_out``."""
-    def F_at(u):
-        return F_of(mode, np.interp(u, time, x1),
-                    None if x2 is None else np.interp(u, time, x2))
-
+    F_at = path_of(mode, time, x1, x2)
     out = []
     for t in map(float, t_out):
         Ft = F_at(np.array([t]))
@@ -69,19 +66,11 @@ def lsdyna_reference(law, c, G, tau, mode, direction, time, x1, x2, t_out,
 
 # ========================================================== against the reference
 @accuracy
-@given(st.data())
-def test_lsdyna_matches_the_green_strain_quadrature(data):
+@given(st.sampled_from(LSDYNA), viscous_cases())
+def test_lsdyna_matches_the_green_strain_quadrature(form, case):
     """Every mode, both readings, random laws, ramps and histories: ≤ 1e-6 relative."""
-    form = data.draw(st.sampled_from(LSDYNA))
-    mode = data.draw(st.sampled_from(DEFORMATIONS))
-    direction = data.draw(st.sampled_from((1, 2))) if mode in ("equibiaxial", "biaxial") else 1
-    law, c = data.draw(laws())
-    time, x1, x2, out = data.draw(paths(mode))
-    n = data.draw(st.integers(1, 3))
-    E = E_inf_ref(law, c)
-    G = [E * 10 ** data.draw(st.floats(-2.0, 3.0)) for _ in range(n)]
-    tau = [time[-1] * 10 ** data.draw(st.floats(-6.0, 6.0)) for _ in range(n)]
-    s = ViscoHyperelastic(law, n, formulation=form).stress(
+    mode, direction, law, c, G, tau, time, x1, x2, out = case
+    s = ViscoHyperelastic(law, len(G), formulation=form).stress(
         params_of(c, G, tau), history_of(mode, time, x1, x2, out, direction))
     ref = lsdyna_reference(law, c, G, tau, mode, direction, time, x1, x2, out,
                            deviatoric=form == "lsdyna_deviatoric")
@@ -263,15 +252,42 @@ def test_a_user_formulation_is_registered_and_used(registered):
 
 
 # ============================================================== calibration
-def test_calibrate_fits_in_the_chosen_formulation():
-    """Data made with the MAT_077 law: an "lsdyna" fit finds them, the model says so."""
+@pytest.fixture(scope="module")
+def lsdyna_curves():
+    """Two rates of compression made with the MAT_077 law, one Prony term."""
     true = dict(C10=0.05, C01=0.02, G1=1.0, tau1=0.01)
     m = ViscoHyperelastic("mooney_rivlin", 1, formulation="lsdyna")
     eps = np.linspace(-0.05, -0.6, 10)
-    curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
-                                                      measure="engineering"), strain_rate=r)
-              for r in (-1.0, -100.0)]
-    cal = vhfit.calibrate(curves, n_prony=1, seed=0, formulation="lsdyna", uncertainty=False)
+    return [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+                                                    measure="engineering"), strain_rate=r)
+            for r in (-1.0, -100.0)]
+
+
+def test_calibrate_fits_in_the_chosen_formulation(lsdyna_curves):
+    """Data made with the MAT_077 law: an "lsdyna" fit finds them, the model says so;
+    a "hereditary" fit cannot (the two laws differ at 60 % compression)."""
+    cal = vhfit.calibrate(lsdyna_curves, n_prony=1, seed=0, formulation="lsdyna",
+                          uncertainty=False)
     assert cal.model.formulation == "lsdyna"
     assert cal.rmsape < 1e-3
     assert formulations.get_formulation(cal.model.formulation).kinematic
+    other = vhfit.calibrate(lsdyna_curves, n_prony=1, seed=0, uncertainty=False)
+    assert other.model.formulation == "hereditary" and other.rmsape > 0.1
+
+
+def test_pruned_terms_keep_the_formulation(lsdyna_curves):
+    cal = vhfit.calibrate(lsdyna_curves, n_prony=3, seed=0, formulation="lsdyna",
+                          uncertainty=False)
+    assert cal.model.n_prony < 3 and cal.model.formulation == "lsdyna"
+
+
+def test_resume_refuses_a_checkpoint_of_another_formulation(lsdyna_curves, tmp_path):
+    ck = tmp_path / "ck.json"
+    opts = dict(n_prony=1, seed=0, checkpoint=ck, uncertainty=False, maxiter=3, polish=False,
+                bounds={"C10": (0, 1), "C01": (0, 1), "G1": (0, 10), "tau1": (1e-3, 1)})
+    vhfit.calibrate(lsdyna_curves, formulation="lsdyna", **opts)
+    vhfit.calibrate(lsdyna_curves, formulation="lsdyna", resume=True, **opts)  # its own: fine
+    # "lsdyna_deviatoric" has the same arrays and bounds: only the formulation differs
+    for other in ("hereditary", "lsdyna_deviatoric"):
+        with pytest.raises(ValueError, match="different fit"):
+            vhfit.calibrate(lsdyna_curves, formulation=other, resume=True, **opts)

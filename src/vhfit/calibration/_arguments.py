@@ -7,7 +7,7 @@ import numbers
 import os
 from typing import Any
 
-from vhfit.formulations import FORMULATIONS
+from vhfit.formulations import get_formulation
 
 __all__ = ["check_arguments", "DEFAULT_TOL"]
 
@@ -56,8 +56,7 @@ def _choices(a: dict) -> None:
     from vhfit.calibration._space import SPACES
     from vhfit.optimize import tau_strategies
 
-    if not isinstance(a["formulation"], str) or a["formulation"] not in FORMULATIONS:
-        _fail("formulation", a["formulation"], f"choose one of {', '.join(FORMULATIONS)}")
+    get_formulation(a["formulation"])  # its own one-line error
     if a["method"] not in SPACES:
         _fail("method", a["method"], "choose 'separable' or 'full'")
     n = a["n_prony"]
