@@ -45,7 +45,7 @@ def _long_term_coefficients(key, x1, x2):
 def on_uniaxial_kernel(formulation, hist) -> bool:
     """Whether ``hist`` runs the dedicated uniaxial kernel under ``formulation``."""
     return (formulation.uniaxial_kernel and hist.deformation == "uniaxial"
-            and not hist.is_equilibrium)
+            and not hist.is_equilibrium and not hist.is_linear)
 
 
 class GeneralPlan:
@@ -58,7 +58,7 @@ class GeneralPlan:
         self.jobs = 0
         self.formulation = formulation
         for hist, sl in zip(histories, slices):
-            if hist.is_equilibrium or on_uniaxial_kernel(formulation, hist):
+            if hist.is_equilibrium or hist.is_linear or on_uniaxial_kernel(formulation, hist):
                 continue
             t, x1n, idx = hist.grid(dlog)
             x2n = hist.stretch2_at(t)
