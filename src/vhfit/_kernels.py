@@ -336,8 +336,11 @@ def step_derivatives(f0, f1, sample_off, step_off, D) -> np.ndarray:
     starts = [sample_off[c] + STRIDE * np.arange(step_off[c + 1] - step_off[c])
               for c in range(sample_off.size - 1)]
     base = np.concatenate(starts + [np.zeros(0, dtype=np.int64)]).astype(np.int64)
-    idx = base[:, None] + np.arange(STRIDE + 1)[None, :]
-    return np.ascontiguousarray(np.hstack([f0[idx] @ D.T, f1[idx] @ D.T]))
+    out = np.zeros((base.size, 8))
+    for k, f in enumerate((f0, f1)):
+        for m in range(STRIDE + 1):  # the kernel's order of summation: the same bits
+            out[:, 4 * k:4 * k + 4] += D[:, m][None, :] * f[base + m][:, None]
+    return out
 
 
 @njit(cache=True, error_model="numpy")
@@ -400,7 +403,7 @@ def overstress_shared(d, f_start, w, h, step_off, G, tau, parallel=None):
     Returns
     -------
     (G.shape[0], K + C) overstress at the nodes, equal to :func:`overstress_general` of
-    the factors repeated for every row (to rounding: the step sums are ordered otherwise).
+    the factors repeated for every row, to the bit.
     """
     if parallel is None:
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], step_off.shape[0] - 1)
