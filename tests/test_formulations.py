@@ -26,8 +26,14 @@ from test_model import params_of, relative_error
 from test_modes import _lag_nodes, history_of, kirchhoff_ref, measured, path_of, viscous_cases
 
 import vhfit
-from vhfit import formulations, modes
-from vhfit.formulations import FORMULATIONS, Formulation, get_formulation, register_formulation
+from vhfit import _kernels, formulations, modes
+from vhfit.formulations import (
+    FORMULATIONS,
+    SOLVER_FORMULATIONS,
+    Formulation,
+    get_formulation,
+    register_formulation,
+)
 from vhfit.history import DEFORMATIONS, History
 from vhfit.model import ViscoHyperelastic
 
@@ -95,6 +101,18 @@ def test_lsdyna_load_unload_hold_cycles_match_the_quadrature(mode, form):
         ref = lsdyna_reference("mooney_rivlin", c, G, tau, mode, d, time, x1, x2, out,
                                deviatoric=form == "lsdyna_deviatoric")
         assert relative_error(s, ref) <= 1e-6, d
+
+
+@pytest.mark.parametrize("mode, direction", [("uniaxial", 1), ("equibiaxial", 2),
+                                             ("planar", 1), ("simple_shear", 1)])
+def test_lsdyna_nominal_stress_is_the_true_stress_over_the_loaded_stretch(mode, direction):
+    m = ViscoHyperelastic("mooney_rivlin", 1, formulation="lsdyna")
+    kw = dict(strain=np.linspace(0.0, 0.6, 5), strain_rate=10.0, deformation=mode,
+              direction=direction)
+    true, nominal = (m.stress([0.1, 0.05, 2.0, 0.01], measure=k, **kw)
+                     for k in ("true", "engineering"))
+    loaded = 1.0 if mode == "simple_shear" else 1.0 + kw["strain"]
+    np.testing.assert_allclose(nominal, true / loaded, rtol=1e-15)
 
 
 def test_the_two_lsdyna_readings_differ_at_finite_strain():
@@ -166,9 +184,36 @@ def test_lsdyna_overstress_does_not_depend_on_the_hyperelastic_constants():
     np.testing.assert_allclose(b(X), rebuilt, rtol=1e-12, atol=1e-14)
 
 
+def test_the_shared_factor_kernel_equals_the_general_one():
+    """Factors shared by every row: step coefficients once, the same overstress."""
+    h = History.piecewise_linear([0.0, 1.0, 2.0], [0.0, 0.9, -0.4], np.linspace(0, 2, 9))
+    t, lam, _ = h.grid(0.02)
+    v = _kernels.LOBATTO
+    samples = np.concatenate([lam[:1], (lam[:-1, None] + np.diff(lam)[:, None] * v[1:]).ravel()])
+    samples = np.concatenate([samples, samples[::-1]])  # two curves
+    offs = (np.array([0, samples.size // 2, samples.size]),
+            np.array([0, t.size - 1, 2 * (t.size - 1)]))
+    steps = np.concatenate([np.diff(t), np.diff(t)[::-1]])
+    f0, f1 = np.sin(samples), samples**2 - 1.0
+    w = np.ascontiguousarray(np.stack([np.cos(np.arange(steps.size + 2.0)),
+                                       np.ones(steps.size + 2)], axis=1))
+    G, tau = np.array([[2.0, 1.0], [0.5, 3.0], [1.0, 0.0]]), np.array(
+        [[1e-3, 0.3], [0.05, 10.0], [1e-9, 1e9]])
+    general = _kernels.overstress_general(np.tile(f0, (3, 1)), np.tile(f1, (3, 1)), w, steps,
+                                          *offs, G, tau, _kernels.DERIV)
+    d = _kernels.step_derivatives(f0, f1, *offs, _kernels.DERIV)
+    start = np.stack([f0[offs[0][:-1]], f1[offs[0][:-1]]], axis=1)
+    for parallel in (False, True):
+        shared = _kernels.overstress_shared(d, start, w, steps, offs[1], G, tau, parallel)
+        np.testing.assert_allclose(shared, general, rtol=1e-12,
+                                   atol=1e-12 * np.abs(general).max())
+
+
 # ================================================================ the registry
 def test_the_built_ins_and_their_names():
     assert {"hereditary", "lsdyna", "lsdyna_deviatoric"} <= set(FORMULATIONS)
+    assert SOLVER_FORMULATIONS == {"abaqus": "hereditary", "ansys": "hereditary",
+                                   "lsdyna": "lsdyna"}
     assert isinstance(FORMULATIONS["lsdyna"], Formulation)
     assert get_formulation("lsdyna") is FORMULATIONS["lsdyna"]
     m = ViscoHyperelastic("neo_hooke", 1)

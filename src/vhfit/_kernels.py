@@ -323,3 +323,86 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _general_par if parallel else _general_seq
     return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat))
+
+
+# ------------------------------------------------- factors shared by every row
+def step_derivatives(f0, f1, sample_off, step_off, D) -> np.ndarray:
+    """(K, 8): each step's derivative coefficients of the interpolants of f0 and f1.
+
+    For factors that are the same for every parameter set (a kinematic formulation,
+    :mod:`vhfit.formulations`), shape (S,): the d_j of :func:`overstress_general`'s
+    steps (j = 0..3 for f0, then for f1), computed once instead of once per row and τ.
+    """
+    starts = [sample_off[c] + STRIDE * np.arange(step_off[c + 1] - step_off[c])
+              for c in range(sample_off.size - 1)]
+    base = np.concatenate(starts + [np.zeros(0, dtype=np.int64)]).astype(np.int64)
+    idx = base[:, None] + np.arange(STRIDE + 1)[None, :]
+    return np.ascontiguousarray(np.hstack([f0[idx] @ D.T, f1[idx] @ D.T]))
+
+
+@njit(cache=True, error_model="numpy")
+def _job_shared(p, c, d, f_start, w, h, step_off, G, tau, out):
+    """One parameter set on one curve, from the shared step coefficients ``d``."""
+    N = G.shape[1]
+    k0 = step_off[c]
+    nsteps = step_off[c + 1] - k0
+    node0 = k0 + c
+    R0 = np.empty(N)
+    R1 = np.empty(N)
+    acc = 0.0
+    for i in range(N):
+        R0[i] = f_start[c, 0]
+        R1[i] = f_start[c, 1]
+        acc += G[p, i]
+    out[p, node0] = acc * (w[node0, 0] * f_start[c, 0] + w[node0, 1] * f_start[c, 1])
+    for k in range(nsteps):
+        row = k0 + k
+        hk = h[row]
+        node = node0 + k + 1
+        w0 = w[node, 0]
+        w1 = w[node, 1]
+        acc = 0.0
+        for i in range(N):
+            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
+            R0[i] = e * R0[i] + d[row, 0] * q0 + d[row, 1] * q1 + d[row, 2] * q2 + d[row, 3] * q3
+            R1[i] = e * R1[i] + d[row, 4] * q0 + d[row, 5] * q1 + d[row, 6] * q2 + d[row, 7] * q3
+            acc += G[p, i] * (w0 * R0[i] + w1 * R1[i])
+        out[p, node] = acc
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _shared_par(d, f_start, w, h, step_off, G, tau):
+    C = step_off.shape[0] - 1
+    out = np.empty((G.shape[0], h.shape[0] + C))
+    for job in prange(G.shape[0] * C):
+        _job_shared(job // C, job % C, d, f_start, w, h, step_off, G, tau, out)
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _shared_seq(d, f_start, w, h, step_off, G, tau):
+    C = step_off.shape[0] - 1
+    out = np.empty((G.shape[0], h.shape[0] + C))
+    for job in range(G.shape[0] * C):
+        _job_shared(job // C, job % C, d, f_start, w, h, step_off, G, tau, out)
+    return out
+
+
+def overstress_shared(d, f_start, w, h, step_off, G, tau, parallel=None):
+    """:func:`overstress_general` for factors shared by every parameter set.
+
+    Parameters
+    ----------
+    d : (K, 8) :func:`step_derivatives` of the shared factors.
+    f_start : (C, 2) f0, f1 at each curve's first sample.
+    w, h, step_off, G, tau, parallel : as in :func:`overstress_general`.
+
+    Returns
+    -------
+    (G.shape[0], K + C) overstress at the nodes, equal to :func:`overstress_general` of
+    the factors repeated for every row (to rounding: the step sums are ordered otherwise).
+    """
+    if parallel is None:
+        parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], step_off.shape[0] - 1)
+    f = _shared_par if parallel else _shared_seq
+    return f(d, f_start, w, h, step_off, G, tau)

@@ -45,7 +45,7 @@ def _long_term_coefficients(key, x1, x2):
 def on_uniaxial_kernel(formulation, hist) -> bool:
     """Whether ``hist`` runs the dedicated uniaxial kernel under ``formulation``."""
     return (formulation.uniaxial_kernel and hist.deformation == "uniaxial"
-            and not hist.is_equilibrium)
+            and not hist.is_equilibrium and not hist.is_linear)
 
 
 class GeneralPlan:
@@ -58,7 +58,7 @@ class GeneralPlan:
         self.jobs = 0
         self.formulation = formulation
         for hist, sl in zip(histories, slices):
-            if hist.is_equilibrium or on_uniaxial_kernel(formulation, hist):
+            if hist.is_equilibrium or hist.is_linear or on_uniaxial_kernel(formulation, hist):
                 continue
             t, x1n, idx = hist.grid(dlog)
             x2n = hist.stretch2_at(t)
@@ -100,6 +100,11 @@ class GeneralPlan:
         }
         if formulation.kinematic:  # the same factors for every parameter set: once
             self.kinematic_factors = self._factors(None, None, None)[:2]
+            f0, f1 = (f[0] for f in self.kinematic_factors)
+            self.shared = (_kernels.step_derivatives(f0, f1, self.sample_off, self.step_off,
+                                                     _kernels.DERIV),
+                           np.ascontiguousarray(np.stack([f0[self.sample_off[:-1]],
+                                                          f1[self.sample_off[:-1]]], axis=1)))
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
         self.out_coefficients = {key: _long_term_coefficients(key, self.x1[idx], self.x2[idx])
@@ -108,12 +113,9 @@ class GeneralPlan:
     def _factors(self, hm, hyper, E_inf):
         """f0, f1 (P, S) at every sample, and which parameter sets gave finite values.
 
-        A kinematic formulation's factors are computed once, (1, S), for all sets.
+        A kinematic formulation's are computed once, ``hyper`` None, (1, S) for all sets.
         """
         form = self.formulation
-        if form.kinematic and hasattr(self, "kinematic_factors"):
-            f0, f1 = self.kinematic_factors
-            return f0, f1, np.ones(1 if hyper is None else hyper.shape[0], dtype=bool)
         rows = 1 if hyper is None else hyper.shape[0]
         with np.errstate(all="ignore"):
             if len(self.sample_groups) == 1:  # one test and direction: no scatter
@@ -152,15 +154,24 @@ class GeneralPlan:
                 ok &= np.all(np.isfinite(s), axis=1)
         return ok
 
+    def _overstress(self, hm, hyper, E_inf, G, tau, parallel=None):
+        """Σ_i G_i h_i at the nodes (rows of G, tau; ``len(G)`` a multiple of the sets),
+        and which parameter sets gave finite factors."""
+        G, tau = np.ascontiguousarray(G), np.ascontiguousarray(tau)
+        if self.formulation.kinematic:  # one set of step coefficients for every row
+            ok = np.ones(hyper.shape[0], dtype=bool)
+            return _kernels.overstress_shared(*self.shared, self.w, self.step, self.step_off,
+                                              G, tau, parallel), ok
+        f0, f1, ok = self._factors(hm, hyper, E_inf)
+        return _kernels.overstress_general(
+            f0, f1, self.w, self.step, self.sample_off, self.step_off, G, tau, _kernels.DERIV,
+            parallel, repeat=G.shape[0] // f0.shape[0]), ok
+
     def stress(self, hm, hyper, E_inf, G, tau, sig) -> np.ndarray:
         """Write σ = σ_h + Σ G_i h_i at this plan's outputs into ``sig``; valid sets."""
         ok = self._long_term(hm, hyper, 1.0, sig)
         if G.shape[1]:
-            f0, f1, ok_f = self._factors(hm, hyper, E_inf)
-            ov = _kernels.overstress_general(
-                f0, f1, self.w, self.step, self.sample_off, self.step_off,
-                np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV,
-                repeat=G.shape[0] // f0.shape[0])
+            ov, ok_f = self._overstress(hm, hyper, E_inf, G, tau)
             sig[:, self.pos] += ov[:, self.gather_node]
             ok &= ok_f
         return ok
@@ -170,11 +181,8 @@ class GeneralPlan:
         P, N = tau.shape
         with np.errstate(all="ignore"):
             ok = self._long_term(hm, hyper, 1.0 / E_inf[:, None], base)
-        f0, f1, ok_f = self._factors(hm, hyper, E_inf)
-        ov = _kernels.overstress_general(
-            f0, f1, self.w, self.step, self.sample_off, self.step_off, np.ones((P * N, 1)),
-            np.ascontiguousarray(tau.reshape(P * N, 1)), _kernels.DERIV, parallel,
-            repeat=P * N // f0.shape[0])
+        ov, ok_f = self._overstress(hm, hyper, E_inf, np.ones((P * N, 1)),
+                                    tau.reshape(P * N, 1), parallel)
         h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, self.pos.size)
         return ok & ok_f
 

@@ -33,7 +33,8 @@ import numpy as np
 
 from vhfit import modes
 
-__all__ = ["Formulation", "FORMULATIONS", "register_formulation", "get_formulation"]
+__all__ = ["Formulation", "FORMULATIONS", "SOLVER_FORMULATIONS", "register_formulation",
+           "get_formulation"]
 
 
 class Formulation:
@@ -87,6 +88,12 @@ class Formulation:
 
 #: The registry: name -> :class:`Formulation`.
 FORMULATIONS: dict[str, Formulation] = {}
+
+#: The formulation each solver integrates with the Prony cards vhfit writes for it:
+#: Abaqus and Ansys relax the deviatoric instantaneous stress, LS-DYNA's MAT_077_H /
+#: MAT_077_O convolve the Green strain rate (docs/theory.md §13–14).
+SOLVER_FORMULATIONS: dict[str, str] = {"abaqus": "hereditary", "ansys": "hereditary",
+                                       "lsdyna": "lsdyna"}
 
 
 def register_formulation(name: str) -> Callable:

@@ -5,7 +5,9 @@ Stress of the corrected, conditioned Eq. 19 (docs/theory.md §4–5):
     σ(t) = σ_h(λ(t)) + Σ_i G_i h_i(t),
 
 where h_i is the overstress of branch i per unit modulus, evaluated by the recursion
-of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy.
+of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy. What
+h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
+docs/theory.md §14): the corrected Eq. 19 by default, or LS-DYNA's MAT_077 law.
 Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
 """
 
@@ -17,6 +19,7 @@ import numpy as np
 
 from vhfit import _kernels
 from vhfit import hyperelastic as _hyper
+from vhfit._linear import LinearLoad, LinearPlan
 from vhfit._plans import EquilibriumPlan, GeneralPlan, on_uniaxial_kernel
 from vhfit.formulations import get_formulation
 from vhfit.history import History
@@ -103,11 +106,11 @@ def _history_from(deformation, direction, *, strain, strain_rate, time, stretch,
     return h
 
 
-def _history_of(item) -> History:
-    if isinstance(item, History):
+def _history_of(item) -> History | LinearLoad:
+    if isinstance(item, (History, LinearLoad)):
         return item
     h = getattr(item, "history", None)
-    if isinstance(h, History):
+    if isinstance(h, (History, LinearLoad)):
         return h
     raise TypeError(
         f"expected a vhfit.History or a Curve (anything with a .history), got {type(item).__name__}"
@@ -293,7 +296,7 @@ class ViscoHyperelastic:
         deformation: str = "uniaxial",
         direction: int = 1,
     ) -> np.ndarray:
-        """Stress of the model along a history of any homogeneous test (corrected Eq. 19).
+        """Stress of the model along a history of any homogeneous test, in its formulation.
 
         Parameters
         ----------
@@ -417,7 +420,10 @@ class Batch:
     uniaxial histories run the uniaxial recursion of :func:`vhfit._kernels.overstress`;
     the other tests, and every test under another formulation, its general form
     (docs/theory.md §13–14), one kernel job per history and loaded direction;
-    equilibrium histories need the long-term law alone.
+    equilibrium histories need the long-term law alone; small-strain tests
+    (:class:`vhfit._linear.LinearLoad`: frequency sweeps, relaxation tests) give the
+    moduli of the generalised Maxwell model, the same in every formulation
+    (docs/theory.md §10).
     """
 
     def __init__(self, model: ViscoHyperelastic, histories: Sequence, measure=None):
@@ -447,6 +453,7 @@ class Batch:
             [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
         )
         form = model._formulation
+        self._linear = LinearPlan(hs, self.slices)  # small-strain tests: moduli
         uni = [c for c, h in enumerate(hs) if on_uniaxial_kernel(form, h)]
         self._plan_uniaxial(uni)
         self._general = GeneralPlan(model._dlog, hs, self.slices, form)
@@ -517,6 +524,7 @@ class Batch:
         if self._general.jobs:
             ok &= self._general.shape_columns(self.model.hyperelastic, hyper, E_inf, tau,
                                               base, h, parallel)
+        self._linear.shape_columns(tau, base, h)
         with np.errstate(all="ignore"):  # E∞ <= 0: invalid, +inf below
             ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0 / E_inf, base)
         base[~ok] = np.inf
@@ -568,6 +576,7 @@ class Batch:
             if self._general.jobs:
                 ok &= self._general.stress(self.model.hyperelastic, hyper, E_inf, G, tau, sig)
             ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0, sig)
+            self._linear.stress(E_inf, G, tau, sig)
         sig[~ok] = np.inf
         sig[~np.isfinite(sig)] = np.inf
         return self._measure(sig)

@@ -26,7 +26,10 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
         h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
     form = prob.model.formulation
     for hist in prob.batch.histories:  # the paths the uniaxial arrays above do not cover
-        if hist.deformation != "uniaxial" or hist.is_equilibrium or form != "hereditary":
+        if hist.is_linear:  # a sweep's frequencies or a relaxation test's times
+            h.update(repr(("linear", hist.kind)).encode())
+            h.update(np.ascontiguousarray(hist.x, dtype=np.float64).tobytes())
+        elif hist.deformation != "uniaxial" or hist.is_equilibrium or form != "hereditary":
             h.update(repr((hist.deformation, hist.is_equilibrium)).encode())
             for a in (hist.time, hist.stretch, hist.stretch2, hist.out_time,
                       hist.out_direction):

@@ -26,6 +26,7 @@ import numpy as np
 from vhfit import datasets, plot
 from vhfit._io import atomic_write
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
+from vhfit.cli import _moduli
 from vhfit.cli._cards import (
     CARD_FILES,
     SOLVERS,
@@ -171,6 +172,8 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
     if windows["strain"] or windows["time"]:
         def trimmed(c):
             src = os.path.abspath(c.source) if c.source else None
+            if not hasattr(c, "trim"):  # a frequency sweep or relaxation test
+                return c
             return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
 
         curves = [trimmed(c) for c in curves]
@@ -324,6 +327,10 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
+    moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
+    if moduli:  # frequency sweeps and relaxation tests
+        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli)))
+        written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
 
     cards = write_cards(fits, plan, curves, out, args)
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
@@ -424,6 +431,8 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
                 "stress_model"] + (["deformation", "direction"] if modes else []))
     for c, f in zip(curves, fits):
+        if _moduli.is_moduli_fit(f):  # in fitted_moduli.csv
+            continue
         name = str(getattr(c, "name", ""))
         r = getattr(c, "strain_rate", float("nan"))
         rate = "" if r is None else f"{float(r):g}"
