@@ -43,7 +43,7 @@ import cases  # noqa: E402
 import vhfit  # noqa: E402
 from vhfit import datasets  # noqa: E402
 from vhfit.export import export  # noqa: E402
-from vhfit.export.check import SOLVER_FORMULATION, allowed_rmsape, check_cards  # noqa: E402
+from vhfit.export.check import SOLVER_FORMULATIONS, allowed_rmsape, check_cards  # noqa: E402
 
 SOLVERS = ("abaqus", "ansys", "lsdyna")
 FORMULATIONS = ("hereditary", "lsdyna")
@@ -91,7 +91,7 @@ def run_case(curves, n_prony: int, formulation: str, quick: bool) -> dict:
            "seconds": time.perf_counter() - t0}
     for s, c in checks.items():
         row[s] = c.rmsape
-    own = [s for s in SOLVERS if SOLVER_FORMULATION[s] == formulation]
+    own = [s for s in SOLVERS if SOLVER_FORMULATIONS[s] == formulation]
     row["own_ratio"] = max(row[s] / row["fit_rmsape"] for s in own) if row["fit_rmsape"] else 1.0
     row["goal"] = all(row[s] <= 1.05 * row["fit_rmsape"] + ROUND_OFF for s in own)
     row["within_margin"] = all(row[s] <= allowed_rmsape(row["fit_rmsape"]) for s in own)
@@ -109,7 +109,7 @@ def table(results: dict) -> list[str]:
             cells = []
             for s in SOLVERS:
                 v = f"{r[s]:.4g}"
-                cells.append(v if SOLVER_FORMULATION[s] == r["fit"] else f"*{v}*")
+                cells.append(v if SOLVER_FORMULATIONS[s] == r["fit"] else f"*{v}*")
             lines.append(f"| {name} | {r['fit']} | {r['fit_rmsape']:.4g} | "
                          + " | ".join(cells)
                          + f" | {r['own_ratio']:.6f} | {'yes' if r['goal'] else 'NO'} |")

@@ -478,7 +478,7 @@ MUTANTS: list[Mutant] = [
       "the LS-DYNA reader takes GI (shear) for the uniaxial G_i",
       ("tests/test_export.py", "tests/test_export_vendor.py")),
     M("check_lsdyna_in_hereditary", "vhfit/export/check.py",
-      '"lsdyna": "lsdyna",\n}', '"lsdyna": "hereditary",\n}',
+      "    return SOLVER_FORMULATIONS[key]", '    return "hereditary"',
       "the card check simulates LS-DYNA cards in the hereditary formulation",
       ("tests/test_export_check.py",)),
     M("check_margin_relative", "vhfit/export/check.py",

@@ -22,7 +22,7 @@ from vhfit.export import to_abaqus, to_ansys, to_lsdyna
 from vhfit.export.check import (
     MARGIN_ABSOLUTE,
     MARGIN_RELATIVE,
-    SOLVER_FORMULATION,
+    SOLVER_FORMULATIONS,
     CardCheck,
     allowed_rmsape,
     card_solver,
@@ -162,7 +162,7 @@ def test_margin_is_five_percent_plus_a_hundredth_of_a_point():
 
 
 def test_solvers_formulations_and_card_formats():
-    assert SOLVER_FORMULATION == {"abaqus": "hereditary", "ansys": "hereditary",
+    assert SOLVER_FORMULATIONS == {"abaqus": "hereditary", "ansys": "hereditary",
                                   "lsdyna": "lsdyna"}
     assert solver_formulation("LS-DYNA") == "lsdyna"
     assert solver_formulation("abaqus_explicit") == "hereditary"

@@ -1,7 +1,7 @@
 """The solver cards of ``vhfit fit``: which fit each solver gets, the cards, their check.
 
 ``--for`` picks the solvers; each is served by a fit in the formulation it integrates
-(:data:`vhfit.export.check.SOLVER_FORMULATION`), so one fit may serve several solvers
+(:data:`vhfit.formulations.SOLVER_FORMULATIONS`), so one fit may serve several solvers
 and several fits may be run. Every written card is then parsed back and re-simulated in
 its solver's formulation on the data (:mod:`vhfit.export.check`); a card whose error
 exceeds its fit's by more than the margin gets a warning, in the card and the summary.
@@ -19,7 +19,7 @@ from vhfit.export import export, supported_laws, to_abaqus_test_data
 from vhfit.export.check import (
     MARGIN_ABSOLUTE,
     MARGIN_RELATIVE,
-    SOLVER_FORMULATION,
+    SOLVER_FORMULATIONS,
     check_cards,
 )
 
@@ -42,8 +42,8 @@ def plan_fits(targets) -> dict[str, list[str]]:
     """
     chosen = [s for s in SOLVERS if s in targets] if targets else list(SOLVERS)
     plan: dict[str, list[str]] = {}
-    for s in sorted(chosen, key=lambda s: SOLVER_FORMULATION[s] != "hereditary"):
-        plan.setdefault("hereditary" if not targets else SOLVER_FORMULATION[s], []).append(s)
+    for s in sorted(chosen, key=lambda s: SOLVER_FORMULATIONS[s] != "hereditary"):
+        plan.setdefault("hereditary" if not targets else SOLVER_FORMULATIONS[s], []).append(s)
     return {f: [s for s in SOLVERS if s in v] for f, v in plan.items()}
 
 
@@ -83,7 +83,7 @@ class Cards:
 
 def _source(form: str, solvers: list[str], several: bool, solver: str) -> list[str]:
     """The card comment saying which fit the constants come from."""
-    own = SOLVER_FORMULATION[solver.split("_")[0]]
+    own = SOLVER_FORMULATIONS[solver.split("_")[0]]
     serves = ", ".join(solvers)
     line = (f"Fit: vhfit formulation '{form}' (this fit serves {serves}"
             + ("; each other solver has its own fit" if several else "") + "); "

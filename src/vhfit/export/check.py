@@ -4,11 +4,12 @@ A round trip (card -> parser -> the same stresses) proves that a card carries vh
 numbers; it cannot show that the solver, integrating its own viscoelastic law with
 those numbers, reproduces the test data. The card check does that: each card is parsed
 back (:func:`vhfit.export.parse`), re-simulated in the formulation its solver
-integrates (:data:`SOLVER_FORMULATION`: Abaqus and Ansys relax the deviatoric
-instantaneous stress, ``"hereditary"``; LS-DYNA's MAT_077 adds a Prony convolution of
-the Green strain rate to the long-term stress, ``"lsdyna"``; docs/theory.md) along
-every test history, and scored with RMSAPE (paper Eq. 20) on the objective points of
-the data. The fit's own error is scored the same way, so the two are comparable.
+integrates (:data:`vhfit.formulations.SOLVER_FORMULATIONS`: Abaqus and Ansys relax the
+deviatoric instantaneous stress, ``"hereditary"``; LS-DYNA's MAT_077 adds a Prony
+convolution of the Green strain rate to the long-term stress, ``"lsdyna"``;
+docs/theory.md §14) along every test history, and scored with RMSAPE (paper Eq. 20) on
+the objective points of the data. The fit's own error is scored the same way, so the two
+are comparable.
 
 A card whose solver error exceeds the fit's by more than the margin
 (:func:`allowed_rmsape`: 5 % relative plus 0.01 percentage point) gets a warning that
@@ -38,11 +39,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vhfit.export import parse
+from vhfit.formulations import SOLVER_FORMULATIONS
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 
 __all__ = [
-    "SOLVER_FORMULATION",
+    "SOLVER_FORMULATIONS",
     "MARGIN_RELATIVE",
     "MARGIN_ABSOLUTE",
     "CardCheck",
@@ -55,13 +57,6 @@ __all__ = [
     "check_cards",
 ]
 
-#: The viscoelastic formulation each solver integrates (docs/theory.md; SPEC of the
-#: cards in docs/export.md).
-SOLVER_FORMULATION: dict[str, str] = {
-    "abaqus": "hereditary",
-    "ansys": "hereditary",
-    "lsdyna": "lsdyna",
-}
 #: A card passes when its RMSAPE <= fit RMSAPE × (1 + MARGIN_RELATIVE) + MARGIN_ABSOLUTE.
 MARGIN_RELATIVE = 0.05
 #: ... in percentage points: room for the card's printed digits on a near-exact fit.
@@ -90,9 +85,9 @@ def solver_formulation(solver: str) -> str:
     ('lsdyna', 'hereditary')
     """
     key = _solver_key(solver)
-    if key not in SOLVER_FORMULATION:
-        raise ValueError(f"solver {solver!r}: choose one of {', '.join(SOLVER_FORMULATION)}")
-    return SOLVER_FORMULATION[key]
+    if key not in SOLVER_FORMULATIONS:
+        raise ValueError(f"solver {solver!r}: choose one of {', '.join(SOLVER_FORMULATIONS)}")
+    return SOLVER_FORMULATIONS[key]
 
 
 def _solver_key(solver: str) -> str:
