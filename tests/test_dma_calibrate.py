@@ -45,16 +45,19 @@ def rate_curves(model, p, rates=(-0.1, -10.0, -1000.0)):
 
 
 # ---------------------------------------------------------------- the bridge
-@pytest.mark.parametrize("law, n, params, f", [
+@pytest.mark.parametrize("law, n, params, f, formulation", [
     ("mooney_rivlin", 3, dict(C10=0.2, C01=0.05, G1=3.0, tau1=0.02, G2=1.0, tau2=0.1,
-                              G3=0.5, tau3=0.5), 1.0),
-    ("neo_hooke", 2, dict(C10=0.1, G1=2.0, tau1=0.3, G2=0.2, tau2=3.0), 0.05),
+                              G3=0.5, tau3=0.5), 1.0, "hereditary"),
+    ("neo_hooke", 2, dict(C10=0.1, G1=2.0, tau1=0.3, G2=0.2, tau2=3.0), 0.05, "hereditary"),
+    ("mooney_rivlin", 2, dict(C10=0.2, C01=0.05, G1=3.0, tau1=0.05, G2=1.0, tau2=0.4), 1.0,
+     "lsdyna"),
 ])
-def test_small_sinusoid_of_the_large_strain_kernel_gives_storage_and_loss(law, n, params, f):
+def test_small_sinusoid_of_the_large_strain_kernel_gives_storage_and_loss(law, n, params, f,
+                                                                         formulation):
     """ε = a sin ωt with a = 1e-6 over many cycles, simulated by the finite-strain kernel
     (a piecewise-linear time history, 1000 samples a cycle); the steady state's sin and
     cos components over the last 4 cycles are a E′ and a E″ of the Maxwell model."""
-    m = vhfit.ViscoHyperelastic(law, n)
+    m = vhfit.ViscoHyperelastic(law, n, formulation=formulation)
     x = m.as_array(params)
     e_inf = 3 * m.hyperelastic.initial_shear_modulus(x[: m.hyperelastic.n_params])
     G, tau = prony_of(params)
@@ -110,12 +113,15 @@ def test_rmsape_measures_moduli_point_by_point():
 
 
 # ---------------------------------------------------------------- calibration
-def test_joint_calibration_recovers_the_constants():
+@pytest.mark.parametrize("formulation", ["hereditary", "lsdyna"])
+def test_joint_calibration_recovers_the_constants(formulation):
     """A DMA master curve and three large-strain rate curves of one Mooney–Rivlin +
-    3-term Prony material: every constant back to 1e-6 relative."""
-    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    3-term Prony material: every constant back to 1e-6 relative, in either formulation
+    (they share the small-strain limit)."""
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3, formulation=formulation)
     items = [master_curve(TRUE, E_INF), *rate_curves(m, TRUE)]
-    cal = vhfit.calibrate(items, hyperelastic="mooney_rivlin", n_prony=3, seed=0)
+    cal = vhfit.calibrate(items, hyperelastic="mooney_rivlin", n_prony=3, seed=0,
+                          formulation=formulation)
     for k, v in TRUE.items():
         assert cal.params[k] == pytest.approx(v, rel=1e-6), k
     assert len(cal.per_curve_rmsape) == 4 and cal.curve_names[0] == "master"
