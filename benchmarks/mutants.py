@@ -223,7 +223,7 @@ MUTANTS: list[Mutant] = [
       "deviatoric reading forgets the mean in the stress-free direction",
       ("tests/test_formulations.py",)),
     M("kernels_shared_coefficient_column", "vhfit/_kernels.py",
-      "R1[i] = e * R1[i] + d[row, 4] * q0", "R1[i] = e * R1[i] + d[row, 0] * q0",
+      "db0, db1, db2, db3 = d[row, 4], d[row, 5]", "db0, db1, db2, db3 = d[row, 0], d[row, 5]",
       "shared-factor kernel: f1's first step coefficient read from f0's column",
       ("tests/test_formulations.py",)),
     M("kernels_step_derivatives_stride", "vhfit/_kernels.py",

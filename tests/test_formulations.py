@@ -202,9 +202,9 @@ def test_the_shared_factor_kernel_equals_the_general_one():
     general = _kernels.overstress_general(np.tile(f0, (3, 1)), np.tile(f1, (3, 1)), w, steps,
                                           *offs, G, tau, _kernels.DERIV)
     d = _kernels.step_derivatives(f0, f1, *offs, _kernels.DERIV)
-    start = np.stack([f0[offs[0][:-1]], f1[offs[0][:-1]]], axis=1)
     for parallel in (False, True):
-        shared = _kernels.overstress_shared(d, start, w, steps, offs[1], G, tau, parallel)
+        shared = _kernels.overstress_general(f0[None], f1[None], w, steps, *offs, G, tau,
+                                             _kernels.DERIV, parallel, repeat=3, steps=d)
         np.testing.assert_array_equal(shared, general)
 
 

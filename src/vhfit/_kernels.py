@@ -223,10 +223,11 @@ def overstress_columns(s_hat, lam, h, sample_off, step_off, tau, D, parallel=Non
 
 # ------------------------------------------------------------- every other test
 @njit(cache=True, error_model="numpy")
-def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
+def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d, out):
     """One parameter set on one curve: h = Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node.
 
-    Row p of G and tau uses row p // rep of the factors.
+    Row p of G and tau uses row p // rep of the factors. ``d`` (K, 8): each step's
+    derivative coefficients if precomputed (:func:`step_derivatives`), else empty.
     """
     N = G.shape[1]
     q = p // rep
@@ -242,6 +243,8 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
         R1[i] = f1[q, s0]
         acc += G[p, i]
     out[p, node0] = acc * (w[node0, 0] * f0[q, s0] + w[node0, 1] * f1[q, s0])
+    shared = d.shape[0] > 0
+    n_sum = 0 if shared else 5
     for k in range(nsteps):
         base = s0 + 4 * k
         da0 = 0.0
@@ -252,7 +255,7 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
         db1 = 0.0
         db2 = 0.0
         db3 = 0.0
-        for m in range(5):
+        for m in range(n_sum):
             fa = f0[q, base + m]
             fb = f1[q, base + m]
             da0 += D[0, m] * fa
@@ -263,6 +266,10 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
             db1 += D[1, m] * fb
             db2 += D[2, m] * fb
             db3 += D[3, m] * fb
+        if shared:  # the coefficients were computed once for every row
+            row = k0 + k
+            da0, da1, da2, da3 = d[row, 0], d[row, 1], d[row, 2], d[row, 3]
+            db0, db1, db2, db3 = d[row, 4], d[row, 5], d[row, 6], d[row, 7]
         hk = h[k0 + k]
         node = node0 + k + 1
         w0 = w[node, 0]
@@ -277,27 +284,30 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, out):
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D, rep):
+def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d):
     C = sample_off.shape[0] - 1
     out = np.empty((G.shape[0], h.shape[0] + C))
     for job in prange(G.shape[0] * C):
         _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, rep,
-                     out)
+                     d, out)
     return out
 
 
 @njit(cache=True, error_model="numpy")
-def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D, rep):
+def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d):
     C = sample_off.shape[0] - 1
     out = np.empty((G.shape[0], h.shape[0] + C))
     for job in range(G.shape[0] * C):
         _job_general(job // C, job % C, f0, f1, w, h, sample_off, step_off, G, tau, D, rep,
-                     out)
+                     d, out)
     return out
 
 
+_NO_STEPS = np.zeros((0, 8))  # no precomputed step coefficients
+
+
 def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=None,
-                       repeat: int = 1):
+                       repeat: int = 1, steps=None):
     """Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node of every curve, for every parameter set.
 
     Parameters
@@ -311,6 +321,10 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
         Rows of G and tau per row of the factors: row p of G, tau uses row
         ``p // repeat`` of f0, f1 (G, tau have ``repeat`` times the rows of f0, f1), so
         that one factor set serves several relaxation times without copies.
+    steps : (K, 8), optional
+        :func:`step_derivatives` of the factors, when one factor set serves every row
+        (a kinematic formulation): computed once rather than per row and τ, the same
+        bits.
 
     Returns
     -------
@@ -322,7 +336,8 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
     if parallel is None:
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
     f = _general_par if parallel else _general_seq
-    return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat))
+    return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat),
+             _NO_STEPS if steps is None else steps)
 
 
 # ------------------------------------------------- factors shared by every row
@@ -331,7 +346,8 @@ def step_derivatives(f0, f1, sample_off, step_off, D) -> np.ndarray:
 
     For factors that are the same for every parameter set (a kinematic formulation,
     :mod:`vhfit.formulations`), shape (S,): the d_j of :func:`overstress_general`'s
-    steps (j = 0..3 for f0, then for f1), computed once instead of once per row and τ.
+    steps (j = 0..3 for f0, then for f1), computed once instead of once per row and τ,
+    summed in the kernel's order (the same bits).
     """
     starts = [sample_off[c] + STRIDE * np.arange(step_off[c + 1] - step_off[c])
               for c in range(sample_off.size - 1)]
@@ -341,71 +357,3 @@ def step_derivatives(f0, f1, sample_off, step_off, D) -> np.ndarray:
         for m in range(STRIDE + 1):  # the kernel's order of summation: the same bits
             out[:, 4 * k:4 * k + 4] += D[:, m][None, :] * f[base + m][:, None]
     return out
-
-
-@njit(cache=True, error_model="numpy")
-def _job_shared(p, c, d, f_start, w, h, step_off, G, tau, out):
-    """One parameter set on one curve, from the shared step coefficients ``d``."""
-    N = G.shape[1]
-    k0 = step_off[c]
-    nsteps = step_off[c + 1] - k0
-    node0 = k0 + c
-    R0 = np.empty(N)
-    R1 = np.empty(N)
-    acc = 0.0
-    for i in range(N):
-        R0[i] = f_start[c, 0]
-        R1[i] = f_start[c, 1]
-        acc += G[p, i]
-    out[p, node0] = acc * (w[node0, 0] * f_start[c, 0] + w[node0, 1] * f_start[c, 1])
-    for k in range(nsteps):
-        row = k0 + k
-        hk = h[row]
-        node = node0 + k + 1
-        w0 = w[node, 0]
-        w1 = w[node, 1]
-        acc = 0.0
-        for i in range(N):
-            e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
-            R0[i] = e * R0[i] + d[row, 0] * q0 + d[row, 1] * q1 + d[row, 2] * q2 + d[row, 3] * q3
-            R1[i] = e * R1[i] + d[row, 4] * q0 + d[row, 5] * q1 + d[row, 6] * q2 + d[row, 7] * q3
-            acc += G[p, i] * (w0 * R0[i] + w1 * R1[i])
-        out[p, node] = acc
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def _shared_par(d, f_start, w, h, step_off, G, tau):
-    C = step_off.shape[0] - 1
-    out = np.empty((G.shape[0], h.shape[0] + C))
-    for job in prange(G.shape[0] * C):
-        _job_shared(job // C, job % C, d, f_start, w, h, step_off, G, tau, out)
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def _shared_seq(d, f_start, w, h, step_off, G, tau):
-    C = step_off.shape[0] - 1
-    out = np.empty((G.shape[0], h.shape[0] + C))
-    for job in range(G.shape[0] * C):
-        _job_shared(job // C, job % C, d, f_start, w, h, step_off, G, tau, out)
-    return out
-
-
-def overstress_shared(d, f_start, w, h, step_off, G, tau, parallel=None):
-    """:func:`overstress_general` for factors shared by every parameter set.
-
-    Parameters
-    ----------
-    d : (K, 8) :func:`step_derivatives` of the shared factors.
-    f_start : (C, 2) f0, f1 at each curve's first sample.
-    w, h, step_off, G, tau, parallel : as in :func:`overstress_general`.
-
-    Returns
-    -------
-    (G.shape[0], K + C) overstress at the nodes, equal to :func:`overstress_general` of
-    the factors repeated for every row, to the bit.
-    """
-    if parallel is None:
-        parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], step_off.shape[0] - 1)
-    f = _shared_par if parallel else _shared_seq
-    return f(d, f_start, w, h, step_off, G, tau)

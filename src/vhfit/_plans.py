@@ -101,10 +101,8 @@ class GeneralPlan:
         if formulation.kinematic:  # the same factors for every parameter set: once
             self.kinematic_factors = self._factors(None, None, None)[:2]
             f0, f1 = (f[0] for f in self.kinematic_factors)
-            self.shared = (_kernels.step_derivatives(f0, f1, self.sample_off, self.step_off,
-                                                     _kernels.DERIV),
-                           np.ascontiguousarray(np.stack([f0[self.sample_off[:-1]],
-                                                          f1[self.sample_off[:-1]]], axis=1)))
+            self.steps = _kernels.step_derivatives(f0, f1, self.sample_off, self.step_off,
+                                                   _kernels.DERIV)
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
         self.out_coefficients = {key: _long_term_coefficients(key, self.x1[idx], self.x2[idx])
@@ -158,14 +156,14 @@ class GeneralPlan:
         """Σ_i G_i h_i at the nodes (rows of G, tau; ``len(G)`` a multiple of the sets),
         and which parameter sets gave finite factors."""
         G, tau = np.ascontiguousarray(G), np.ascontiguousarray(tau)
-        if self.formulation.kinematic:  # one set of step coefficients for every row
-            ok = np.ones(hyper.shape[0], dtype=bool)
-            return _kernels.overstress_shared(*self.shared, self.w, self.step, self.step_off,
-                                              G, tau, parallel), ok
-        f0, f1, ok = self._factors(hm, hyper, E_inf)
+        steps = None
+        if self.formulation.kinematic:  # one set of factors and step coefficients for all
+            (f0, f1), ok, steps = self.kinematic_factors, np.ones(hyper.shape[0], bool), self.steps
+        else:
+            f0, f1, ok = self._factors(hm, hyper, E_inf)
         return _kernels.overstress_general(
             f0, f1, self.w, self.step, self.sample_off, self.step_off, G, tau, _kernels.DERIV,
-            parallel, repeat=G.shape[0] // f0.shape[0]), ok
+            parallel, repeat=G.shape[0] // f0.shape[0], steps=steps), ok
 
     def stress(self, hm, hyper, E_inf, G, tau, sig) -> np.ndarray:
         """Write σ = σ_h + Σ G_i h_i at this plan's outputs into ``sig``; valid sets."""
