@@ -193,6 +193,7 @@ def test_vhfit_check_reproduces_the_fits_card_check(default_run, data, capsys):
     (["--poisson", "0.5"], "--poisson 0.5"),
     (["--poisson=-1"], "--poisson -1"),
     (["--poisson", "0.3", "--bulk-modulus", "10"], "--bulk-modulus"),
+    (["--formulation", "radioss"], "--formulation radioss"),
 ])
 def test_bad_card_flags_are_refused_before_fitting(flags, needle, data, tmp_path,
                                                    monkeypatch, capsys):
@@ -227,3 +228,17 @@ def test_export_takes_each_solvers_own_fit(data, tmp_path, capsys):
     assert cli.main(["export", str(out / "results.json"), "--to", "abaqus"]) == 0
     rows = data_lines(capsys.readouterr().out, "**")
     assert float(rows[2].split(",")[1]) == res["params"]["C01"]
+
+
+def test_formulation_flag_fits_once_in_that_law_for_every_card(data, tmp_path):
+    """--formulation lsdyna: one fit in LS-DYNA's law serves every card; the LS-DYNA card
+    reproduces it and the hereditary solvers' cards are flagged (the data are hereditary,
+    so the lsdyna fit cannot be exact while a hereditary card of it must miss more)."""
+    res = fit(data, tmp_path / "o", "--formulation", "lsdyna")
+    assert res["formulation"] == "lsdyna"
+    check = res["card_check"]
+    assert set(check) == {"abaqus", "lsdyna", "ansys"}
+    assert {c["fit_formulation"] for c in check.values()} == {"lsdyna"}
+    assert check["lsdyna"]["rmsape"] == pytest.approx(res["rmsape"], rel=1e-3)
+    assert not check["lsdyna"]["exceeds"]
+    assert check["abaqus"]["exceeds"] and check["ansys"]["exceeds"]

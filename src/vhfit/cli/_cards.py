@@ -35,12 +35,16 @@ _NAMES = {"abaqus": "Abaqus", "lsdyna": "LS-DYNA", "ansys": "Ansys",
           "abaqus_explicit": "Abaqus/Explicit"}
 
 
-def plan_fits(targets) -> dict[str, list[str]]:
+def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
     """Formulation -> the solvers its fit serves (``"hereditary"`` first).
 
-    Without targets (no ``--for``): one ``"hereditary"`` fit for every solver.
+    Without targets (no ``--for``): one ``"hereditary"`` fit for every solver. A
+    ``formulation`` (``--formulation``) makes one fit in it serve every chosen solver;
+    the card check then shows what each solver makes of it.
     """
     chosen = [s for s in SOLVERS if s in targets] if targets else list(SOLVERS)
+    if formulation is not None:
+        return {formulation: chosen}
     plan: dict[str, list[str]] = {}
     for s in sorted(chosen, key=lambda s: SOLVER_FORMULATIONS[s] != "hereditary"):
         plan.setdefault("hereditary" if not targets else SOLVER_FORMULATIONS[s], []).append(s)

@@ -44,8 +44,9 @@ from vhfit.cli._common import (
     one_line,
     prepare_out,
 )
-from vhfit.cli._plugins import resolve_model_name, tau_strategies
+from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.data import read_csv
+from vhfit.formulations import FORMULATIONS
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "SOLVERS", "CARD_FILES",
            "DEMO_PRONY"]
@@ -95,7 +96,14 @@ def cmd_demo(args) -> int:
 
 
 def _check_card_flags(args) -> None:
-    """``--for`` a solver that lacks the law: refused before anything is fitted or written."""
+    """``--for`` a solver that lacks the law, or an unknown ``--formulation``: refused
+    before anything is fitted or written."""
+    form = getattr(args, "formulation", None)
+    if form is not None and form not in FORMULATIONS:
+        load_plugins()  # a plug-in may register it
+        if form not in FORMULATIONS:
+            raise UsageError(f"--formulation {form}: unknown; choose one of "
+                             f"{', '.join(FORMULATIONS)} (or register one in a plug-in)")
     given = getattr(args, "targets", None)
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
@@ -209,7 +217,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         if why:
             print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
                   file=sys.stderr, flush=True)
-    plan = plan_fits(getattr(args, "targets", None))
+    plan = plan_fits(getattr(args, "targets", None), getattr(args, "formulation", None))
     sigs = Signals()
     fits: dict[str, Calibration] = {}
     interrupted = False

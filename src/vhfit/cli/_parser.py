@@ -319,6 +319,11 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                         "solver's card comes from a fit in the formulation it integrates "
                         "(abaqus, ansys: hereditary; lsdyna: lsdyna), and only their cards "
                         "are written (default: one hereditary fit, every card)")
+    p.add_argument("--formulation", metavar="NAME",
+                   help="fit in this viscoelastic formulation (hereditary, lsdyna, "
+                        "lsdyna_deviatoric or a registered one) for every card written, "
+                        "instead of each solver's own (--for); the card check shows the "
+                        "error each solver will make of it")
     _add_card_options(p, explicit="--abaqus-explicit")
     p.add_argument("--no-plot", action="store_true", help="do not draw plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
