@@ -165,18 +165,55 @@ def _prune(Aw, b, keep: np.ndarray):
     return path
 
 
-def _refine(domain, x, Aw_scale, b, tau, iters: int = 50):
-    """Free log τ for a fixed N (variable projection: moduli by NNLS inside)."""
+def _columns_and_slopes(domain: str, x: np.ndarray, tau: np.ndarray):
+    """The Prony columns at ``x`` and their derivatives with respect to ln τ."""
+    if domain == "time":
+        e = np.exp(-x[:, None] / tau)
+        return e, (x[:, None] / tau) * e
+    wt = 2.0 * math.pi * x[:, None] * tau
+    w2 = wt * wt
+    d = 1.0 + w2
+    cols = np.vstack([w2 / d, wt / d])
+    slopes = np.vstack([2.0 * w2 / d**2, wt * (1.0 - w2) / d**2])
+    return cols, slopes
+
+
+def _refine(domain, x, scale, b, tau):
+    """Free ln τ for a fixed N by variable projection: the moduli are the NNLS solution
+    at each step, and the Jacobian is Kaufman's (the τ-derivative of the columns,
+    projected off the span of the active columns)."""
     from scipy.optimize import least_squares
 
+    ones = np.ones(x.size)
+    first = np.concatenate([ones, np.zeros(x.size)]) if domain == "frequency" else ones
+    cache: dict = {}
+
+    def solve(z):
+        key = z.tobytes()
+        if key not in cache:
+            cols, slopes = _columns_and_slopes(domain, x, np.exp(z))
+            A = np.column_stack([first, cols]) * scale[:, None]
+            coef, _ = _nnls(A, b)
+            cache.clear()
+            cache[key] = (A, slopes * scale[:, None], coef)
+        return cache[key]
+
     def resid(z):
-        A = design_matrix(domain, x, 10.0 ** z) * Aw_scale[:, None]
-        coef, _ = _nnls(A, b)
+        A, _, coef = solve(z)
         return A @ coef - b
 
-    sol = least_squares(resid, np.log10(tau), method="trf", x_scale=1.0, max_nfev=iters,
-                        diff_step=1e-6)
-    return np.sort(10.0 ** sol.x)
+    def jac(z):
+        A, dA, coef = solve(z)
+        D = dA * coef[1:]
+        active = coef > 0
+        if active.any():
+            Q, _ = np.linalg.qr(A[:, active])
+            D = D - Q @ (Q.T @ D)
+        return D
+
+    sol = least_squares(resid, np.log(tau), jac=jac, method="trf", xtol=1e-10, ftol=1e-10,
+                        gtol=1e-10, max_nfev=200)
+    return np.sort(np.exp(sol.x))
 
 
 def prony_spectrum(item=None, *, frequency=None, storage=None, loss=None, time=None,
