@@ -870,7 +870,7 @@ def test_read_history_feeds_the_model(tmp_path):
 # ============================================================ package layout
 _DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_modes",
                  "_histories", "_attributes", "_columns", "_table", "_specs", "_curve",
-                 "_readers"]
+                 "_moduli", "_moduli_table", "_readers"]
 
 
 def test_the_data_package_imports_one_way():

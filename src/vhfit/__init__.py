@@ -12,7 +12,7 @@ The public API::
 from vhfit import export, hyperelastic, viscoelastic
 from vhfit._version import __version__
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate
-from vhfit.data import Curve, DataError, DataWarning, read_csv
+from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
 from vhfit.objective import Objective, per_curve_rmsape, rmsape
@@ -34,10 +34,12 @@ __all__ = [
     "Curve",
     "DataError",
     "DataWarning",
+    "FrequencySweep",
     "History",
     "Job",
     "JobResult",
     "Objective",
+    "Relaxation",
     "ViscoHyperelastic",
     "calibrate",
     "calibrate_many",

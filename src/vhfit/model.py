@@ -17,6 +17,7 @@ import numpy as np
 
 from vhfit import _kernels
 from vhfit import hyperelastic as _hyper
+from vhfit._linear import LinearLoad, LinearPlan
 from vhfit._plans import EquilibriumPlan, GeneralPlan
 from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction
@@ -101,11 +102,11 @@ def _history_from(deformation, direction, *, strain, strain_rate, time, stretch,
     return h
 
 
-def _history_of(item) -> History:
-    if isinstance(item, History):
+def _history_of(item) -> History | LinearLoad:
+    if isinstance(item, (History, LinearLoad)):
         return item
     h = getattr(item, "history", None)
-    if isinstance(h, History):
+    if isinstance(h, (History, LinearLoad)):
         return h
     raise TypeError(
         f"expected a vhfit.History or a Curve (anything with a .history), got {type(item).__name__}"
@@ -403,7 +404,9 @@ class Batch:
     parallel over parameter sets and curves). Uniaxial histories run the uniaxial
     recursion of :func:`vhfit._kernels.overstress`; the other tests its general form
     (docs/theory.md §13), one kernel job per history and loaded direction; equilibrium
-    histories need the long-term law alone.
+    histories need the long-term law alone; small-strain tests
+    (:class:`vhfit._linear.LinearLoad`: frequency sweeps, relaxation tests) give the
+    moduli of the generalised Maxwell model (docs/theory.md §10).
     """
 
     def __init__(self, model: ViscoHyperelastic, histories: Sequence, measure=None):
@@ -432,14 +435,16 @@ class Batch:
         self._eng = np.concatenate(
             [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
         )
-        uni = [c for c, h in enumerate(hs) if h.deformation == "uniaxial" and not h.is_equilibrium]
+        self._linear = LinearPlan(hs, self.slices)  # small-strain tests: moduli
+        uni = [c for c, h in enumerate(hs) if h.deformation == "uniaxial"
+               and not h.is_equilibrium and not isinstance(h, LinearLoad)]
         self._plan_uniaxial(uni)
         self._general = GeneralPlan(model._dlog, hs, self.slices)
         self._equilibrium = EquilibriumPlan(hs, self.slices)
         out_stretch = np.empty(self.n_points)
         out_stretch[self._pos_u] = self._out_lam_u
         for h, sl in zip(hs, self.slices):
-            if h.deformation != "uniaxial" or h.is_equilibrium:
+            if h.deformation != "uniaxial" or h.is_equilibrium or isinstance(h, LinearLoad):
                 out_stretch[sl] = h.out_loaded_stretch
         self.out_stretch = out_stretch
 
@@ -502,6 +507,7 @@ class Batch:
         if self._general.jobs:
             ok &= self._general.shape_columns(self.model.hyperelastic, hyper, E_inf, tau,
                                               base, h, parallel)
+        self._linear.shape_columns(tau, base, h)
         with np.errstate(all="ignore"):  # E∞ <= 0: invalid, +inf below
             ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0 / E_inf, base)
         base[~ok] = np.inf
@@ -553,6 +559,7 @@ class Batch:
             if self._general.jobs:
                 ok &= self._general.stress(self.model.hyperelastic, hyper, E_inf, G, tau, sig)
             ok &= self._equilibrium.fill(self.model.hyperelastic, hyper, 1.0, sig)
+            self._linear.stress(E_inf, G, tau, sig)
         sig[~ok] = np.inf
         sig[~np.isfinite(sig)] = np.inf
         return self._measure(sig)

@@ -13,6 +13,9 @@ over all objective points ``p`` of all curves; the objectives differ only in the
 ``"rmsape"`` (paper Eq. 20, percent)
     ``s_p = mean_k |σ_obj,ik| / 100`` for a point of curve ``i``: each curve's residuals
     are taken relative to that curve's mean stress, so slow and fast curves count alike.
+    An item with a ``target_scale`` array (a frequency sweep, a relaxation test: moduli
+    spanning decades) is measured point by point instead, ``s_p = target_scale_p / 100``
+    (``|E′|``, ``|E″|``, ``|E(t)|``): the relative error of each modulus, in percent.
 ``"rmse"`` (MPa)
     ``s_p = 1``.
 ``"relative_l2"`` (percent)
@@ -261,6 +264,8 @@ class Objective:
             self.kind = kind
         scale = np.asarray(scale_fn(self.target, self.curve, self.weights), dtype=np.float64)
         scale = np.broadcast_to(scale, self.target.shape).copy()
+        if self.kind == "rmsape" and items is not None and len(items) == m:
+            _point_scales(items, self.slices, scale)
         if not (np.isfinite(scale).all() and (scale > 0).all()):
             raise ValueError(f"objective {self.kind!r} gave a non-positive or non-finite scale")
         self.scale = scale
@@ -347,6 +352,19 @@ class Objective:
                 ok = np.isfinite(f) & np.isfinite(s[..., sl]).all(axis=-1)
                 out.append(np.where(ok, f, np.inf))
         return np.stack(out, axis=-1)
+
+
+def _point_scales(items: Sequence[Any], slices: list[slice], scale: np.ndarray) -> None:
+    """RMSAPE of moduli: each point relative to its own value (``target_scale``), in place."""
+    for i, (c, sl) in enumerate(zip(items, slices)):
+        ts = getattr(c, "target_scale", None)
+        if ts is None:
+            continue
+        ts = np.asarray(ts, dtype=np.float64).reshape(-1)
+        if ts.size != sl.stop - sl.start:
+            raise ValueError(f"curve {i}: {ts.size} point scales for {sl.stop - sl.start} "
+                             "points")
+        scale[sl] = ts / 100.0
 
 
 # --------------------------------------------------------------------- functions

@@ -4,7 +4,10 @@ The paper's Prony moduli G_i are uniaxial (Young's-type) moduli beside the long-
 uniaxial modulus E∞ = 3 μ0 of the hyperelastic law:
 
 * G0 = E∞ + Σ G_i,  g_i = G_i / G0,  g∞ = 1 − Σ g_i = E∞ / G0;
-* small-strain relaxation modulus E(t) = E∞ + Σ G_i exp(−t/τ_i).
+* small-strain relaxation modulus E(t) = E∞ + Σ G_i exp(−t/τ_i), and under a
+  sinusoidal strain of angular frequency ω the storage and loss moduli
+  E′(ω) = E∞ + Σ G_i (ωτ_i)²/(1 + (ωτ_i)²), E″(ω) = Σ G_i ωτ_i/(1 + (ωτ_i)²)
+  (the generalised Maxwell model; shear moduli are E/3 for an incompressible solid).
 
 FE solvers expect the dimensionless (g_i, τ_i); Abaqus, Ansys and LS-DYNA differ in
 whether the hyperelastic constants they are given are long-term (relaxed) or
@@ -15,10 +18,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from vhfit._linear import loss_shape, relaxation_shape, storage_shape
+
 __all__ = [
     "prony_g",
     "from_dimensionless",
     "relaxation_modulus",
+    "storage_modulus",
+    "loss_modulus",
     "check_prony",
 ]
 
@@ -122,4 +129,54 @@ def relaxation_modulus(t, E_inf: float, G, tau) -> np.ndarray:
     """
     t = np.asarray(t, dtype=np.float64)
     G, tau = check_prony(G, tau)
-    return E_inf + np.sum(G * np.exp(-t[..., None] / tau), axis=-1)
+    return E_inf + np.sum(G * relaxation_shape(t[..., None], tau), axis=-1)
+
+
+def _omega_tau(omega, tau) -> np.ndarray:
+    omega = np.asarray(omega, dtype=np.float64)
+    if not np.all(omega > 0):
+        bad = omega.reshape(-1)[np.flatnonzero(~(omega.reshape(-1) > 0))[0]]
+        raise ValueError(f"omega = {float(bad)!r}: angular frequencies must be > 0 rad/s "
+                         "(omega = 2 pi f)")
+    return omega[..., None] * tau
+
+
+def storage_modulus(omega, E_inf: float, G, tau) -> np.ndarray:
+    """Small-strain storage modulus E′(ω) = E∞ + Σ G_i (ωτ_i)² / (1 + (ωτ_i)²).
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies ω = 2πf, rad/s (> 0).
+    E_inf : float
+        Long-term modulus E∞ = 3 μ0 of the hyperelastic law, MPa.
+    G, tau : array_like
+        Prony moduli G_i (MPa) and relaxation times τ_i (s).
+
+    Returns
+    -------
+    ndarray
+        E′ at each ω, MPa (the shape of ``omega``).
+
+    Examples
+    --------
+    >>> float(storage_modulus(1.0, 1.0, [2.0], [1.0]))   # 1 + 2 · 1/2
+    2.0
+    """
+    G, tau = check_prony(G, tau)
+    return E_inf + np.sum(G * storage_shape(_omega_tau(omega, tau)), axis=-1)
+
+
+def loss_modulus(omega, E_inf: float, G, tau) -> np.ndarray:
+    """Small-strain loss modulus E″(ω) = Σ G_i ωτ_i / (1 + (ωτ_i)²).
+
+    ``E_inf`` (MPa) does not enter; it is an argument so that the three responses
+    share one signature. Arguments as :func:`storage_modulus`.
+
+    Examples
+    --------
+    >>> float(loss_modulus(1.0, 1.0, [2.0], [1.0]))   # 2 · 1/2
+    1.0
+    """
+    G, tau = check_prony(G, tau)
+    return np.sum(G * loss_shape(_omega_tau(omega, tau)), axis=-1)

@@ -1,4 +1,5 @@
-"""Search bounds: τ ranges from the strain rates (Eq. 22) and moduli that can reach the data."""
+"""Search bounds: τ ranges from the strain rates (Eq. 22; the frequencies and times of
+small-strain tests) and moduli that can reach the data."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numpy as np
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import long_term_stress
 
-__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
+__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "is_linear"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -19,15 +20,31 @@ SEARCH_RANGES: dict[str, dict[str, tuple[float, float]]] = {
     "van_der_waals": {"lambda_m": (1.75, 10.0), "a": (0.0, 2.0)},
 }
 
+def is_linear(c) -> bool:
+    """A small-strain test (frequency sweep, relaxation test) rather than a curve."""
+    return bool(getattr(c.history, "is_linear", False))
+
+
+def _linear_rates(c) -> list[float]:
+    """The rates a small-strain test stands for in Eq. 22: the angular frequencies ω of a
+    sweep, 1/t of a relaxation test (its times after the step)."""
+    h = c.history
+    x = h.x if h.kind == "frequency" else 1.0 / h.x[h.x > 0]
+    return [float(x.min()), float(x.max())] if x.size else []
+
+
 def rates(curves) -> np.ndarray:
-    """Nominal |rates| of the rate and time curves (equilibrium curves have none)."""
-    rated = [c for c in curves if not getattr(c, "is_equilibrium", False)]
-    if not rated:
+    """Nominal |rates| of the rate and time curves (equilibrium curves have none), and
+    ω or 1/t of the small-strain tests."""
+    linear = [r for c in curves if is_linear(c) for r in _linear_rates(c)]
+    rated = [c for c in curves if not getattr(c, "is_equilibrium", False) and not is_linear(c)]
+    if not rated and not linear:
         raise ValueError(
             "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
             "(rate-free) curves carry no viscous response; fit n_prony=0"
         )
-    r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in rated])
+    r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in rated]
+                 + linear)
     if not np.all(np.isfinite(r) & (r > 0)):
         raise ValueError(
             "every curve needs a nominal strain rate to set the τ bounds (Eq. 22): "
@@ -74,8 +91,11 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     where those are open-ended, or [-10, 10] if unbounded.
     """
     hm = model.hyperelastic
-    uni = [c for c in curves if getattr(c, "deformation", "uniaxial") == "uniaxial"]
-    other = [c for c in curves if getattr(c, "deformation", "uniaxial") != "uniaxial"]
+    moduli = np.concatenate([np.abs(c.target_stress) for c in curves if is_linear(c)]
+                            + [np.zeros(0)])
+    curves_ss = [c for c in curves if not is_linear(c)]
+    uni = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") == "uniaxial"]
+    other = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") != "uniaxial"]
     lam = np.concatenate([c.history.out_stretch for c in uni] + [np.zeros(0)])
     y = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in uni]
                        + [np.zeros(0)])
@@ -101,7 +121,9 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
                     so = np.abs(_long_term_true(hm, unit, c.history))
                     ratio = np.concatenate([ratio, yo / np.where(
                         np.isfinite(so) & (so > 0), so, np.nan)])
-            ys = np.concatenate([y_true, *y_other])
+                e_unit = 3.0 * float(hm.initial_shear_modulus(unit))  # its E∞ (moduli)
+                ratio = np.concatenate([ratio, moduli / (e_unit if e_unit > 0 else np.nan)])
+            ys = np.concatenate([y_true, *y_other, moduli])
             hi = float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float(np.max(ys))
             out[name] = (max(0.0, lo_p), hi)
         elif name in ranges:

@@ -1,8 +1,9 @@
 """Can the data tell elastic from viscous response? The guard behind the default N.
 
 A Prony series is identified only when the curves show the material's memory: tests
-at clearly different rates, a hold or an unloading, or rate tests beside equilibrium
-(fully relaxed) curves, which fix the long-term law on their own. A single monotonic
+at clearly different rates, a hold or an unloading, rate tests beside equilibrium
+(fully relaxed) curves, which fix the long-term law on their own, or a frequency sweep
+or relaxation test. A single monotonic
 test at one rate is fitted just as well by a stiffer elastic law as by any Prony
 series, so its "relaxation times" are noise and its g∞ drifts to the floor: by
 default such data get no Prony terms, with the reason in one line (docs/theory.md
@@ -14,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+
+from vhfit.calibration._bounds import is_linear
 
 __all__ = ["DEFAULT_N_PRONY", "RATE_RATIO", "viscous_evidence", "default_n_prony"]
 
@@ -59,6 +62,8 @@ def viscous_evidence(curves: Sequence) -> str | None:
     >>> viscous_evidence([slow])
     'one strain rate (0.01 1/s) and monotonic loading, no hold or unloading'
     """
+    if any(is_linear(c) for c in curves):
+        return None  # a frequency sweep's loss modulus or a relaxation test shows memory
     rated = [c for c in curves if not _is_equilibrium(c)]
     if not rated:
         return "only equilibrium (rate-free) curves, which carry no viscous response"

@@ -37,6 +37,8 @@ def _versions() -> dict[str, str]:
 
 
 def _curve_info(c) -> dict:
+    if hasattr(c, "curve_info"):  # frequency sweeps and relaxation tests
+        return c.curve_info()
     return {
         "name": str(getattr(c, "name", "")),
         "strain_rate": (None if getattr(c, "strain_rate", None) is None
@@ -293,6 +295,9 @@ class Calibration:
         """
         out = []
         for c in curves:
+            if hasattr(c, "fitted_curve"):  # frequency sweeps and relaxation tests: moduli
+                out.append(c.fitted_curve(self.model, self.params, int(points)))
+                continue
             h = c.history
             measure = getattr(c, "measure", "true")
             model = self.model.stress(self.params, h, measure=measure)

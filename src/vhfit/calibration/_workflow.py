@@ -8,7 +8,7 @@ import warnings
 from collections.abc import Callable, Sequence
 
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
-from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._bounds import is_linear, search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
@@ -45,7 +45,8 @@ def _as_curves(curves) -> list:
         else:
             raise ValueError(
                 f"curves[{i}] is a {type(c).__name__}: give vhfit.Curve objects "
-                "(vhfit.Curve(strain=..., stress=..., strain_rate=...)) or CSV paths"
+                "(vhfit.Curve(strain=..., stress=..., strain_rate=...)), vhfit.FrequencySweep "
+                "or vhfit.Relaxation objects, or CSV paths"
             )
     if not out:
         raise ValueError("calibrate needs at least one curve")
@@ -94,7 +95,11 @@ def calibrate(
     curves : Curve, path, or sequence of them
         Measured curves (``.history``, ``.target_stress``, ``.measure``, ``.strain_rate``,
         optional ``.weight`` and ``.name``; see :class:`vhfit.Curve`), or CSV files read
-        with :func:`vhfit.read_csv`.
+        with :func:`vhfit.read_csv`. Frequency sweeps and relaxation tests
+        (:class:`vhfit.FrequencySweep`, :class:`vhfit.Relaxation`) may stand beside them:
+        their moduli constrain the same constants through the model's small-strain limit
+        (E∞ = 3 μ0 of the law and the Prony terms; docs/theory.md §10), each modulus
+        measured by its relative error.
     hyperelastic : str
         Registered hyperelastic model name.
     n_prony : int, "auto" or None
@@ -205,7 +210,8 @@ def calibrate(
     rate_msgs: list[str] = []
     if check_rates:
         n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
-        rate_msgs = rate_sensitivity(curves, hyperelastic, n_check)
+        rate_msgs = rate_sensitivity([c for c in curves if not is_linear(c)], hyperelastic,
+                                     n_check)
     if isinstance(n_prony, str):
         cal = _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)
     else:

@@ -26,6 +26,7 @@ import numpy as np
 from vhfit import datasets, plot
 from vhfit._io import atomic_write
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
+from vhfit.cli import _moduli
 from vhfit.cli._common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -158,6 +159,8 @@ def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
     if windows["strain"] or windows["time"]:
         def trimmed(c):
             src = os.path.abspath(c.source) if c.source else None
+            if not hasattr(c, "trim"):  # a frequency sweep or relaxation test
+                return c
             return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
 
         curves = [trimmed(c) for c in curves]
@@ -292,6 +295,10 @@ def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, 
     fits = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
+    moduli = [(c, f) for c, f in zip(curves, fits) if _moduli.is_moduli_fit(f)]
+    if moduli:  # frequency sweeps and relaxation tests
+        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli)))
+        written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
 
     cards_ok, card_errors, card_notes = _write_cards(cal, curves, out)
     written.update({f: f"{solver} card" for solver, f in cards_ok.items()})
@@ -410,6 +417,8 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
                 "stress_model"] + (["deformation", "direction"] if modes else []))
     for c, f in zip(curves, fits):
+        if _moduli.is_moduli_fit(f):  # in fitted_moduli.csv
+            continue
         name = str(getattr(c, "name", ""))
         r = getattr(c, "strain_rate", float("nan"))
         rate = "" if r is None else f"{float(r):g}"

@@ -10,6 +10,11 @@ in strain, with ``n_points=10``.
 It knows the stretch history the model must follow (:attr:`Curve.history`) and the
 target stresses there (:attr:`Curve.target_stress`).
 
+A :class:`FrequencySweep` (storage and loss moduli over frequency, e.g. a DMA master
+curve) and a :class:`Relaxation` (relaxation modulus over time) are small-strain
+tests of the same material; :func:`read_csv` returns them for files of moduli, and
+:func:`vhfit.calibrate` takes them beside curves.
+
 Readers turn files and arrays into curves: :func:`read_csv` (one file per curve, or one
 long file with a rate column), :func:`curves_from_arrays` and :meth:`Curve.from_array`
 (numpy arrays, anything with ``__array__``, DataFrame-like objects with ``.to_numpy()``
@@ -35,7 +40,9 @@ Layout (private modules, imported in this order, none importing a later one):
 :class:`~vhfit.history.History` built for a curve) → ``_attributes`` (the curve's
 read-only properties) → ``_columns`` (header recognition, units) → ``_table`` (CSV
 decoding, tables) → ``_specs`` (table → curve arguments) → ``_curve`` (:class:`Curve`)
-→ ``_readers`` (:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
+→ ``_moduli`` (:class:`FrequencySweep`, :class:`Relaxation`: small-strain moduli) →
+``_moduli_table`` (tables of moduli → sweeps and relaxation tests) → ``_readers``
+(:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
 """
 
 from __future__ import annotations
@@ -48,6 +55,7 @@ from vhfit.data import _curve, _paths, _samples
 from vhfit.data._curve import MAX_BREAKPOINTS, MAX_POINTS, PATH_RTOL, Curve
 from vhfit.data._errors import DataError, DataWarning
 from vhfit.data._measures import engineering_to_true, true_to_engineering
+from vhfit.data._moduli import FrequencySweep, Relaxation
 from vhfit.data._paths import HOLD_MIN_DURATION, HOLD_RTOL, LEG_RTOL
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._readers import curves_from_arrays, read_csv, read_history
@@ -65,6 +73,8 @@ __all__ = [
     "Curve",
     "DataError",
     "DataWarning",
+    "FrequencySweep",
+    "Relaxation",
     "curves_from_arrays",
     "engineering_to_true",
     "read_csv",

@@ -18,6 +18,8 @@ import numpy as np
 
 from vhfit.data._curve import Curve, _curves_from_table
 from vhfit.data._errors import DataError
+from vhfit.data._moduli import FrequencySweep, Relaxation
+from vhfit.data._moduli_table import _moduli_items, _moduli_plan
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _read_table, _table_from_data
 from vhfit.history import from_rest
@@ -42,7 +44,7 @@ def read_csv(
     by: str | None = None,
     encoding: str | None = None,
     deformation: str | Sequence[str | None] | None = None,
-) -> list[Curve]:
+) -> list[Curve | FrequencySweep | Relaxation]:
     """Read test curves from CSV files.
 
     One file per curve (columns such as ``strain``, ``stress_MPa``, optional ``time_s``
@@ -97,7 +99,12 @@ def read_csv(
 
     Returns
     -------
-    list of Curve
+    list of Curve, FrequencySweep and Relaxation
+        A file of moduli (a frequency column with storage and loss moduli, or |E*| and
+        tan δ; or a time column with a relaxation modulus) gives a
+        :class:`FrequencySweep` or :class:`Relaxation` per temperature of its temperature
+        column (one without); ``columns=``, ``units=`` and ``names=`` apply to it, the
+        options of stress–strain curves do not (docs/data.md).
 
     Raises
     ------
@@ -150,9 +157,13 @@ def read_csv(
             raise DataError("read_csv: no files given")
     rates = _per_file(rate, "rates", len(paths), np.ndim(rate) == 0)
     tests = _per_file(deformation, "deformations", len(paths), isinstance(deformation, str))
-    out: list[Curve] = []
+    out: list[Curve | FrequencySweep | Relaxation] = []
     for p, r, dfm in zip(paths, rates, tests):
         table = _read_table(p, names, encoding)
+        plan = _moduli_plan(table.names, columns, table.source)
+        if plan is not None:
+            out.extend(_moduli_items(table, plan, units, None))
+            continue
         out.extend(_curves_from_table(
             table, rate=None if r is None else float(r), measure=measure, mode=mode,
             compression_positive=compression_positive, columns=columns, units=units,
@@ -191,8 +202,11 @@ def curves_from_arrays(
     name: str | None = None,
     source: str | None = None,
     deformation: str | None = None,
-) -> list[Curve]:
+) -> list[Curve | FrequencySweep | Relaxation]:
     """Curves from a table in memory: the array counterpart of :func:`read_csv`.
+
+    A table of moduli (named columns as in :func:`read_csv`) gives frequency sweeps or
+    relaxation tests.
 
     Parameters
     ----------
@@ -223,6 +237,9 @@ def curves_from_arrays(
     [(-1.0, -0.3), (-100.0, -0.6)]
     """
     table = _table_from_data(data, names, source)
+    plan = _moduli_plan(table.names, columns, table.source)
+    if plan is not None:  # moduli: frequency sweeps or relaxation tests
+        return _moduli_items(table, plan, units, name)
     return _curves_from_table(
         table, rate=rate, measure=measure, mode=mode,
         compression_positive=compression_positive, columns=columns, units=units,

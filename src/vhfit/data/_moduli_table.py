@@ -1,0 +1,253 @@
+"""Tables of moduli: frequency sweeps and relaxation tests from CSV files and arrays.
+
+``_moduli_plan`` reads a table's headers (``frequency_Hz``, ``omega [rad/s]``,
+``E' [MPa]``, ``loss_modulus_kPa``, ``|G*| (Pa)``, ``tan_delta``, ``time_s``,
+``E(t) [MPa]``, ``temperature_C``) and says whether the table holds moduli rather than a
+stress–strain curve; ``_moduli_items`` builds one :class:`FrequencySweep` or
+:class:`Relaxation` per temperature of the table (one item when there is no temperature
+column), with messages that name the file, line and column.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vhfit.data._columns import _STRESS_UNITS, _TIME_UNITS, _classify, _norm_unit
+from vhfit.data._errors import DataError, _norm_key, _Subset
+from vhfit.data._moduli import FrequencySweep, Relaxation
+from vhfit.data._table import _Table
+
+#: Frequency units: factor to Hz, or to rad/s for an angular frequency.
+_HZ = {"hz": 1.0, "1/s": 1.0, "khz": 1e3, "cps": 1.0}
+_RAD = {"rad/s": 1.0, "rad/sec": 1.0, "rad/min": 1 / 60}
+_ROLES = ("frequency", "omega", "storage", "loss", "modulus", "tan_delta", "time",
+          "relaxation", "temperature")
+_MODULUS_ROLES = ("storage", "loss", "modulus", "relaxation")
+
+
+@dataclass
+class _MCol:
+    index: int
+    header: str
+    role: str
+    unit: str
+    kind: str = ""  # "E" | "G" | "" (moduli)
+
+
+@dataclass
+class _MPlan:
+    cols: dict[str, _MCol] = field(default_factory=dict)
+
+    @property
+    def is_sweep(self) -> bool:
+        return "frequency" in self.cols or "omega" in self.cols
+
+
+def _unit_and_name(header: str) -> tuple[str, str | None]:
+    """(name, unit) with the unit of a last bracket group (``E(t) [MPa]``, ``f (Hz)``)."""
+    h = header.replace("\ufeff", "").strip().strip("\"'").strip()
+    m = re.match(r"^(?P<name>.+?)\s*[\[\(\{](?P<unit>[^\[\]\(\)\{\}]*)[\]\)\}]\s*$", h)
+    if m and m["unit"].strip().lower() not in ("t", "ω", "w", "f"):  # E(t), G(ω)
+        return m["name"], m["unit"].strip()
+    return h, None
+
+
+def _tokens(name: str) -> list[str]:
+    s = name.lower().replace("′", "'").replace("″", "''").replace("δ", "delta")
+    s = s.replace("’", "'").replace('"', "''")
+    s = re.sub(r"\(t\)", "_of_t", s)
+    return [t for t in re.split(r"[\s_\-]+", s) if t]
+
+
+def _trailing_unit(tokens: list[str], table: dict[str, float]) -> tuple[list[str], str]:
+    """Tokens without a trailing unit token, and that unit ("" if none)."""
+    if len(tokens) > 1 and _norm_unit(tokens[-1]) in table:
+        return tokens[:-1], tokens[-1]
+    return tokens, ""
+
+
+def _modulus_kind(tokens: list[str]) -> str:
+    if "shear" in tokens or (tokens and tokens[0].lstrip("|").startswith("g")):
+        return "G"
+    return "E"
+
+
+def _classify_modulus(tokens: list[str]) -> str | None:
+    """storage | loss | modulus (|E*|) | tan_delta | relaxation, or None."""
+    first = tokens[0] if tokens else ""
+    joined = "_".join(tokens)
+    if (first in ("tan", "tand", "tandelta", "tan(delta)") or "loss_factor" in joined
+            or "loss_tangent" in joined or joined in ("damping", "damping_factor")):
+        return "tan_delta"
+    if "storage" in tokens or re.fullmatch(r"[eg]'|[eg]_?prime|[eg]1", first):
+        return "storage"
+    if "loss" in tokens or re.fullmatch(r"[eg]''|[eg]_?double_?prime|[eg]2", first):
+        return "loss"
+    if (re.fullmatch(r"\|?[eg]\*\|?|abs\([eg]\*\)", first) or
+            ({"complex", "dynamic"} & set(tokens) and "modulus" in tokens)):
+        return "modulus"
+    if (re.fullmatch(r"[eg]", first) and (len(tokens) == 1 or tokens[1] == "of")) or (
+            "modulus" in tokens or "relaxation" in tokens):
+        return "relaxation"
+    return None
+
+
+def _classify_header(j: int, header: str) -> _MCol | None:
+    name, unit = _unit_and_name(header)
+    tokens = _tokens(name)
+    if not tokens:
+        return None
+    first = tokens[0]
+    if first == "t" and unit is None and len(tokens) == 2 and _is_temperature(tokens[1]):
+        return _MCol(j, header, "temperature", tokens[1])
+    if first in ("temperature", "temp", "t") and (first != "t" or _is_temperature(unit)):
+        rest, u = _trailing_unit(tokens, {"c": 1, "°c": 1, "degc": 1, "k": 1})
+        return _MCol(j, header, "temperature", unit if unit is not None else u)
+    if first in ("omega", "ω", "w") or "angular" in tokens:
+        rest, u = _trailing_unit(tokens, _RAD)
+        return _MCol(j, header, "omega", unit if unit is not None else u)
+    if first in ("frequency", "freq", "f", "frequenz"):
+        if first == "f" and len(tokens) > 2:
+            return None
+        u = unit if unit is not None else "_".join(tokens[1:])  # "frequency_Hz"
+        return _MCol(j, header, "omega" if _norm_unit(u) in _RAD else "frequency", u)
+    if first in ("time", "zeit") or (first == "t" and len(tokens) <= 2):
+        rest, u = _trailing_unit(tokens, _TIME_UNITS)
+        return _MCol(j, header, "time", unit if unit is not None else u)
+    rest, u = _trailing_unit(tokens, _STRESS_UNITS)
+    role = _classify_modulus(rest)
+    if role is None:
+        return None
+    u = unit if unit is not None else u
+    return _MCol(j, header, role, u, "" if role == "tan_delta" else _modulus_kind(rest))
+
+
+def _is_temperature(unit: str | None) -> bool:
+    return unit is not None and unit.strip().lower().lstrip("°") in ("c", "k", "degc", "f")
+
+
+def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
+                 ) -> _MPlan | None:
+    """The moduli columns of a table, or None for a stress–strain table.
+
+    A frequency column with moduli beside it makes a sweep even if the file also has a
+    strain column (a DMA export's strain amplitude); a time column with a modulus makes
+    a relaxation test only in a file without strain and stress columns.
+    """
+    plan = _MPlan()
+    for j, h in enumerate(names):
+        c = _classify_header(j, h)
+        if c is None:
+            continue
+        if c.role in plan.cols:
+            raise DataError(f"{src}: columns {plan.cols[c.role].header!r} and {h!r} could both "
+                            f"be the {c.role.replace('_', ' ')}: pass columns={{'{c.role}': "
+                            "'<header>'}}")
+        plan.cols[c.role] = c
+    for key, val in (columns or {}).items():
+        role = _norm_key(key)
+        if role not in _ROLES:
+            continue
+        if val is None:  # ignore that column
+            plan.cols.pop(role, None)
+            continue
+        hits = [j for j, h in enumerate(names) if h.strip().lower() == str(val).strip().lower()]
+        if not hits and role == "time":
+            continue  # a stress–strain role too: its reader names the problem
+        if not hits:
+            raise DataError(f"{src}: columns={{{key!r}: {val!r}}}: no such column; the header "
+                            f"has {', '.join(map(repr, names))}")
+        name, unit = _unit_and_name(names[hits[0]])
+        plan.cols[role] = _MCol(hits[0], names[hits[0]], role, unit or "",
+                                _modulus_kind(_tokens(name)))
+    roles = set(plan.cols)
+    if plan.is_sweep and roles & {"storage", "loss", "modulus", "tan_delta"}:
+        return plan
+    if any(c is not None and c.role in ("strain", "stretch", "stress")
+           for c in (_classify(j, h) for j, h in enumerate(names))):
+        return None
+    if plan.is_sweep or roles & {"storage", "loss", "modulus", "tan_delta"}:
+        return plan
+    if "relaxation" in roles and "time" in roles:
+        return plan
+    return None
+
+
+def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
+    """Factor of a column to MPa, Hz, rad/s or s (the header's unit or ``units=``)."""
+    u = (units or {}).get(col.role, (units or {}).get("modulus" if col.role in _MODULUS_ROLES
+                                                      else col.role))
+    u = col.unit if u is None else u
+    nu = _norm_unit(u)
+    table, hint = {
+        "frequency": (_HZ, "Hz or kHz (rad/s: an angular frequency)"),
+        "omega": (_RAD, "rad/s"),
+        "time": (_TIME_UNITS, "s, ms, min or h"),
+    }.get(col.role, (_STRESS_UNITS, "Pa, kPa, MPa or GPa"))
+    if col.role in ("tan_delta", "temperature"):
+        return 1.0
+    f = table.get(nu if col.role != "frequency" or nu else "hz")
+    if f is None:
+        raise DataError(f"{src}, column {col.header!r}: unit {u!r} is not understood for "
+                        f"{col.role.replace('_', ' ')}: use {hint}, or pass units={{"
+                        f"'{col.role}': ...}}")
+    return float(f)
+
+
+def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
+                  name: str | None) -> list[FrequencySweep | Relaxation]:
+    """One sweep or relaxation test per temperature of the table."""
+    src = table.source
+    meta = {_norm_key(k): v for k, v in table.meta.items()}
+    units = {**{k[:-5]: v for k, v in meta.items() if k.endswith("_unit")}, **(units or {})}
+    cols = plan.cols
+    if plan.is_sweep and not cols.keys() & {"storage", "loss", "modulus", "tan_delta"}:
+        raise DataError(f"{src}: a frequency column but no moduli: add storage and loss "
+                        "columns (e.g. 'storage_MPa', 'loss_MPa') or |E*| and tan delta")
+    if not plan.is_sweep and "relaxation" not in cols:
+        raise DataError(f"{src}: moduli columns but no frequency column: add 'frequency_Hz' "
+                        "(or 'omega_rad/s')")
+    values = {r: table.floats(c.index) * _factor(c, units, src) for r, c in cols.items()}
+    kinds = {c.kind for r, c in cols.items() if r in _MODULUS_ROLES}
+    kind = meta.get("kind", "G" if kinds == {"G"} else "E")
+    stem = Path(src).stem if src and not src.startswith("<") else (src or "data")
+    base = name or meta.get("name") or stem
+    temps = values.get("temperature")
+    groups = ([(None, np.arange(table.n_rows))] if temps is None else
+              [(float(T), np.flatnonzero(temps == T)) for T in dict.fromkeys(temps.tolist())])
+    headers = {r: c.header for r, c in cols.items()}
+    if "relaxation" in headers:
+        headers["modulus"] = headers.pop("relaxation")
+    out: list[FrequencySweep | Relaxation] = []
+    for T, rows in groups:
+        T = T if T is not None else meta.get("temperature")
+        label = base if temps is None else f"{base} [T = {T:g}]"
+        v = {r: a[rows] for r, a in values.items()}
+        common = dict(kind=kind, temperature=T, name=label, source=src, _headers=headers,
+                      _rows=_Subset(table.labels, rows))
+        if plan.is_sweep:
+            if "frequency" in v:
+                common["frequency"] = v["frequency"]
+            else:
+                common["omega"] = v["omega"]
+            out.append(FrequencySweep(**_sweep_moduli(v), **common))
+        else:
+            out.append(Relaxation(time=v["time"], modulus=v["relaxation"], **common))
+    return out
+
+
+def _sweep_moduli(v: dict[str, np.ndarray]) -> dict[str, np.ndarray | None]:
+    """The moduli a sweep is built from: E′ and E″ when both are there, else E′ or |E*|
+    with tan δ (a file may hold all four; anything incomplete is left for the sweep to
+    name)."""
+    if "storage" in v and "loss" in v:
+        return {"storage": v["storage"], "loss": v["loss"]}
+    if "storage" in v and "tan_delta" in v:
+        return {"storage": v["storage"], "tan_delta": v["tan_delta"]}
+    return {r: v.get(r) for r in ("storage", "loss", "modulus", "tan_delta")}

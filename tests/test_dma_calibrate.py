@@ -1,0 +1,170 @@
+"""Frequency sweeps and relaxation tests in the model and in calibrations: the bridge
+between the large-strain kernel and the linear moduli, the batch's small-strain plan,
+the objective's per-point relative errors, and joint calibrations (docs/theory.md §10)."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit.objective import Objective
+
+TRUE = dict(C10=0.2, C01=0.05, G1=3.0, tau1=1e-3, G2=1.0, tau2=0.1, G3=0.5, tau3=10.0)
+E_INF = 6 * (0.2 + 0.05)  # 3 μ0 of Mooney–Rivlin
+
+
+def maxwell(omega, E_inf, G, tau):
+    """(E′, E″) of the generalised Maxwell model from its complex modulus
+    E* = E∞ + Σ G_i iωτ_i / (1 + iωτ_i), written independently of vhfit."""
+    w = np.asarray(omega, dtype=np.float64)[:, None]
+    Es = E_inf + np.sum(np.asarray(G) * (1j * w * tau) / (1.0 + 1j * w * tau), axis=1)
+    return Es.real, Es.imag
+
+
+def prony_of(p):
+    n = sum(k.startswith("tau") for k in p)
+    return (np.array([p[f"G{i}"] for i in range(1, n + 1)]),
+            np.array([p[f"tau{i}"] for i in range(1, n + 1)]))
+
+
+def master_curve(p, e_inf, name="master"):
+    f = np.logspace(-3, 3, 31)
+    e1, e2 = maxwell(2 * np.pi * f, e_inf, *prony_of(p))
+    return vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2, name=name)
+
+
+def rate_curves(model, p, rates=(-0.1, -10.0, -1000.0)):
+    eps = np.linspace(-0.02, -0.5, 25)
+    return [vhfit.Curve(strain=eps, stress=model.stress(p, strain=eps, strain_rate=r,
+                                                        measure="engineering"),
+                        strain_rate=r, name=f"rate {r:g}") for r in rates]
+
+
+# ---------------------------------------------------------------- the bridge
+@pytest.mark.parametrize("law, n, params, f", [
+    ("mooney_rivlin", 3, dict(C10=0.2, C01=0.05, G1=3.0, tau1=0.02, G2=1.0, tau2=0.1,
+                              G3=0.5, tau3=0.5), 1.0),
+    ("neo_hooke", 2, dict(C10=0.1, G1=2.0, tau1=0.3, G2=0.2, tau2=3.0), 0.05),
+])
+def test_small_sinusoid_of_the_large_strain_kernel_gives_storage_and_loss(law, n, params, f):
+    """ε = a sin ωt with a = 1e-6 over many cycles, simulated by the finite-strain kernel
+    (a piecewise-linear time history, 1000 samples a cycle); the steady state's sin and
+    cos components over the last 4 cycles are a E′ and a E″ of the Maxwell model."""
+    m = vhfit.ViscoHyperelastic(law, n)
+    x = m.as_array(params)
+    e_inf = 3 * m.hyperelastic.initial_shear_modulus(x[: m.hyperelastic.n_params])
+    G, tau = prony_of(params)
+    w, a, k = 2 * np.pi * f, 1e-6, 1000
+    cycles = int(np.ceil(15 * tau.max() * f)) + 4  # transients e^(−t/τ) below 1e-6
+    t = np.arange(cycles * k + 1) / (k * f)
+    s = m.stress(params, strain=a * np.sin(w * t), time=t)
+    last = slice(-4 * k - 1, -1)
+    A = np.column_stack([np.sin(w * t[last]), np.cos(w * t[last]), np.ones(4 * k)])
+    (c_sin, c_cos, _), *_ = np.linalg.lstsq(A, s[last], rcond=None)
+    e1, e2 = maxwell([w], float(e_inf), G, tau)
+    assert c_sin / a == pytest.approx(e1[0], rel=1e-4)
+    assert c_cos / a == pytest.approx(e2[0], rel=1e-4)
+
+
+# ------------------------------------------------------------ batch and objective
+def test_batch_gives_moduli_beside_stresses_and_their_columns():
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    sweep = master_curve(TRUE, 1.0)
+    relax = vhfit.Relaxation(time=[0.0, 1e-3, 0.1, 10.0], modulus=np.ones(4))
+    [curve] = rate_curves(m, TRUE, (-1.0,))
+    b = m.batch([curve, sweep, relax])
+    out = b(m.as_array(TRUE)[None, :])[0]
+    G, tau = prony_of(TRUE)
+    e1, e2 = maxwell(sweep.omega, E_INF, G, tau)
+    np.testing.assert_allclose(out[:25], curve.target_stress, rtol=1e-13)
+    np.testing.assert_allclose(out[25:87], np.r_[e1, e2], rtol=1e-13)
+    e_t = E_INF + np.sum(G * np.exp(-np.array([0.0, 1e-3, 0.1, 10.0])[:, None] / tau), axis=1)
+    np.testing.assert_allclose(out[87:], e_t, rtol=1e-13)
+    # the separable columns: E∞ · base + Σ G_i h_i reproduces the moduli
+    base, H = b.shape_columns([[0.8, 0.2]], [tau])
+    np.testing.assert_allclose(E_INF * base[0, 25:] + G @ H[0, :, 25:], out[25:], rtol=1e-13)
+    bad = m.as_array(TRUE).copy()
+    bad[2] = -1.0  # G1 < 0
+    assert np.all(np.isinf(b(bad[None, :])[0]))
+
+
+def test_rmsape_measures_moduli_point_by_point():
+    """Curves keep Eq. 20 (relative to the curve's mean |σ|); a sweep's points are each
+    relative to their own modulus: sqrt(mean over all points of r²), in percent."""
+    sweep = vhfit.FrequencySweep(frequency=[1.0, 10.0], storage=[1.0, 100.0],
+                                 loss=[0.1, 10.0])
+    curve = vhfit.Curve(strain=[-0.1, -0.2], stress=[-1.0, -3.0], strain_rate=-1.0,
+                        n_points=None)
+    obj = Objective([curve, sweep])
+    model = np.array([-1.1, -3.0, 1.01, 98.0, 0.1, 10.5])
+    r = [-0.1 / 2, 0.0, 0.01, -0.02, 0.0, 0.05]  # mean |σ| of the curve is 2
+    assert obj(model) == pytest.approx(100 * np.sqrt(np.mean(np.square(r))), rel=1e-13)
+    np.testing.assert_allclose(obj.per_curve(model), [100 * np.sqrt((0.05**2) / 2),
+                                                      100 * np.sqrt((0.01**2 + 0.02**2
+                                                                     + 0.05**2) / 4)],
+                               rtol=1e-13)
+
+
+# ---------------------------------------------------------------- calibration
+def test_joint_calibration_recovers_the_constants():
+    """A DMA master curve and three large-strain rate curves of one Mooney–Rivlin +
+    3-term Prony material: every constant back to 1e-6 relative."""
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    items = [master_curve(TRUE, E_INF), *rate_curves(m, TRUE)]
+    cal = vhfit.calibrate(items, hyperelastic="mooney_rivlin", n_prony=3, seed=0)
+    for k, v in TRUE.items():
+        assert cal.params[k] == pytest.approx(v, rel=1e-6), k
+    assert len(cal.per_curve_rmsape) == 4 and cal.curve_names[0] == "master"
+    fit = cal.fitted_curves(items, points=50)
+    e1, e2 = maxwell(items[0].omega, E_INF, *prony_of(TRUE))
+    np.testing.assert_allclose(fit[0]["model_storage"], e1, rtol=1e-6)
+    np.testing.assert_allclose(fit[0]["model_loss"], e2, rtol=1e-6)
+    assert fit[0]["fine_storage"].shape == (50,) and "fine_model" in fit[1]
+
+
+def test_relaxation_and_shear_sweep_calibrate_alone(tmp_path):
+    """Moduli alone fix E∞ = 6(C10 + C01) and the Prony terms (not the C10 : C01 split);
+    shear data (kind G) are fitted as E = 3G; the results file describes the items."""
+    p = dict(C10=0.1, C01=0.1, G1=2.0, tau1=0.01, G2=0.5, tau2=1.0)
+    G, tau = prony_of(p)
+    f = np.logspace(-2, 2, 21)
+    e1, e2 = maxwell(2 * np.pi * f, 1.2, G, tau)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=e1 / 3, loss=e2 / 3, kind="G")
+    t = np.r_[0.0, np.logspace(-3, 2, 20)]
+    relax = vhfit.Relaxation(time=t, modulus=1.2 + np.sum(G * np.exp(-t[:, None] / tau), 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the C10 : C01 split is not identified
+        cal = vhfit.calibrate([sweep, relax], n_prony=2, seed=1)
+    assert 6 * (cal.params["C10"] + cal.params["C01"]) == pytest.approx(1.2, rel=1e-6)
+    for k in ("G1", "tau1", "G2", "tau2"):
+        assert cal.params[k] == pytest.approx(p[k], rel=1e-6), k
+    cal.save(tmp_path / "r.json", curves=[sweep, relax])
+    info = json.loads((tmp_path / "r.json").read_text())["curves"]
+    assert [c["type"] for c in info] == ["frequency_sweep", "relaxation"]
+    assert info[0]["kind"] == "G" and info[0]["n_points"] == 42
+
+
+def test_tau_bounds_cover_the_frequencies_and_times():
+    """Eq. 22 with ω of the sweep and 1/t of the relaxation test as the rates."""
+    from vhfit.calibration._bounds import rates
+
+    sweep = vhfit.FrequencySweep(omega=[0.01, 100.0], storage=[1.0, 2.0], loss=[0.1, 0.1])
+    relax = vhfit.Relaxation(time=[0.0, 1e-2, 10.0], modulus=[3.0, 2.0, 1.0])
+    np.testing.assert_allclose(np.sort(rates([sweep, relax])), [0.01, 0.1, 100.0, 100.0])
+
+
+def test_a_sweep_is_evidence_of_memory_for_the_default_n():
+    """One monotonic rate curve alone gets no Prony terms by default; beside a sweep
+    (whose loss modulus shows the memory) it gets the default N."""
+    from vhfit.calibration import default_n_prony
+
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 3)
+    [curve] = rate_curves(m, TRUE, (-1.0,))
+    assert default_n_prony([curve])[0] == 0
+    assert default_n_prony([master_curve(TRUE, E_INF), curve]) == (2, None)
+    relax = vhfit.Relaxation(time=[0.0, 1.0], modulus=[2.0, 1.0])
+    assert default_n_prony([relax]) == (2, None)
