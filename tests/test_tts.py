@@ -210,3 +210,32 @@ def test_shift_curve_refuses_bad_factors_and_items():
         tts.shift_curve(ramp, 0.0)
     with pytest.raises(TypeError, match="cannot shift"):
         tts.shift_curve([1, 2], 2.0)
+
+
+def test_master_curve_of_frequency_sweeps_merges_near_temperatures_and_gives_an_item():
+    f = np.logspace(-1, 2, 13)
+    items = []
+    for T in TEMPS:
+        e1, e2 = storage_loss(f * LAW.aT(T))
+        # one level recorded at two slightly different temperatures, as files often are
+        items.append(vhfit.FrequencySweep(frequency=f[:6], storage=e1[:6], loss=e2[:6],
+                                          temperature=T - 0.2))
+        items.append(vhfit.FrequencySweep(frequency=f[6:], storage=e1[6:], loss=e2[6:],
+                                          temperature=T + 0.2))
+    mc = tts.master_curve(items, T_ref=20.0)
+    # each level at the point-weighted mean of its two records: (6 (T - 0.2) + 7 (T + 0.2)) / 13
+    np.testing.assert_allclose(mc.temperatures, TEMPS + 0.2 / 13, atol=1e-12)
+    np.testing.assert_allclose(mc.log_aT, LAW.log_aT(TEMPS), atol=0.02)
+    sweep = mc.item()
+    assert isinstance(sweep, vhfit.FrequencySweep) and sweep.temperature is None
+    assert sweep.frequency.size == TEMPS.size * 13
+    hot = tts.shift_curve(items[-1], float(LAW.aT(60.2)))
+    np.testing.assert_allclose(hot.frequency, f[6:] * LAW.aT(60.2), rtol=1e-14)
+
+
+def test_master_curve_of_relaxation_tests_gives_a_relaxation_item():
+    t = np.logspace(-2, 1, 13)
+    items = [vhfit.Relaxation(time=t, modulus=relax(t / LAW.aT(T)), temperature=T)
+             for T in (10.0, 20.0, 30.0)]
+    rel = tts.master_curve(items).item("E(t)")
+    assert isinstance(rel, vhfit.Relaxation) and rel.time.size == 39

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vhfit.data import DataError
+from vhfit.data import DataError, FrequencySweep, Relaxation
 from vhfit.tts._laws import fit_shift_law
 
 #: Points of the y grid on which two neighbours' horizontal distance is averaged.
@@ -65,6 +65,14 @@ class MasterCurve:
     def time(self) -> np.ndarray:
         """Reduced time, s (time domain)."""
         return self.x
+
+    def item(self, name: str = "master curve"):
+        """The master curve as data at the reference temperature: a
+        :class:`vhfit.FrequencySweep` or a :class:`vhfit.Relaxation` (``temperature=None``)."""
+        if self.domain == "frequency":
+            return FrequencySweep(frequency=self.x, storage=self.storage, loss=self.loss,
+                                  name=name)
+        return Relaxation(time=self.x, modulus=self.modulus, name=name)
 
 
 def group_by_temperature(temperature, *columns, tolerance: float = 0.5) -> list[tuple]:
@@ -149,6 +157,25 @@ def _sets_of(sweeps, domain: str | None):
                             "per domain")
         domain = d
     return out, domain
+
+
+def _merged(sets, names, tolerance: float):
+    """Sets (sorted by temperature) within ``tolerance`` of a group's first joined into one
+    at their mean temperature: a file read one item per recorded temperature gives each
+    temperature level back whole."""
+    out, out_names, k = [], [], 0
+    while k < len(sets):
+        j = k + 1
+        while j < len(sets) and sets[j][0] - sets[k][0] <= tolerance:
+            j += 1
+        group = sets[k:j]
+        cols = [np.concatenate([g[c] for g in group]) if group[0][c] is not None else None
+                for c in (1, 2, 3)]
+        T = float(np.average([g[0] for g in group], weights=[g[1].size for g in group]))
+        out.append((T, *cols))
+        out_names.append(names[k] if j == k + 1 else f"sweeps at T = {T:.4g}")
+        k = j
+    return out, out_names
 
 
 def _known_shifts(temps: np.ndarray, shift_factors, tolerance: float):
@@ -238,7 +265,7 @@ def master_curve(sweeps, *, T_ref: float | None = None, shift_factors=None,
         raise DataError("sweeps: give at least one sweep")
     names = [getattr(s, "name", None) or f"sweep at T = {float(s.temperature):g}" for s in sweeps]
     order = np.argsort([s[0] for s in sets], kind="stable")
-    sets, names = [sets[k] for k in order], [names[k] for k in order]
+    sets, names = _merged([sets[k] for k in order], [names[k] for k in order], tolerance)
     temps = np.array([s[0] for s in sets])
     known, given_law = _known_shifts(temps, shift_factors, tolerance)
     if T_ref is None:
