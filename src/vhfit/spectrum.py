@@ -150,10 +150,22 @@ def _tau_grid(domain: str, x: np.ndarray, per_decade: int) -> np.ndarray:
 
 
 def _prune(Aw, b, keep: np.ndarray):
-    """Backward elimination: the (N, error, kept columns, coef) path from all terms to 1."""
+    """Backward elimination: the (N, error, kept columns, coef) path from all terms to 1.
+
+    A term whose NNLS modulus is 0 leaves the others' solution optimal when dropped
+    (the optimality conditions still hold), so such terms go first at no cost; then each
+    step drops the term whose removal, after re-fitting the others, raises the error
+    least.
+    """
     coef, err = _nnls(Aw[:, np.r_[0, keep + 1]], b)
     path = [(keep.size, err, keep, coef)]
     while keep.size > 1:
+        zero = np.flatnonzero(coef[1:] == 0.0)
+        if zero.size:
+            j = zero[0]
+            keep, coef = np.delete(keep, j), np.delete(coef, j + 1)
+            path.append((keep.size, err, keep, coef))
+            continue
         best = None
         for j in range(keep.size):
             trial = np.delete(keep, j)
@@ -211,8 +223,8 @@ def _refine(domain, x, scale, b, tau):
             D = D - Q @ (Q.T @ D)
         return D
 
-    sol = least_squares(resid, np.log(tau), jac=jac, method="trf", xtol=1e-10, ftol=1e-10,
-                        gtol=1e-10, max_nfev=200)
+    sol = least_squares(resid, np.log(tau), jac=jac, method="trf", xtol=1e-8, ftol=1e-8,
+                        gtol=1e-8, max_nfev=200)
     return np.sort(np.exp(sol.x))
 
 
