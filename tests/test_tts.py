@@ -239,3 +239,43 @@ def test_master_curve_of_relaxation_tests_gives_a_relaxation_item():
              for T in (10.0, 20.0, 30.0)]
     rel = tts.master_curve(items).item("E(t)")
     assert isinstance(rel, vhfit.Relaxation) and rel.time.size == 39
+
+
+# ------------------------------------------------------------------ one calibration's items
+def test_reduce_to_reference_shifts_every_item_with_factors_built_from_the_sweeps():
+    f = np.logspace(-1, 2, 13)
+    sweeps = []
+    for T in TEMPS:
+        e1, e2 = storage_loss(f * LAW.aT(T))
+        sweeps.append(vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2, temperature=T,
+                                           name=f"dma {T:g}"))
+    curve = vhfit.Curve(strain=[0.0, -0.1, -0.2], stress=[0.0, -1.0, -2.0], strain_rate=-1.0,
+                        metadata={"temperature": 40.0})
+    ref = vhfit.Curve(strain=[0.0, -0.1], stress=[0.0, -1.0], strain_rate=-1.0)
+    out, mc = tts.reduce_to_reference([*sweeps, curve, ref], T_ref=20.0)
+    assert isinstance(mc, tts.MasterCurve)
+    assert all(getattr(x, "temperature", None) is None for x in out[:-2])
+    np.testing.assert_allclose(out[0].frequency, f * LAW.aT(TEMPS[0]), rtol=0.05)
+    assert out[-2].strain_rate == pytest.approx(-LAW.aT(40.0), rel=0.05)
+    assert out[-1] is ref  # no temperature: at the reference already
+
+
+def test_reduce_to_reference_leaves_one_temperature_alone_and_refuses_uncovered_ones():
+    f = np.logspace(-1, 1, 5)
+    a = vhfit.FrequencySweep(frequency=f, storage=10 + f, loss=f, temperature=20.0)
+    items, how = tts.reduce_to_reference([a])
+    assert items == [a] and how is None
+    b = vhfit.FrequencySweep(frequency=f, storage=100 + f, loss=f, temperature=60.0,
+                             name="hot", source="hot.csv")
+    with pytest.raises(DataError, match="no shift factor for T = 60.*give shift factors"):
+        tts.reduce_to_reference([a, b])
+    with pytest.raises(DataError, match="^hot.csv: hot: no shift factor for T = 60.*covers"):
+        tts.reduce_to_reference([a, b], shift_factors={20.0: 0.0})
+    curve = vhfit.Curve(strain=[0.0, -0.1], stress=[0.0, -1.0], strain_rate=-1.0,
+                        metadata={"temperature": 0.0})
+    with pytest.raises(DataError, match="no shift factors: give shift_factors="):
+        tts.reduce_to_reference([curve, vhfit.Curve(
+            strain=[0.0, -0.1], stress=[0.0, -1.0], strain_rate=-1.0,
+            metadata={"temperature": 50.0})])
+    out, law = tts.reduce_to_reference([a, b], shift_factors=LAW)
+    assert out[1].frequency[0] == pytest.approx(f[0] * LAW.aT(60.0), rel=1e-14)

@@ -32,6 +32,7 @@ from vhfit.tts._master import (
     group_by_temperature,
     master_curve,
     pair_shift,
+    reduce_to_reference,
     sweeps_from_columns,
 )
 
@@ -46,6 +47,7 @@ __all__ = [
     "group_by_temperature",
     "master_curve",
     "pair_shift",
+    "reduce_to_reference",
     "sweeps_from_columns",
     "shift_curve",
 ]

@@ -339,3 +339,90 @@ def sweeps_from_columns(temperature, *, frequency=None, storage=None, loss=None,
         raise DataError("sweeps: give frequency=, storage=, loss= or time=, modulus=")
     return [_Set(T, time=t, modulus=e) for T, t, e in
             group_by_temperature(temperature, time, modulus, tolerance=tolerance)]
+
+
+def _temperature_of(item) -> float | None:
+    T = getattr(item, "temperature", None)
+    if T is None:
+        T = (getattr(item, "metadata", None) or {}).get("temperature")
+    return None if T is None else float(T)
+
+
+def _label(item, k: int) -> str:
+    src = getattr(item, "source", None)
+    name = getattr(item, "name", None) or f"item {k + 1}"
+    return f"{src}: {name}" if src and src not in str(name) else str(name)
+
+
+def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None,
+                        tolerance: float = 1.0) -> tuple[list, object]:
+    """Every item at the reference temperature, ready for one calibration.
+
+    Items carry their test temperature as ``temperature`` (sweeps, relaxation tests) or
+    ``metadata["temperature"]`` (stress–strain curves); ``None`` means "at the reference
+    already". With one temperature (or none) and no ``shift_factors`` the items come back
+    unchanged. Otherwise each item at T is replaced by ``item.shifted(a_T)``, with a_T
+    from ``shift_factors`` (a law, a dict or a pair, as :func:`master_curve`) or, without
+    them, from the master curve built by overlap of the frequency sweeps (or relaxation
+    tests) among the items.
+
+    Returns
+    -------
+    items : list
+        The items at T_ref.
+    shift : law, MasterCurve or None
+        Where the shift factors came from.
+
+    Raises
+    ------
+    DataError
+        One line naming the item (and file) whose temperature has no shift factor and
+        the fix.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> from vhfit.tts import WLF
+    >>> f = np.array([1.0, 10.0])
+    >>> s = vhfit.FrequencySweep(frequency=f, storage=[2.0, 3.0], loss=[1.0, 1.0],
+    ...                          temperature=40.0)
+    >>> out, law = reduce_to_reference([s], shift_factors=WLF(8.0, 100.0, 20.0))
+    >>> out[0].frequency.round(4).tolist(), out[0].temperature
+    ([0.0464, 0.4642], None)
+    """
+    items = list(items)
+    temps = [_temperature_of(it) for it in items]
+    known = sorted({T for T in temps if T is not None})
+    spread = known[-1] - known[0] if known else 0.0
+    if shift_factors is None and spread <= tolerance:
+        return items, None
+    source = shift_factors
+    if shift_factors is None:
+        moduli = [it for it, T in zip(items, temps) if T is not None
+                  and getattr(it, "storage", None) is not None]
+        if not moduli:
+            moduli = [it for it, T in zip(items, temps) if T is not None
+                      and getattr(it, "modulus", None) is not None
+                      and getattr(it, "time", None) is not None]
+        if not moduli:
+            k = next(i for i, T in enumerate(temps) if T is not None)
+            raise DataError(f"{_label(items[k], k)}: tests at {len(known)} temperatures and "
+                            "no shift factors: give shift_factors= (a WLF law or a table) or "
+                            "DMA sweeps at those temperatures")
+        source = master_curve(moduli, T_ref=T_ref, tolerance=tolerance)
+        shift_factors = (source.temperatures, source.log_aT)
+    law = shift_factors if hasattr(shift_factors, "log_aT") else None
+    table = None if law is not None else _known_shifts(np.array(known), shift_factors,
+                                                       tolerance)[0]
+    out = []
+    for k, (it, T) in enumerate(zip(items, temps)):
+        if T is None:
+            out.append(it)
+            continue
+        L = float(law.log_aT(T)) if law is not None else table[known.index(T)]
+        if L is None:
+            raise DataError(f"{_label(it, k)}: no shift factor for T = {T:g} (none within "
+                            f"{tolerance:g} of it, and no sweep overlapping its neighbours):"
+                            " give shift_factors= a law or a table that covers it")
+        out.append(it.shifted(10.0 ** L))
+    return out, source
