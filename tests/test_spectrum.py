@@ -80,3 +80,20 @@ def test_items_with_attributes_are_accepted_and_bad_data_refused():
         prony_spectrum(Sweep(), n_prony=0)
     with pytest.raises(ValueError, match="per_decade"):
         prony_spectrum(Sweep(), per_decade=0)
+
+
+def test_the_chosen_n_is_the_smallest_within_the_stated_error_increase():
+    rng = np.random.default_rng(0)
+    f = np.logspace(-3, 4, 71)
+    e1, e2 = moduli(f)
+    noisy = dict(frequency=f, storage=e1 * (1 + 0.02 * rng.standard_normal(f.size)),
+                 loss=e2 * (1 + 0.02 * rng.standard_normal(f.size)))
+    chosen = []
+    for tol in (0.0, 0.01, 0.05, 30.0):
+        s = prony_spectrum(**noisy, tolerance=tol)
+        n, err = s.table[:, 0], s.table[:, 1]
+        assert s.n_prony == n[err <= (1 + tol) * err[0]].min()
+        chosen.append(s.n_prony)
+    # noise makes every extra term worth a little: more terms at 0, the true 3 at 5 %,
+    # one at a 30-fold error
+    assert chosen[0] > chosen[1] > chosen[2] == 3 > chosen[3]

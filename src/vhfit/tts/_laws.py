@@ -206,8 +206,8 @@ def fit_shift_law(temperature, log_aT, law: str = "wlf", *, T_ref: float | None 
     -----
     WLF is fitted by variable projection: for a fixed C2, C1 enters linearly and has a
     closed form, so the sum of squares is minimised over C2 alone (bounded so that
-    C2 + T − T_ref > 0 at every data temperature), then both constants are polished
-    together by Gauss–Newton.
+    C2 + T − T_ref > 0 at every data temperature): a scan of log(C2 − C2_min), then
+    Brent's method on the best bracket.
 
     Examples
     --------
@@ -247,7 +247,7 @@ def _wlf_c1(x, y, c2):
 
 
 def _fit_wlf(x: np.ndarray, y: np.ndarray, T_ref: float) -> WLF:
-    from scipy.optimize import least_squares, minimize_scalar
+    from scipy.optimize import minimize_scalar
 
     span = float(np.ptp(x)) or 1.0
     floor = max(0.0, -float(x.min()))  # C2 + x > 0 at every data point
@@ -260,13 +260,4 @@ def _fit_wlf(x: np.ndarray, y: np.ndarray, T_ref: float) -> WLF:
                            bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
     c2 = floor + span * math.exp(best.x)
     c1, _ = _wlf_c1(x, y, c2)
-
-    def resid(p):
-        den = p[1] + x
-        return y + p[0] * x / np.where(den > 0, den, np.nan)
-
-    pol = least_squares(resid, [c1, c2], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
-    if pol.success and np.isfinite(pol.fun).all() and pol.x[1] > floor \
-            and pol.cost <= 0.5 * _wlf_c1(x, y, c2)[1]:
-        c1, c2 = float(pol.x[0]), float(pol.x[1])
     return WLF(float(c1), float(c2), T_ref)
