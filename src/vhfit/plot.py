@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.spectrum import design_matrix
+
 __all__ = [
     "PlotUnavailable",
     "have_matplotlib",
@@ -278,6 +280,12 @@ def _colours(n: int) -> list:
     return [cmap(i / max(n - 1, 1)) for i in range(n)]
 
 
+def _dma_figure(path, master, size: tuple[float, float]):
+    """One-panel figure for a master curve: (figure, axes, is it frequency data)."""
+    fig, axes = _figure(path, 1, 1, figsize=size, layout="constrained")
+    return fig, axes[0, 0], master.domain == "frequency"
+
+
 def _moduli_axes(ax, frequency: bool, reduced: bool) -> None:
     what = ("reduced frequency f a_T (Hz)" if reduced else "frequency (Hz)") if frequency \
         else ("reduced time t / a_T (s)" if reduced else "time (s)")
@@ -304,9 +312,7 @@ def plot_sweeps(master, path=None, *, shifted: bool = False):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = _figure(path, 1, 1, figsize=(6.0, 4.4), layout="constrained")
-    ax = axes[0, 0]
-    freq = master.domain == "frequency"
+    fig, ax, freq = _dma_figure(path, master, (6.0, 4.4))
     sets = list(master.sets)
     for c, s in zip(_colours(len(sets)), sets):
         a = 10.0 ** s["log_aT"] if shifted else 1.0
@@ -323,13 +329,11 @@ def plot_sweeps(master, path=None, *, shifted: bool = False):
 
 
 def _spectrum_moduli(spectrum, x, frequency: bool):
-    tau = np.asarray(spectrum.tau)
-    G = np.asarray(spectrum.G)
-    if frequency:
-        wt = 2 * np.pi * x[:, None] * tau
-        return (spectrum.E_inf + (G * wt**2 / (1 + wt**2)).sum(1),
-                (G * wt / (1 + wt**2)).sum(1))
-    return spectrum.E_inf + (G * np.exp(-x[:, None] / tau)).sum(1), None
+    """E′ and E″ (or E(t) and None) of a Prony spectrum at ``x``."""
+    domain = "frequency" if frequency else "time"
+    A = design_matrix(domain, np.asarray(x, dtype=np.float64), spectrum.tau)
+    m = A @ np.concatenate([[spectrum.E_inf], spectrum.G])
+    return (m[: x.size], m[x.size:]) if frequency else (m, None)
 
 
 def plot_master_curve(master, spectrum=None, path=None):
@@ -346,9 +350,7 @@ def plot_master_curve(master, spectrum=None, path=None):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = _figure(path, 1, 1, figsize=(6.0, 4.4), layout="constrained")
-    ax = axes[0, 0]
-    freq = master.domain == "frequency"
+    fig, ax, freq = _dma_figure(path, master, (6.0, 4.4))
     if freq:
         ax.plot(master.x, master.storage, "o", ms=3, mfc="none", color="C0", label="E' data")
         ax.plot(master.x, master.loss, "s", ms=3, mfc="none", color="C3", label="E'' data")
@@ -405,9 +407,7 @@ def plot_spectrum_residuals(master, spectrum, path=None):
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = _figure(path, 1, 1, figsize=(6.0, 3.6), layout="constrained")
-    ax = axes[0, 0]
-    freq = master.domain == "frequency"
+    fig, ax, freq = _dma_figure(path, master, (6.0, 3.6))
     m1, m2 = _spectrum_moduli(spectrum, master.x, freq)
     first = master.storage if freq else master.modulus
     ax.semilogx(master.x, (m1 - first) / first, "o", ms=3, color="C0",
