@@ -31,7 +31,7 @@ TOP = "vhfit"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("infrastructure", ("vhfit._io", "vhfit._pools", "vhfit._version")),
     ("physics", ("vhfit.hyperelastic", "vhfit.viscoelastic", "vhfit.history", "vhfit.model",
-                 "vhfit.modes", "vhfit._plans", "vhfit._linear",
+                 "vhfit.modes", "vhfit._plans", "vhfit.formulations", "vhfit._linear",
                  "vhfit._kernels", "vhfit.stability", "vhfit._derivatives")),
     ("data", ("vhfit.data", "vhfit.datasets",
               "vhfit.tts")),

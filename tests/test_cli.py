@@ -168,9 +168,13 @@ def test_export_card_reimports_to_the_same_stresses(demo, solver, tmp_path, caps
         s1 = m1.stress(res["params"], strain=eps, strain_rate=rate)
         s2 = m2.stress(p2, strain=eps, strain_rate=rate)
         assert np.max(np.abs(s2 - s1)) <= 1e-6 * np.max(np.abs(s1)), solver
-    # the card written by the demo is the same text
+    # the card written by the demo holds the same data (its comments add the card check)
     if solver != "json":
-        assert (out / cli.CARD_FILES[solver]).read_text().strip() == card.strip()
+        def data(text):
+            return [ln for ln in text.splitlines() if ln.strip()
+                    and not ln.startswith(("**", "$", "!"))]
+
+        assert data((out / cli.CARD_FILES[solver]).read_text()) == data(card)
 
 
 def test_export_to_a_file(demo, tmp_path):

@@ -131,6 +131,7 @@ def test_abaqus_instantaneous_moduli_round_trip(kind):
 
 
 @pytest.mark.filterwarnings("ignore:PR = .* nearly compressible")
+@pytest.mark.filterwarnings("ignore:PR = .* needs more digits")
 @pytest.mark.parametrize("kind", ["mooney_rivlin", "polynomial2", "ogden"])
 def test_lsdyna_standard_format_round_trip_to_its_precision(kind):
     """10-character fields keep 4-6 digits: the round trip holds to ~1e-4, not 1e-6."""
@@ -165,15 +166,25 @@ def test_gelatin_round_trip_with_tiny_g_inf():
     for solver in ("abaqus", "ansys"):
         m2, p2 = READERS[solver](WRITERS[solver](m, p))
         assert_same_stress(m, p, m2, p2)
-    # LS-DYNA builds K from PR and the LONG-TERM shear modulus: the default PR leaves
-    # the gel compressible at impact rates, which the card and a warning say
-    with pytest.warns(UserWarning, match=r"nearly compressible.*PR = 0\.49999995"):
-        text = to_lsdyna(m, p)
-    assert "$ WARNING: PR = 0.4995" in text
+    # LS-DYNA builds K from PR and the LONG-TERM shear modulus mu0 = 2 C01: the default
+    # PR must give K = 1000 mu_inst, mu_inst = (E_inf + G1 + G2) / 3, although K/mu0 ~ 1e7
+    mu0 = 2 * 3.56e-4
+    mu_inst = (3 * mu0 + 21.4 + 0.0211) / 3
+    text = to_lsdyna(m, p)
+    pr = float(_data(text, "$")[3].split()[1])
+    assert 2 * mu0 * (1 + pr) / (3 * (1 - 2 * pr)) == pytest.approx(1000 * mu_inst, rel=1e-6)
+    assert "WARNING: PR" not in text
     m2, p2 = from_lsdyna(text)
     assert_same_stress(m, p, m2, p2)
+    # a small bulk modulus is written, with a warning in the card and to the caller
+    with pytest.warns(UserWarning, match="nearly compressible"):
+        text = to_lsdyna(m, p, bulk_modulus=10 * mu_inst)
+    assert "$ WARNING: PR = " in text
+    # 10-character fields cannot hold this PR: K would be far off, and the card says so
+    with pytest.warns(UserWarning, match="needs more digits"):
+        to_lsdyna(m, p, bulk_modulus=100 * mu_inst, long_format=False)
     with pytest.raises(ValueError, match="rounds to 0.5"):
-        to_lsdyna(m, p, poisson=0.4999999501, long_format=False)
+        to_lsdyna(m, p, bulk_modulus=1e9 * mu_inst, long_format=False)
 
 
 # ------------------------------------------------------------- pinned conventions
@@ -268,7 +279,11 @@ def test_lsdyna_known_answer():
     assert card[0] == "*KEYWORD" and card[-1] == "*END"
     assert card[1] == "*MAT_HYPERELASTIC_RUBBER_TITLE+"
     assert card[2] == "VHFIT_MATERIAL"
-    assert [float(v) for v in card[3].split()] == [1, 1e-9, 0.4995, 0]  # MID RO PR N
+    # MID RO PR N; PR: mu0 = 0.5, G0 = 1.5 + 1.5 = 3, mu_inst = 1, so the default
+    # K = 1000 mu_inst = 1000 MPa; LS-DYNA's K = 2 G (1 + PR) / (3 (1 - 2 PR)) with
+    # G = mu0 = 0.5 gives it for PR = (3000 - 1) / (6000 + 1)
+    assert [float(v) for v in card[3].split()] == pytest.approx([1, 1e-9, 2999 / 6001, 0],
+                                                                rel=1e-15)
     assert [float(v) for v in card[4].split()] == [0.2, 0.05, 0, 0, 0, 0]  # long-term Cij
     assert [float(v) for v in card[5].split()] == [0.5, 100.0]  # GI = G1/3, BETAI = 1/tau1
 

@@ -233,7 +233,10 @@ def test_lsdyna_card_fields_match_the_documented_layout(law, long_format, width,
     assert cards[2] == "VHFIT_MATERIAL"  # _TITLE: one title line
     # card 1: MID RO PR N (N = 0: constants given); MID and N are integers
     head = fixed_fields(cards[3], width)
-    assert [f.strip() for f in head] == ["7", "1.0e-9", "0.4995", "0"]
+    assert [f.strip() for f in (head[0], head[1], head[3])] == ["7", "1.0e-9", "0"]
+    # PR: LS-DYNA's K = 2 G (1 + PR) / (3 (1 - 2 PR)) with G = mu0 = 1.5 must give the
+    # default K = 1000 mu_inst = 6000 MPa [VHFIT]: PR = (3K - 2G)/(6K + 2G) = 17997/36003
+    assert float(head[2]) == pytest.approx(17997 / 36003, rel=1e-15 if long_format else 3e-8)
     body = cards[4:-1]
     if ogden:
         mus, alphas = DYNA_OGDEN[law]

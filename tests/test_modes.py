@@ -111,14 +111,18 @@ def _lag_nodes(t: float, taus, breaks) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(s), np.concatenate(w)
 
 
-def reference_stress(law, c, G, tau, mode, direction, time, x1, x2, t_out) -> np.ndarray:
-    """True stress of the tensor hereditary integral (module docstring) at ``t_out``."""
-    E = E_inf_ref(law, c)
-
+def path_of(mode, time, x1, x2):
+    """u -> F(u) (n, 3, 3) along the piecewise-linear path through (time, x1, x2)."""
     def F_at(u):
         return F_of(mode, np.interp(u, time, x1),
                     None if x2 is None else np.interp(u, time, x2))
+    return F_at
 
+
+def reference_stress(law, c, G, tau, mode, direction, time, x1, x2, t_out) -> np.ndarray:
+    """True stress of the tensor hereditary integral (module docstring) at ``t_out``."""
+    E = E_inf_ref(law, c)
+    F_at = path_of(mode, time, x1, x2)
     out = []
     for t in map(float, t_out):
         Ft = F_at(np.array([t]))
@@ -306,20 +310,28 @@ def test_equibiaxial_directions_give_the_same_stress():
 
 
 # ================================================== viscosity vs quadrature
-@accuracy
-@given(st.data())
-def test_viscous_histories_match_the_tensor_quadrature(data):
-    """Every mode, random laws, ramps and piecewise-linear histories: ≤ 1e-6 relative."""
-    mode = data.draw(st.sampled_from(DEFORMATIONS))
-    direction = data.draw(st.sampled_from((1, 2))) if mode in ("equibiaxial", "biaxial") else 1
-    law, c = data.draw(laws())
-    time, x1, x2, out = data.draw(paths(mode))
-    n = data.draw(st.integers(1, 3))
+@st.composite
+def viscous_cases(draw):
+    """(mode, direction, law, c, G, tau, time, x1, x2, out): a random viscous history,
+    1–3 Prony terms with G_i/E∞ from 1e-2 to 1e3 and τ_i/T from 1e-6 to 1e6."""
+    mode = draw(st.sampled_from(DEFORMATIONS))
+    direction = draw(st.sampled_from((1, 2))) if mode in ("equibiaxial", "biaxial") else 1
+    law, c = draw(laws())
+    time, x1, x2, out = draw(paths(mode))
+    n = draw(st.integers(1, 3))
     E = E_inf_ref(law, c)
-    G = [E * 10 ** data.draw(st.floats(-2.0, 3.0)) for _ in range(n)]
-    tau = [time[-1] * 10 ** data.draw(st.floats(-6.0, 6.0)) for _ in range(n)]
-    s = ViscoHyperelastic(law, n).stress(params_of(c, G, tau),
-                                         history_of(mode, time, x1, x2, out, direction))
+    G = [E * 10 ** draw(st.floats(-2.0, 3.0)) for _ in range(n)]
+    tau = [time[-1] * 10 ** draw(st.floats(-6.0, 6.0)) for _ in range(n)]
+    return mode, direction, law, c, G, tau, time, x1, x2, out
+
+
+@accuracy
+@given(viscous_cases())
+def test_viscous_histories_match_the_tensor_quadrature(case):
+    """Every mode, random laws, ramps and piecewise-linear histories: ≤ 1e-6 relative."""
+    mode, direction, law, c, G, tau, time, x1, x2, out = case
+    s = ViscoHyperelastic(law, len(G)).stress(params_of(c, G, tau),
+                                              history_of(mode, time, x1, x2, out, direction))
     ref = reference_stress(law, c, G, tau, mode, direction, time, x1, x2, out)
     assert relative_error(s, ref) <= 1e-6
 

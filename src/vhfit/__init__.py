@@ -9,7 +9,7 @@ The public API::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import export, hyperelastic, viscoelastic
+from vhfit import export, formulations, hyperelastic, viscoelastic
 from vhfit._version import __version__
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
@@ -44,6 +44,7 @@ __all__ = [
     "calibrate",
     "calibrate_many",
     "export",
+    "formulations",
     "hyperelastic",
     "optimize",
     "per_curve_rmsape",

@@ -42,15 +42,23 @@ def _long_term_coefficients(key, x1, x2):
                                         x2 if deformation == "biaxial" else None, d)
 
 
-class GeneralPlan:
-    """Kernel layout of the non-uniaxial histories with a rate or a time."""
+def on_uniaxial_kernel(formulation, hist) -> bool:
+    """Whether ``hist`` runs the dedicated uniaxial kernel under ``formulation``."""
+    return (formulation.uniaxial_kernel and hist.deformation == "uniaxial"
+            and not hist.is_equilibrium and not hist.is_linear)
 
-    def __init__(self, dlog: float, histories, slices):
+
+class GeneralPlan:
+    """Kernel layout of the histories with a rate or a time that the uniaxial kernel
+    does not run."""
+
+    def __init__(self, dlog: float, histories, slices, formulation):
         x1, x2, w, steps, gnode, gsample, pos, keys, samples = ([] for _ in range(9))
         s_off, k_off = [0], [0]
         self.jobs = 0
+        self.formulation = formulation
         for hist, sl in zip(histories, slices):
-            if hist.deformation == "uniaxial" or hist.is_equilibrium:
+            if hist.is_equilibrium or hist.is_linear or on_uniaxial_kernel(formulation, hist):
                 continue
             t, x1n, idx = hist.grid(dlog)
             x2n = hist.stretch2_at(t)
@@ -63,7 +71,8 @@ class GeneralPlan:
                 xs1 = _lobatto(x1n)
                 x1.append(xs1)
                 x2.append(_lobatto(x2n) if x2n is not None else np.ones_like(xs1))
-                w.append(modes.hereditary_weights(hist.deformation, x1n, x2n, d).T)
+                w.append(np.asarray(formulation.weights(hist.deformation, x1n, x2n, d),
+                                    dtype=np.float64).T)
                 steps.append(np.diff(t))
                 gnode.append(k_off[-1] + c + idx[sel])
                 gsample.append(s_off[-1] + _kernels.STRIDE * idx[sel])
@@ -83,40 +92,52 @@ class GeneralPlan:
         self.gather_sample = np.concatenate(gsample)
         self.pos = np.concatenate(pos)
         self.sample_groups = _groups(keys, samples)
-        # the kinematic part of the factors of invariant laws, once per plan
+        # the kinematic part of the factors (of invariant laws, hereditary), once per plan
         self.coefficients = {
-            (deformation, d): modes.invariant_coefficients(
+            (deformation, d): formulation.prepare(
                 deformation, self.x1[idx], self.x2[idx] if deformation == "biaxial" else None, d)
             for (deformation, d), idx in self.sample_groups.items()
         }
+        if formulation.kinematic:  # the same factors for every parameter set: once
+            self.kinematic_factors = self._factors(None, None, None)[:2]
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
         self.out_coefficients = {key: _long_term_coefficients(key, self.x1[idx], self.x2[idx])
                                  for key, idx in self.out_groups.items()}
 
     def _factors(self, hm, hyper, E_inf):
-        """f0, f1 (P, S) at every sample, and which parameter sets gave finite values."""
+        """f0, f1 (P, S) at every sample, and which parameter sets gave finite values.
+
+        A kinematic formulation's factors are computed once, (1, S), for all sets.
+        """
+        form = self.formulation
+        if form.kinematic and hasattr(self, "kinematic_factors"):
+            f0, f1 = self.kinematic_factors
+            return f0, f1, np.ones(1 if hyper is None else hyper.shape[0], dtype=bool)
+        rows = 1 if hyper is None else hyper.shape[0]
         with np.errstate(all="ignore"):
             if len(self.sample_groups) == 1:  # one test and direction: no scatter
                 ((deformation, d),) = self.sample_groups
-                f0, f1 = modes.hereditary_factors(
+                f0, f1 = form.factors(
                     hm, hyper, E_inf, deformation, self.x1,
                     self.x2 if deformation == "biaxial" else None, d,
                     self.coefficients[deformation, d])
+                f0, f1 = (np.broadcast_to(f, (rows, self.x1.size)) for f in (f0, f1))
             else:
-                f0 = np.empty((hyper.shape[0], self.x1.size))
-                f1 = np.empty((hyper.shape[0], self.x1.size))
+                f0 = np.empty((rows, self.x1.size))
+                f1 = np.empty((rows, self.x1.size))
                 for (deformation, d), idx in self.sample_groups.items():
                     x2 = self.x2[idx] if deformation == "biaxial" else None
-                    f0[:, idx], f1[:, idx] = modes.hereditary_factors(
+                    f0[:, idx], f1[:, idx] = form.factors(
                         hm, hyper, E_inf, deformation, self.x1[idx], x2, d,
                         self.coefficients[deformation, d])
             # a sum is finite exactly when every term is (short of overflow near 1e308)
             ok = np.isfinite(np.sum(f0, axis=1) + np.sum(f1, axis=1))
         if not ok.all():
+            f0, f1 = np.array(f0), np.array(f1)
             f0[~ok] = 0.0
             f1[~ok] = 0.0
-        return f0, f1, ok
+        return np.ascontiguousarray(f0), np.ascontiguousarray(f1), ok
 
     def _long_term(self, hm, hyper, scale, out) -> np.ndarray:
         ok = np.ones(hyper.shape[0], dtype=bool)
@@ -138,7 +159,8 @@ class GeneralPlan:
             f0, f1, ok_f = self._factors(hm, hyper, E_inf)
             ov = _kernels.overstress_general(
                 f0, f1, self.w, self.step, self.sample_off, self.step_off,
-                np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV)
+                np.ascontiguousarray(G), np.ascontiguousarray(tau), _kernels.DERIV,
+                repeat=G.shape[0] // f0.shape[0])
             sig[:, self.pos] += ov[:, self.gather_node]
             ok &= ok_f
         return ok
@@ -151,7 +173,8 @@ class GeneralPlan:
         f0, f1, ok_f = self._factors(hm, hyper, E_inf)
         ov = _kernels.overstress_general(
             f0, f1, self.w, self.step, self.sample_off, self.step_off, np.ones((P * N, 1)),
-            np.ascontiguousarray(tau.reshape(P * N, 1)), _kernels.DERIV, parallel, repeat=N)
+            np.ascontiguousarray(tau.reshape(P * N, 1)), _kernels.DERIV, parallel,
+            repeat=P * N // f0.shape[0])
         h[:, :, self.pos] = ov[:, self.gather_node].reshape(P, N, self.pos.size)
         return ok & ok_f
 

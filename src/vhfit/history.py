@@ -17,6 +17,7 @@ measured path there.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -163,6 +164,9 @@ class History:
     stretch2: np.ndarray | None = None
     out_direction: np.ndarray | None = None
     is_equilibrium: bool = False
+    #: Small-strain tests (frequency sweeps, relaxation tests) say True; they have no
+    #: stretch history for the kernels.
+    is_linear: ClassVar[bool] = False
 
     def __post_init__(self):
         check_deformation(self.deformation)

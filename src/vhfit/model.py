@@ -18,7 +18,8 @@ import numpy as np
 from vhfit import _kernels
 from vhfit import hyperelastic as _hyper
 from vhfit._linear import LinearLoad, LinearPlan
-from vhfit._plans import EquilibriumPlan, GeneralPlan
+from vhfit._plans import EquilibriumPlan, GeneralPlan, on_uniaxial_kernel
+from vhfit.formulations import get_formulation
 from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction
 from vhfit.viscoelastic import check_prony, prony_g
@@ -40,7 +41,7 @@ def _dlog(rtol: float) -> float:
     return min(0.1, 0.6 * rtol**0.25)
 
 
-def _check_arguments(hyperelastic, n_prony, rtol) -> None:
+def _check_arguments(hyperelastic, n_prony, rtol, formulation) -> None:
     """The front door of :class:`ViscoHyperelastic`: one-line errors, nothing computed."""
     if not isinstance(hyperelastic, (str, _hyper.Hyperelastic)):
         raise ValueError(
@@ -52,6 +53,7 @@ def _check_arguments(hyperelastic, n_prony, rtol) -> None:
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
         raise ValueError(f"rtol = {rtol!r} must lie in (0, 1): give a number such as 1e-6")
     _dlog(float(rtol))
+    get_formulation(formulation)
 
 
 def _strain_of(name: str, stretch):
@@ -124,6 +126,12 @@ class ViscoHyperelastic:
         Number of Prony terms N ≥ 0.
     rtol : float
         Relative accuracy of the hereditary integral (default 1e-6 of the peak stress).
+    formulation : str
+        How the Prony series acts at finite strain, a name of
+        :data:`vhfit.formulations.FORMULATIONS`: "hereditary" (default; the corrected
+        Eq. 19, as Abaqus and Ansys integrate it) or "lsdyna" (LS-DYNA's MAT_077_H /
+        MAT_077_O: a convolution of the Green strain rate added to the long-term
+        stress), docs/theory.md §14. The parameters mean the same in every formulation.
 
     Examples
     --------
@@ -137,8 +145,12 @@ class ViscoHyperelastic:
     (5,)
     """
 
-    def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6):
-        _check_arguments(hyperelastic, n_prony, rtol)
+    def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6,
+                 formulation: str = "hereditary"):
+        _check_arguments(hyperelastic, n_prony, rtol, formulation)
+        self._formulation = get_formulation(formulation)
+        #: Name of the viscoelastic formulation (see :mod:`vhfit.formulations`).
+        self.formulation: str = self._formulation.name
         self.hyperelastic = _hyper.get(hyperelastic)
         self.n_prony = int(n_prony)
         self.rtol = float(rtol)
@@ -152,9 +164,10 @@ class ViscoHyperelastic:
         self.units: list[str] = units
 
     def __repr__(self) -> str:
+        form = "" if self.formulation == "hereditary" else f", formulation={self.formulation!r}"
         return (
             f"ViscoHyperelastic({self.hyperelastic.name!r}, n_prony={self.n_prony}, "
-            f"rtol={self.rtol:g})"
+            f"rtol={self.rtol:g}{form})"
         )
 
     @property
@@ -401,12 +414,14 @@ class Batch:
     Built by :meth:`ViscoHyperelastic.batch`. The grids, sample stretches and
     gather indices are computed once; each call evaluates the hyperelastic law at
     every sample for every parameter set (numpy) and the Prony recursion (numba,
-    parallel over parameter sets and curves). Uniaxial histories run the uniaxial
-    recursion of :func:`vhfit._kernels.overstress`; the other tests its general form
-    (docs/theory.md §13), one kernel job per history and loaded direction; equilibrium
-    histories need the long-term law alone; small-strain tests
+    parallel over parameter sets and curves). Under the "hereditary" formulation,
+    uniaxial histories run the uniaxial recursion of :func:`vhfit._kernels.overstress`;
+    the other tests, and every test under another formulation, its general form
+    (docs/theory.md §13–14), one kernel job per history and loaded direction;
+    equilibrium histories need the long-term law alone; small-strain tests
     (:class:`vhfit._linear.LinearLoad`: frequency sweeps, relaxation tests) give the
-    moduli of the generalised Maxwell model (docs/theory.md §10).
+    moduli of the generalised Maxwell model, the same in every formulation
+    (docs/theory.md §10).
     """
 
     def __init__(self, model: ViscoHyperelastic, histories: Sequence, measure=None):
@@ -435,16 +450,16 @@ class Batch:
         self._eng = np.concatenate(
             [np.full(n, m == "engineering") for n, m in zip(sizes, measures)]
         )
+        form = model._formulation
         self._linear = LinearPlan(hs, self.slices)  # small-strain tests: moduli
-        uni = [c for c, h in enumerate(hs) if h.deformation == "uniaxial"
-               and not h.is_equilibrium and not isinstance(h, LinearLoad)]
+        uni = [c for c, h in enumerate(hs) if on_uniaxial_kernel(form, h)]
         self._plan_uniaxial(uni)
-        self._general = GeneralPlan(model._dlog, hs, self.slices)
+        self._general = GeneralPlan(model._dlog, hs, self.slices, form)
         self._equilibrium = EquilibriumPlan(hs, self.slices)
         out_stretch = np.empty(self.n_points)
         out_stretch[self._pos_u] = self._out_lam_u
         for h, sl in zip(hs, self.slices):
-            if h.deformation != "uniaxial" or h.is_equilibrium or isinstance(h, LinearLoad):
+            if not on_uniaxial_kernel(form, h):
                 out_stretch[sl] = h.out_loaded_stretch
         self.out_stretch = out_stretch
 

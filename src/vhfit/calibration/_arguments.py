@@ -7,6 +7,8 @@ import numbers
 import os
 from typing import Any
 
+from vhfit.formulations import get_formulation
+
 __all__ = ["check_arguments", "DEFAULT_TOL"]
 
 DEFAULT_TOL = 1e-6
@@ -54,6 +56,7 @@ def _choices(a: dict) -> None:
     from vhfit.calibration._space import SPACES
     from vhfit.optimize import tau_strategies
 
+    get_formulation(a["formulation"])  # its own one-line error
     if a["method"] not in SPACES:
         _fail("method", a["method"], "choose 'separable' or 'full'")
     n = a["n_prony"]

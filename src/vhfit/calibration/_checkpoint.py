@@ -24,8 +24,12 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     h = hashlib.sha256()
     for a in (prob.y, prob.scale, prob.batch.sample_stretch, prob.batch.step, prob.tau_b):
         h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    form = prob.model.formulation
     for hist in prob.batch.histories:  # the paths the uniaxial arrays above do not cover
-        if hist.deformation != "uniaxial" or hist.is_equilibrium:
+        if hist.is_linear:  # a sweep's frequencies or a relaxation test's times
+            h.update(repr(("linear", hist.kind)).encode())
+            h.update(np.ascontiguousarray(hist.x, dtype=np.float64).tobytes())
+        elif hist.deformation != "uniaxial" or hist.is_equilibrium or form != "hereditary":
             h.update(repr((hist.deformation, hist.is_equilibrium)).encode())
             for a in (hist.time, hist.stretch, hist.stretch2, hist.out_time,
                       hist.out_direction):
@@ -34,6 +38,8 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
     h.update(repr((prob.model.hyperelastic.name, prob.model.n_prony, method, seed, popsize,
                    tol, target, sorted((de_options or {}).items()),
                    sorted(prob.bounds.items()))).encode())
+    if form != "hereditary":  # (hereditary keys stay as they were)
+        h.update(repr(("formulation", form)).encode())
     return h.hexdigest()
 
 

@@ -183,7 +183,8 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
         )
     if len(keep) == model.n_prony:
         return prob, model, x, err
-    reduced = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol)
+    reduced = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol,
+                                formulation=model.formulation)
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
                    prob.g_inf_min, prob.objective_spec)

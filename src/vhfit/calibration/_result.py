@@ -146,7 +146,9 @@ class Calibration:
         """A readable table of constants, intervals, errors and checks."""
         units = dict(zip(self.model.param_names, self.model.units))
         lines = [
-            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)",
+            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)"
+            + ("" if self.model.formulation == "hereditary"
+               else f", '{self.model.formulation}' formulation"),
             f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
             f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
             *(f"WARNING: {h}" for h in self.headlines),
@@ -188,6 +190,7 @@ class Calibration:
         """JSON-ready dict with everything needed to reproduce and export the result."""
         return {
             "hyperelastic": self.model.hyperelastic.name,
+            "formulation": self.model.formulation,
             "n_prony": self.n_prony,
             "param_names": list(self.model.param_names),
             "units": list(self.model.units),
@@ -254,7 +257,8 @@ class Calibration:
         if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
             raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
                              "'params'); give the results.json written by vhfit")
-        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)))
+        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)),
+                                  formulation=str(res.get("formulation", "hereditary")))
         x = model.check(res["params"])
         lo_hi = res.get("options", {}).get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],

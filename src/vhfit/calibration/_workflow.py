@@ -87,6 +87,7 @@ def calibrate(
     checkpoint_every: float = 5.0,
     resume: bool = False,
     check_rates: bool = True,
+    formulation: str = "hereditary",
 ) -> Calibration:
     """Calibrate a hyperelastic law + Prony series to curves at several strain rates.
 
@@ -174,6 +175,11 @@ def calibrate(
         Warn, naming the curves, when the data's rise of stress with strain rate exceeds
         what the model can represent (:func:`vhfit.diagnostics.rate_sensitivity`; the
         paper's gelatin argument).
+    formulation : str
+        The viscoelastic formulation fitted (:mod:`vhfit.formulations`): "hereditary"
+        (default; Abaqus, Ansys) or "lsdyna" (LS-DYNA's MAT_077_H / MAT_077_O), so that
+        the constants reproduce the data in that solver's law (docs/theory.md §14). The
+        result's ``model.formulation`` names it.
 
     Returns
     -------
@@ -202,6 +208,7 @@ def calibrate(
         stability_range=stability_range, uncertainty=uncertainty, callback=callback,
         rtol=rtol, de_options=de_options, prune_tol=prune_tol,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
+        formulation=formulation,
     )
     unidentified = viscous_evidence(curves)
     default_reason = unidentified if n_prony is None else None
@@ -264,10 +271,10 @@ def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common
 def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objective, method,
                  seed, workers, popsize, maxiter, tol, target, stall, polish, g_inf_min,
                  decades_below, decades_above, stability_range, uncertainty, callback, rtol,
-                 de_options, prune_tol, checkpoint, checkpoint_every, resume, max_time,
-                 t0) -> Calibration:
+                 de_options, prune_tol, checkpoint, checkpoint_every, resume, formulation,
+                 max_time, t0) -> Calibration:
     """One calibration with N Prony terms: bounds, global search, polish, report."""
-    model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol)
+    model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol, formulation=formulation)
     tau_b, auto = search_bounds(model, curves, tau_strategy, decades_below, decades_above,
                                 bounds)
     prob = Problem(model, curves, tau_b, auto, g_inf_min, objective)

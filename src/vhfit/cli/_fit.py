@@ -27,6 +27,13 @@ from vhfit import datasets, plot
 from vhfit._io import atomic_write
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
 from vhfit.cli import _moduli
+from vhfit.cli._cards import (
+    CARD_FILES,
+    SOLVERS,
+    check_targets,
+    plan_fits,
+    write_cards,
+)
 from vhfit.cli._common import (
     EXIT_FAILED,
     EXIT_OK,
@@ -39,15 +46,10 @@ from vhfit.cli._common import (
 )
 from vhfit.cli._plugins import resolve_model_name, tau_strategies
 from vhfit.data import read_csv
-from vhfit.export import export, to_abaqus_test_data
 
-__all__ = ["cmd_fit", "cmd_demo", "run_fit", "SOLVERS", "CARD_FILES", "DEMO_PRONY"]
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "SOLVERS", "CARD_FILES",
+           "DEMO_PRONY"]
 
-SOLVERS = ("abaqus", "lsdyna", "ansys")
-CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
-              "json": "material.json"}
-#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
-TEST_DATA_FILE = "abaqus_test_data.inp"
 RESULTS = "results.json"
 CHECKPOINT = "checkpoint.json"
 DEMO_PRONY = 4
@@ -59,7 +61,8 @@ def cmd_fit(args) -> int:
     """``vhfit fit CURVES...``."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
-    curves, inputs = _read_curves(args.curves, args)  # bad data: nothing written
+    _check_card_flags(args)
+    curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
     out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
     return run_fit(curves, inputs, args, out, label=None, command=args._argv)
 
@@ -68,6 +71,8 @@ def cmd_demo(args) -> int:
     """``vhfit demo``: the bundled synthetic SEBS set, end to end."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
+    args.model = "mooney_rivlin"
+    _check_card_flags(args)
     out = prepare_out(args.out, "vhfit-demo", force=args.force, resume=args.resume)
     path = datasets.sebs_path()
     curves = datasets.load_sebs()
@@ -87,6 +92,14 @@ def cmd_demo(args) -> int:
     if code == EXIT_OK:
         _demo_check(out)
     return code
+
+
+def _check_card_flags(args) -> None:
+    """``--for`` a solver that lacks the law: refused before anything is fitted or written."""
+    given = getattr(args, "targets", None)
+    if given:  # --for a,b --for c: one list, each solver once
+        args.targets = list(dict.fromkeys(s for group in given for s in group))
+        check_targets(args.targets, resolve_model_name(args.model))
 
 
 def _demo_check(out: Path) -> None:
@@ -112,7 +125,7 @@ def _sha256(path) -> str:
     return h.hexdigest()
 
 
-def _read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
+def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
     """The curves of the CSV files (globs expanded, trimmed) and their paths and digests."""
     files = []
     for p in paths:
@@ -196,22 +209,33 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         if why:
             print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
                   file=sys.stderr, flush=True)
-    # a resumed scan starts mid-way: N cannot be counted from the generations then
-    progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
-                        first_n=None if args.resume else 1)
+    plan = plan_fits(getattr(args, "targets", None))
     sigs = Signals()
+    fits: dict[str, Calibration] = {}
+    interrupted = False
     with sigs, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        cal = _search(curves, args, out, model, strategy, progress, sigs, command)
-        interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
+        for form in plan:
+            if len(plan) > 1 and not args.quiet:
+                print(f"fit in the '{form}' formulation, for {', '.join(plan[form])}",
+                      file=sys.stderr, flush=True)
+            # a resumed scan starts mid-way: N cannot be counted from the generations then
+            progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
+                                first_n=None if args.resume else 1)
+            fits[form] = cal = _search(curves, args, out, model, strategy, progress, sigs,
+                                       command, form)
+            interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
+            if interrupted:
+                break
+        cal = next(iter(fits.values()))
         sigs.writing = True
-        files = _write_outputs(cal, curves, inputs, args, out, label=label, command=command,
-                               interrupted=interrupted, demo=demo)
-    _show_warnings(caught, cal)
+        files = _write_outputs(fits, plan, curves, inputs, args, out, label=label,
+                               command=command, interrupted=interrupted, demo=demo)
+    _show_warnings(caught, [w for c in fits.values() for w in c.warnings])
     print(files.pop("_summary"))
     print("")
     print(f"outputs in {out}/: " + ", ".join(sorted(files)))
-    if not np.isfinite(cal.rmsape):
+    if not all(np.isfinite(c.rmsape) for c in fits.values()):
         print("vhfit: error: the fit found no valid parameter set (RMSAPE is not finite); "
               "check the data and the model", file=sys.stderr)
         return EXIT_FAILED
@@ -228,8 +252,9 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
 
 
 def _search(curves, args, out: Path, model: str, strategy: str, progress: Progress,
-            sigs: Signals, command: list[str]) -> Calibration:
-    """The calibration itself, with progress, signals and a checkpoint in ``out``."""
+            sigs: Signals, command: list[str], formulation: str = "hereditary") -> Calibration:
+    """The calibration itself, with progress, signals and a checkpoint in ``out`` (one
+    checkpoint per formulation: ``checkpoint.json`` for the first)."""
     def callback(d):
         progress(d)
         sigs.check()  # raises KeyboardInterrupt (caught by calibrate) after a signal
@@ -239,11 +264,13 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
         hyperelastic=model, n_prony=args.prony, tau_strategy=strategy, method=args.method,
         seed=args.seed, workers=args.workers, popsize=args.popsize, maxiter=args.maxiter,
         target=args.target, polish=not args.no_polish, g_inf_min=args.g_inf_min,
-        max_time=args.max_time, callback=callback, checkpoint=str(out / CHECKPOINT),
+        max_time=args.max_time, callback=callback, checkpoint=str(out / _checkpoint(formulation)),
         checkpoint_every=args.checkpoint_every, resume=args.resume,
     )
     if args.prony == "auto":
         kw["max_prony"] = args.max_prony
+    if formulation != "hereditary":  # the default, left out: the call is today's
+        kw["formulation"] = formulation
     try:
         cal = calibrate(curves, **kw)
     except KeyboardInterrupt:
@@ -262,9 +289,13 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
     return cal
 
 
-def _show_warnings(caught: list, cal: Calibration) -> None:
-    """Warnings of the run on stderr, one line each, once each."""
-    seen = set(cal.warnings)
+def _checkpoint(formulation: str) -> str:
+    return CHECKPOINT if formulation == "hereditary" else f"{CHECKPOINT}.{formulation}"
+
+
+def _show_warnings(caught: list, shown: list[str]) -> None:
+    """Warnings of the run on stderr, one line each, once each (``shown``: in the table)."""
+    seen = set(shown)
     for w in caught:
         # the table lists the calibration's own warnings; numerical RuntimeWarnings of
         # trial individuals are noise; data warnings (what the reader assumed) are shown
@@ -283,86 +314,69 @@ def _resume_cmd(command: list[str]) -> str:
 
 
 # ================================================================== outputs
-def _write_outputs(cal: Calibration, curves, inputs, args, out: Path, *, label, command,
+def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
                    interrupted, demo) -> dict[str, str]:
-    """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``."""
+    """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
+    first fit of ``plan`` is the results' own, the others are listed under ``fits``."""
+    cal = next(iter(fits.values()))
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
     head = [f"data: {label}"] if label else []
     head.append(f"status: {status}")
-    summary = "\n".join(head + ["", cal.summary()])
 
-    fits = cal.fitted_curves(curves)
-    atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fits, label, interrupted))
+    fitted = cal.fitted_curves(curves)
+    atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
-    moduli = [(c, f) for c, f in zip(curves, fits) if _moduli.is_moduli_fit(f)]
+    moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
     if moduli:  # frequency sweeps and relaxation tests
         atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli)))
         written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
 
-    cards_ok, card_errors, card_notes = _write_cards(cal, curves, out)
-    written.update({f: f"{solver} card" for solver, f in cards_ok.items()})
+    cards = write_cards(fits, plan, curves, out, args)
+    written.update({f: f"{solver} card" for solver, f in cards.files.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
 
-    lines = [summary, ""]
-    if cards_ok:
-        lines.append("solver cards: " + ", ".join(f"{k} -> {v}" for k, v in cards_ok.items()))
-    for k, v in card_notes.items():
-        lines += [f"note ({k} card): {n}" for n in v]
-    for k, v in card_errors.items():
-        lines.append(f"no {k} card: {v}")
+    lines = head + [f"WARNING: {w}" for w in cards.warnings] + ["", cal.summary()]
+    for form, other in list(fits.items())[1:]:
+        lines += ["", f"== the fit in the '{form}' formulation, for "
+                      f"{', '.join(plan[form])} ==", other.summary()]
+    lines += [""] + cards.summary
     if plot_note:
         lines.append(plot_note)
     text = "\n".join(lines)
     atomic_write(out / "summary.txt", text + "\n")
     written["summary.txt"] = "this table"
 
+    extra = {
+        "data_label": label,
+        "inputs": inputs,
+        "command": ["vhfit"] + list(command),
+        "cli_options": _jsonable(vars(args)),
+        "seed": args.seed,
+        "files": {**written, RESULTS: "this file"},
+        "cards": cards.files,
+        "card_errors": cards.errors,
+        "card_notes": cards.notes,
+        "card_fits": cards.fits,
+        "card_check": cards.check_dict(),
+        "card_check_warnings": cards.warnings,
+    }
+    if len(plan) > 1:
+        extra["fits"] = {f: {"solvers": plan[f], **_fit_record(c)} for f, c in fits.items()}
     cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=curves,
-             extra={
-                 "data_label": label,
-                 "inputs": inputs,
-                 "command": ["vhfit"] + list(command),
-                 "cli_options": _jsonable(vars(args)),
-                 "seed": args.seed,
-                 "files": {**written, RESULTS: "this file"},
-                 "cards": cards_ok,
-                 "card_errors": card_errors,
-                 "card_notes": card_notes,
-             })
+             extra=extra)
     written[RESULTS] = "results"
     written["_summary"] = text
     return written
 
 
-def _write_cards(cal: Calibration, curves, out: Path) -> tuple[dict, dict, dict]:
-    """Every solver card that can hold the model: (files, errors, notes) per solver; and
-    the equilibrium curves as Abaqus test data, for Abaqus to fit the same law itself."""
-    cards_ok, card_errors, card_notes = {}, {}, {}
-    for solver in SOLVERS + ("json",):
-        try:
-            with warnings.catch_warnings(record=True) as ws:
-                warnings.simplefilter("always")
-                text = export(cal, to=solver,
-                              **({} if solver == "json" else {"notes": cal.headlines}))
-        except Exception as exc:  # a solver that cannot take this model is not fatal
-            card_errors[solver] = one_line(exc)
-            continue
-        notes = list(dict.fromkeys(one_line(w.message) for w in ws))
-        if notes:
-            card_notes[solver] = notes
-        atomic_write(out / CARD_FILES[solver], text)
-        cards_ok[solver] = CARD_FILES[solver]
-    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
-           for c in curves):
-        try:
-            text = to_abaqus_test_data(curves, cal.model.hyperelastic.name)
-        except ValueError as exc:
-            card_errors["abaqus test data"] = one_line(exc)
-        else:
-            atomic_write(out / TEST_DATA_FILE, text)
-            cards_ok["abaqus test data"] = TEST_DATA_FILE
-    return cards_ok, card_errors, card_notes
+def _fit_record(cal: Calibration) -> dict:
+    """One fit of several in results.json: its constants and errors (no history)."""
+    d = cal.to_dict()
+    d.pop("history", None)
+    d["formulation"] = getattr(cal.model, "formulation", "hereditary")
+    return d
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,

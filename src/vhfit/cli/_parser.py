@@ -12,6 +12,7 @@ from collections.abc import Callable
 from typing import Any
 
 from vhfit._version import __version__
+from vhfit.cli._check import cmd_check
 from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
 from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
@@ -114,6 +115,68 @@ def _float(what: str) -> Callable[[str], float]:
     return conv
 
 
+_SOLVER_ALIASES = {"ls-dyna": "lsdyna", "dyna": "lsdyna", "apdl": "ansys", "mapdl": "ansys"}
+
+
+def _solvers(text: str) -> list[str]:
+    """``--for abaqus,lsdyna`` -> ['abaqus', 'lsdyna']."""
+    out = []
+    for part in text.split(","):
+        name = part.strip().lower()
+        name = _SOLVER_ALIASES.get(name, name)
+        if name not in SOLVERS:
+            raise argparse.ArgumentTypeError(
+                f"--for {text!r}: give abaqus, lsdyna or ansys (repeat --for, or a comma list)")
+        out.append(name)
+    return out
+
+
+def _density(text: str) -> float:
+    v = _float("--density")(text)
+    if not v > 0:
+        raise argparse.ArgumentTypeError(
+            f"--density {text}: must be > 0, in tonne/mm^3 (1e-9 for 1000 kg/m^3)")
+    return v
+
+
+def _poisson(text: str) -> float:
+    v = _float("--poisson")(text)
+    if not -1.0 < v < 0.5:
+        raise argparse.ArgumentTypeError(
+            f"--poisson {text}: must lie in (-1, 0.5) (0.5 is incompressible); give e.g. "
+            "0.4995, or leave it out for the default bulk modulus (1000 x the instantaneous "
+            "shear modulus)")
+    return v
+
+
+def _bulk(text: str) -> float:
+    v = _float("--bulk-modulus")(text)
+    if not v > 0:
+        raise argparse.ArgumentTypeError(
+            f"--bulk-modulus {text}: must be > 0 (MPa); leave it out for the default, 1000 x "
+            "the instantaneous shear modulus")
+    return v
+
+
+def _add_card_options(p: argparse.ArgumentParser, *, explicit: str) -> None:
+    """--density, --poisson / --bulk-modulus and the Abaqus/Explicit variant."""
+    p.add_argument("--density", type=_density, metavar="RHO",
+                   help="mass density in tonne/mm^3 (1e-9 for 1000 kg/m^3), written as "
+                        "*DENSITY, RO, MP,DENS (default: none, and the cards say so)")
+    bulk = p.add_mutually_exclusive_group()
+    bulk.add_argument("--poisson", type=_poisson, metavar="NU",
+                      help="Poisson's ratio of the instantaneous response, -1 < NU < 0.5: "
+                           "gives the bulk modulus of LS-DYNA's PR, Abaqus D1, Ansys d1")
+    bulk.add_argument("--bulk-modulus", type=_bulk, metavar="K",
+                      help="bulk modulus in MPa instead of --poisson (default: 1000 x the "
+                           "instantaneous shear modulus for LS-DYNA and Abaqus/Explicit; "
+                           "Abaqus/Standard and Ansys incompressible)")
+    p.add_argument(explicit, action="store_true", dest="abaqus_explicit",
+                   help="also write the Abaqus/Explicit variant (D1 from the bulk modulus, "
+                        "never 0)" if explicit == "--abaqus-explicit" else
+                   "the Abaqus/Explicit variant (D1 from the bulk modulus, never 0)")
+
+
 def glue_windows(argv: list[str]) -> list[str]:
     """``--trim-strain -0.3:`` -> ``--trim-strain=-0.3:`` (argparse takes -0.3: for a flag)."""
     out, i = [], 0
@@ -155,6 +218,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_demo(sub, common)
     _add_simulate(sub, common)
     _add_export(sub, common)
+    _add_check(sub, common)
     _add_models(sub, common)
     return parser
 
@@ -249,6 +313,13 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     p.add_argument("--checkpoint-every", type=_positive(float, "--checkpoint-every"),
                    default=5.0, metavar="SECONDS",
                    help="seconds between checkpoints for --resume (default 5)")
+    p.add_argument("--for", type=_solvers, action="append", dest="targets",
+                   metavar="SOLVER[,SOLVER]",
+                   help="fit for these solvers (abaqus, lsdyna, ansys; repeatable): each "
+                        "solver's card comes from a fit in the formulation it integrates "
+                        "(abaqus, ansys: hereditary; lsdyna: lsdyna), and only their cards "
+                        "are written (default: one hereditary fit, every card)")
+    _add_card_options(p, explicit="--abaqus-explicit")
     p.add_argument("--no-plot", action="store_true", help="do not draw plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
@@ -288,8 +359,41 @@ def _add_export(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--to", required=True, choices=SOLVERS + ("json",),
                    help="abaqus, lsdyna, ansys or json")
     p.add_argument("--name", help="material name in the card")
+    _add_card_options(p, explicit="--explicit")
     p.add_argument("--out", metavar="FILE", help="output file (default: standard output)")
     p.set_defaults(func=cmd_export)
+
+
+def _add_check(sub, common: argparse.ArgumentParser) -> None:
+    p = sub.add_parser("check", parents=[common],
+                       help="what each solver will compute from the cards, against the data",
+                       description="Parse the solver cards of a results folder back, "
+                                   "re-simulate each in its solver's viscoelastic formulation "
+                                   "on every test history, and score it against the data.")
+    p.add_argument("results", metavar="RESULTS.json",
+                   help="results.json of 'vhfit fit' (its cards are read from its folder)")
+    p.add_argument("--data", nargs="+", metavar="FILE",
+                   help="the CSV files of the fit (default: the input files the results "
+                        "record)")
+    p.add_argument("--card", action="append", metavar="FILE",
+                   help="check this card instead of the results folder's (repeatable; "
+                        "the format is read from the file)")
+    # the fit's data options; not given: the results' own (cli_options)
+    d = argparse.SUPPRESS
+    p.add_argument("--rate", type=_float("--rate"), action="append", metavar="R", default=d,
+                   help="strain rate in 1/s for files without one (as for fit)")
+    p.add_argument("--measure", choices=("engineering", "true"), default=d,
+                   help="stress measure when the file does not say")
+    p.add_argument("--deformation", type=_deformation, action="append", metavar="MODE",
+                   default=d, help="the test of files that do not say (as for fit)")
+    p.add_argument("--points", type=_points, metavar="N|all", default=d,
+                   help="objective points per curve (default: the fit's)")
+    p.add_argument("--trim-strain", type=_window("--trim-strain"), metavar="LOW:HIGH",
+                   action="append", default=d, help="as for fit (default: the fit's)")
+    p.add_argument("--trim-time", type=_window("--trim-time"), metavar="LOW:HIGH",
+                   action="append", default=d, help="as for fit (default: the fit's)")
+    p.add_argument("--json", action="store_true", help="print the card check as JSON")
+    p.set_defaults(func=cmd_check)
 
 
 def _add_models(sub, common: argparse.ArgumentParser) -> None:

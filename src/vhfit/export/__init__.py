@@ -22,7 +22,10 @@ from __future__ import annotations
 import json
 from collections.abc import Callable
 
-from vhfit.export._common import Material, generator, resolve
+from vhfit.export import abaqus as _abaqus
+from vhfit.export import ansys as _ansys
+from vhfit.export import lsdyna as _lsdyna
+from vhfit.export._common import SUPPORT, Material, generator, resolve
 from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
 from vhfit.export.ansys import from_ansys, to_ansys
 from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
@@ -41,6 +44,7 @@ __all__ = [
     "from_ansys",
     "to_json",
     "from_json",
+    "supported_laws",
     "FORMATS",
 ]
 
@@ -58,8 +62,9 @@ JSON_FORMAT = "vhfit-material"
 def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
     """The calibrated material as JSON: vhfit parameters plus the derived solver values.
 
-    ``hyperelastic``, ``n_prony`` and ``params`` define the model (this is what
-    :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
+    ``hyperelastic``, ``formulation`` (the viscoelastic formulation the constants were
+    fitted in, :mod:`vhfit.formulations`), ``n_prony`` and ``params`` define the model
+    (this is what :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
     constants for reference.
 
     Examples
@@ -79,6 +84,7 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "generator": generator(),
         "name": name,
         "hyperelastic": mat.hyperelastic,
+        "formulation": model.formulation,
         "n_prony": mat.n_prony,
         "params": params,
         "units": {
@@ -142,6 +148,25 @@ def _target(to: str) -> str:
     if key not in _WRITERS:
         raise ValueError(f"unknown export target {to!r}; choose one of {', '.join(_WRITERS)}")
     return key
+
+
+def supported_laws(solver: str) -> tuple[str, ...]:
+    """The built-in hyperelastic laws whose cards ``solver`` holds.
+
+    LS-DYNA's MAT_077_H also needs polynomial3's C21, C12, C03 (and the C40.. of
+    reduced polynomials) to be zero: that is checked on the constants when writing.
+
+    Examples
+    --------
+    >>> from vhfit.export import supported_laws
+    >>> "gent" in supported_laws("ansys"), "gent" in supported_laws("abaqus")
+    (True, False)
+    """
+    key = _target(solver)
+    if key == "json":
+        raise ValueError("every registered law has a JSON form: give abaqus, lsdyna or ansys")
+    module = {"abaqus": _abaqus, "lsdyna": _lsdyna, "ansys": _ansys}[key]
+    return SUPPORT[module.SOLVER]
 
 
 def export(model, params=None, *, to: str = "abaqus", **options) -> str:

@@ -32,12 +32,20 @@ __all__ = [
     "unsupported",
     "model_hint",
     "UNITS",
+    "BULK_RATIO",
+    "check_compressibility",
+    "no_density_note",
     "SUPPORT",
     "SAME_LAW",
 ]
 
 #: The consistent unit system every card is written in (the model's own: MPa and s).
 UNITS = "N, mm, s, MPa (stress and moduli), tonne/mm^3 (density)"
+
+#: Default bulk modulus of the cards that need one (LS-DYNA's PR, Abaqus/Explicit's D1),
+#: as a multiple of the instantaneous shear modulus: the range of unfilled elastomers
+#: (K0/μ0 of 1000 to 10000 in the Abaqus Analysis User's Guide, "Compressibility").
+BULK_RATIO = 1000.0
 
 #: Solver name -> the built-in laws its cards hold; each writer module adds its own entry
 #: when it is imported, so that a refusal can name the solvers that do have the law.
@@ -59,6 +67,32 @@ def generator() -> str:
 
 
 # ----------------------------------------------------------------------------- input
+def check_compressibility(poisson: float | None = None, bulk_modulus: float | None = None,
+                          density: float | None = None) -> None:
+    """Refuse a Poisson's ratio outside (−1, 0.5), a non-positive bulk modulus or density,
+    or both ν and K, in one line naming the argument and the fix.
+
+    Examples
+    --------
+    >>> check_compressibility(poisson=0.5)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: poisson = 0.5 must lie in (-1, 0.5): 0.5 is incompressible ...
+    """
+    if poisson is not None and bulk_modulus is not None:
+        raise ValueError("give poisson or bulk_modulus, not both: each fixes the bulk modulus")
+    if poisson is not None and not (math.isfinite(poisson) and -1.0 < poisson < 0.5):
+        raise ValueError(
+            f"poisson = {poisson!r} must lie in (-1, 0.5): 0.5 is incompressible (infinite "
+            "bulk modulus); give e.g. 0.4995, or leave it out for the default bulk modulus")
+    if bulk_modulus is not None and not (math.isfinite(bulk_modulus) and bulk_modulus > 0):
+        raise ValueError(f"bulk_modulus = {bulk_modulus!r} must be > 0 (MPa), e.g. 1000 times "
+                         "the instantaneous shear modulus, or leave it out for that default")
+    if density is not None and not (math.isfinite(density) and density > 0):
+        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3, e.g. 1e-9 for "
+                         "1000 kg/m^3)")
+
+
 def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     """The (model, params) pair behind the exporters' flexible first arguments.
 
@@ -66,7 +100,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     ``.model`` and ``.params`` attributes (``params`` omitted); or a mapping with
     ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
     name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
-    from the ``G1, tau1, ...`` keys).
+    from the ``G1, tau1, ...`` keys), ``"formulation"`` optional (default
+    ``"hereditary"``; a results file of a fit for LS-DYNA says ``"lsdyna"``).
     """
     if params is None:
         if isinstance(model, ViscoHyperelastic):
@@ -80,8 +115,9 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
             params = model["params"]
             spec = model.get("model", model.get("hyperelastic"))
             n_prony = model.get("n_prony")
+            formulation = str(model.get("formulation", "hereditary"))
         elif hasattr(model, "params") and hasattr(model, "model"):
-            params, spec, n_prony = model.params, model.model, None
+            params, spec, n_prony, formulation = model.params, model.model, None, "hereditary"
         else:
             raise TypeError(
                 f"cannot export {type(model).__name__}: give (model, params), an object with "
@@ -99,7 +135,7 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
                 if not isinstance(params, Mapping):
                     raise TypeError("give 'n_prony' when the parameters are an array")
                 n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
-            model = ViscoHyperelastic(spec, n_prony=int(n_prony))
+            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation)
     if not isinstance(model, ViscoHyperelastic):
         raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
     x = model.check(params)
@@ -159,21 +195,40 @@ class Material:
         c = np.array([self.constants[n] for n in h.param_names])
         return float(h.initial_shear_modulus(c))
 
-    def d1(self, poisson: float | None) -> float:
-        """Compressibility D1 = 2 / K0 from a Poisson's ratio (None -> 0, incompressible).
+    @property
+    def mu_inst(self) -> float:
+        """Instantaneous shear modulus μ0 / g∞ (= (E∞ + Σ G_i) / 3), MPa."""
+        return self.mu0 / self.g_inf
 
-        K0 = 2 μ_inst (1 + ν) / (3 (1 − 2ν)) with the INSTANTANEOUS shear modulus
-        μ_inst = μ0 / g∞: the bulk response does not relax (k_i = 0), so ν describes
-        the material at the rates where the Prony terms are active. Abaqus's D1 and
-        Ansys's d1 share this definition (initial bulk modulus K0 = 2 / D1).
+    def bulk_modulus(self, poisson: float | None = None,
+                     bulk_modulus: float | None = None) -> float | None:
+        """The bulk modulus K the cards describe, MPa (None: incompressible).
+
+        ``bulk_modulus`` is taken as given; a Poisson's ratio ν gives
+        K = 2 μ_inst (1 + ν) / (3 (1 − 2ν)) with the INSTANTANEOUS shear modulus
+        μ_inst = μ0 / g∞: the bulk response does not relax (k_i = 0), so ν describes the
+        material at the rates where the Prony terms are active. Abaqus's D1 and Ansys's
+        d1 are 2/K; LS-DYNA's PR is the ratio that gives this K
+        (:func:`vhfit.export.lsdyna.lsdyna_pr`).
         """
+        check_compressibility(poisson, bulk_modulus)
+        if bulk_modulus is not None:
+            return float(bulk_modulus)
         if poisson is None:
-            return 0.0
-        if not 0.0 <= poisson < 0.5:
-            raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
-        mu_inst = self.mu0 / self.g_inf
+            return None
+        mu_inst = self.mu_inst
         K = 2.0 * mu_inst * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
-        return 2.0 / K
+        return K
+
+    def default_bulk_modulus(self) -> float:
+        """K = :data:`BULK_RATIO` × μ_inst: nearly incompressible at every rate, MPa."""
+        return BULK_RATIO * self.mu_inst
+
+    def d1(self, poisson: float | None = None, bulk_modulus: float | None = None) -> float:
+        """Compressibility D1 = 2 / K (Abaqus D1, Ansys d1); 0 (incompressible) when
+        neither ν nor K is given (see :meth:`bulk_modulus`)."""
+        K = self.bulk_modulus(poisson, bulk_modulus)
+        return 0.0 if K is None else 2.0 / K
 
     def scaled(self, factor: float) -> dict[str, float]:
         """The constants with every stress-like (MPa) constant multiplied by ``factor``.
@@ -268,6 +323,13 @@ def unsupported(solver: str, model: str, supported: Sequence[str], why: str = ""
         f"{solver} export does not support the hyperelastic model {model!r}{extra}: "
         f"{where}; supported: {', '.join(supported)}"
     )
+
+
+def no_density_note(solver: str, keyword: str) -> str:
+    """The header warning of a card written without a density."""
+    return (f"no density: {keyword} is not written, and {solver} needs it for any dynamic or "
+            "explicit analysis: give density= (vhfit fit --density RHO, tonne/mm^3; "
+            "1e-9 for 1000 kg/m^3)")
 
 
 def model_hint(text: str, layout: str) -> str:
@@ -368,18 +430,21 @@ def header(
     conventions: Sequence[str],
     width: int = 100,
     notes: Sequence[str] = (),
+    comments: Sequence[str] = (),
 ) -> list[str]:
     """The comment block every card starts with (ASCII, wrapped to ``width``).
 
     Generator, model, units, the solver conventions used and whether the hyperelastic
     moduli are long-term or instantaneous, then the calibrated vhfit parameters. ``notes``
-    (e.g. a g∞ at its floor) come right after the first line, as warnings.
+    (e.g. a g∞ at its floor) come right after the first line, as warnings; ``comments``
+    (e.g. which fit the constants come from) right after the units.
     """
     lines = [
         f"Generated by {generator()}: visco-hyperelastic material for {solver}",
         *(f"WARNING: {n}" for n in notes),
         f"vhfit model: {mat.hyperelastic} + {mat.n_prony} Prony term(s)",
         f"Units: {UNITS}",
+        *comments,
         *conventions,
         f"Hyperelastic moduli are {moduli}",
         f"g_inf = 1 - sum(g_i) = {mat.g_inf:.9g}",

@@ -18,7 +18,6 @@ Conventions (see docs/export.md for the sources):
 
 from __future__ import annotations
 
-import math
 import re
 import warnings
 from collections.abc import Sequence
@@ -26,12 +25,15 @@ from collections.abc import Sequence
 import numpy as np
 
 from vhfit.export._common import (
+    BULK_RATIO,
     SUPPORT,
     Material,
+    check_compressibility,
     free_number,
     generator,
     header,
     model_hint,
+    no_density_note,
     parse_number,
     resolve,
     unsupported,
@@ -92,7 +94,10 @@ def to_abaqus(
     moduli: str = "long_term",
     density: float | None = None,
     poisson: float | None = None,
+    bulk_modulus: float | None = None,
+    explicit: bool = False,
     notes: Sequence[str] = (),
+    comments: Sequence[str] = (),
 ) -> str:
     """Abaqus ``*MATERIAL`` block of a calibrated visco-hyperelastic model.
 
@@ -110,13 +115,24 @@ def to_abaqus(
         Which hyperelastic constants the card carries (``MODULI=LONG TERM`` is exact
         and preferred; ``INSTANTANEOUS`` writes long-term / g∞).
     density : float, optional
-        Mass density in tonne/mm³ (``*DENSITY``; Abaqus/Explicit needs one).
+        Mass density in tonne/mm³ (``*DENSITY``; Abaqus/Explicit and dynamic steps need
+        one). Without it the card's head says so.
     poisson : float, optional
-        Poisson's ratio for a compressible D1 (see :meth:`Material.d1`); default None
-        writes D = 0 (incompressible: Abaqus/Standard with hybrid elements only).
+        Poisson's ratio of the instantaneous response, −1 < ν < 0.5, for a compressible
+        D1 = 2/K (see :meth:`Material.bulk_modulus`).
+    bulk_modulus : float, optional
+        The bulk modulus K in MPa instead of ``poisson``. With neither, D1 = 0
+        (incompressible: Abaqus/Standard with hybrid elements only) — or, with
+        ``explicit``, K = 1000 μ_inst.
+    explicit : bool
+        Write the Abaqus/Explicit variant: D1 is never 0 (Abaqus/Explicit cannot impose
+        incompressibility, and without D1 it assumes K0/μ0 = 20).
     notes : sequence of str, optional
         Warnings written at the head of the card's comments (``vhfit fit`` passes the
         calibration's headlines, e.g. a g∞ at its floor).
+    comments : sequence of str, optional
+        Further comment lines after the units (``vhfit fit`` says which fit the
+        constants come from).
 
     Returns
     -------
@@ -143,11 +159,15 @@ def to_abaqus(
     if moduli not in _MODULI:
         raise ValueError(f"moduli = {moduli!r}; choose 'long_term' or 'instantaneous'")
     _check_name(name)
+    check_compressibility(poisson, bulk_modulus, density)
     kind, order, n_d = _CARDS[mat.hyperelastic]
     visco = mat.n_prony > 0
     inst = visco and moduli == "instantaneous"
     constants = mat.scaled(1.0 / mat.g_inf) if inst else mat.constants
-    d1 = mat.d1(poisson)
+    K = mat.bulk_modulus(poisson, bulk_modulus)
+    if K is None and explicit:
+        K = mat.default_bulk_modulus()
+    d1 = 0.0 if K is None else 2.0 / K
     values = [free_number(constants[k]) for k in order]
     values += [free_number(d1)] + [free_number(0.0)] * (n_d - 1)
 
@@ -162,14 +182,15 @@ def to_abaqus(
         "(l1b^a_p + l2b^a_p + l3b^a_p - 3) (Abaqus forms = vhfit forms, copied unchanged)",
         "*VISCOELASTIC, TIME=PRONY lines: g_i, k_i, tau_i with g_i = G_i/G0, "
         "G0 = E_inf + sum G_i, k_i = 0 (no bulk relaxation), tau_i in s",
-        "D1 = 0: incompressible (Abaqus/Standard hybrid elements)" if poisson is None
-        else f"D1 = 2/K0 from Poisson's ratio {poisson:g} with the instantaneous shear modulus",
+        _compressibility(mat, K, poisson, bulk_modulus, explicit),
     ]
-    lines = header("**", solver=SOLVER, notes=notes, mat=mat, moduli=which, conventions=conventions)
+    if density is None:
+        notes = [*notes, no_density_note(SOLVER, "*DENSITY")]
+    target = "Abaqus/Explicit" if explicit else "Abaqus/Standard"
+    lines = header("**", solver=target, notes=notes, comments=comments, mat=mat, moduli=which,
+                   conventions=conventions)
     lines.append(f"*MATERIAL, NAME={name}")
     if density is not None:
-        if not (math.isfinite(density) and density > 0):
-            raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
         lines += ["*DENSITY", f"{free_number(density)},"]
     kw = f"*HYPERELASTIC, {kind}"
     if visco:
@@ -180,6 +201,24 @@ def to_abaqus(
         lines.append("*VISCOELASTIC, TIME=PRONY")
         lines += [f"{free_number(g)}, 0.0, {free_number(t)}" for g, t in zip(mat.g, mat.tau)]
     return "\n".join(lines) + "\n"
+
+
+def _compressibility(mat: Material, K: float | None, poisson, bulk_modulus,
+                     explicit: bool) -> str:
+    """The header line saying where D1 comes from."""
+    if K is None:
+        return ("D1 = 0: incompressible, for Abaqus/Standard with hybrid elements ONLY; "
+                "Abaqus/Explicit refuses it (without D1 it assumes K0/mu0 = 20): write the "
+                "Explicit variant (explicit=True, vhfit fit --abaqus-explicit)")
+    if poisson is not None:
+        why = f"from Poisson's ratio {poisson!r} and the instantaneous shear modulus"
+    elif bulk_modulus is not None:
+        why = "as given"
+    else:
+        why = f"= {BULK_RATIO:g} x the instantaneous shear modulus (default)"
+    return (f"D1 = 2/K0 with K0 = {K:.9g} MPa {why} (mu_inst = {mat.mu_inst:.6g} MPa, "
+            f"K0/mu_inst = {K / mat.mu_inst:.6g})"
+            + ("; Abaqus/Explicit variant" if explicit else ""))
 
 
 # ------------------------------------------------------------------------- parsing

@@ -19,16 +19,17 @@ Conventions (see docs/export.md for the sources and what is verified):
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Sequence
 
 from vhfit.export._common import (
     SUPPORT,
     Material,
+    check_compressibility,
     free_number,
     header,
     model_hint,
+    no_density_note,
     parse_number,
     resolve,
     unsupported,
@@ -89,7 +90,9 @@ def to_ansys(
     mat: int = 1,
     density: float | None = None,
     poisson: float | None = None,
+    bulk_modulus: float | None = None,
     notes: Sequence[str] = (),
+    comments: Sequence[str] = (),
 ) -> str:
     """Ansys APDL material commands of a calibrated visco-hyperelastic model.
 
@@ -106,13 +109,20 @@ def to_ansys(
     mat : int
         Material reference number.
     density : float, optional
-        ``MP,DENS`` in tonne/mm³.
+        ``MP,DENS`` in tonne/mm³; without it the card's head says so.
     poisson : float, optional
-        Poisson's ratio for a compressible d1 = 2/K0 (K0 from the instantaneous shear
-        modulus); default None writes d = 0 (incompressible, mixed u-P elements).
+        Poisson's ratio of the instantaneous response (−1 < ν < 0.5) for a compressible
+        d1 = 2/K0 (K0 from the instantaneous shear modulus, see
+        :meth:`Material.bulk_modulus`).
+    bulk_modulus : float, optional
+        K0 in MPa instead of ``poisson``. With neither, d = 0 (incompressible, mixed u-P
+        elements).
     notes : sequence of str, optional
         Warnings written at the head of the card's comments (``vhfit fit`` passes the
         calibration's headlines, e.g. a g∞ at its floor).
+    comments : sequence of str, optional
+        Further comment lines after the units (``vhfit fit`` says which fit the
+        constants come from).
 
     Returns
     -------
@@ -137,12 +147,12 @@ def to_ansys(
         raise unsupported(SOLVER, m.hyperelastic, list(_CARDS))
     if not (isinstance(mat, int) and mat > 0):
         raise ValueError(f"mat = {mat!r} must be a positive integer")
-    if density is not None and not (math.isfinite(density) and density > 0):
-        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
+    check_compressibility(poisson, bulk_modulus, density)
     tbopt, npts, _, n_d = _CARDS[m.hyperelastic]
     inst = m.scaled(1.0 / m.g_inf)
     values = [free_number(v) for v in _to_ansys_constants(m.hyperelastic, inst)]
-    values += [free_number(m.d1(poisson))] + [free_number(0.0)] * (n_d - 1)
+    K = m.bulk_modulus(poisson, bulk_modulus)
+    values += [free_number(m.d1(poisson, bulk_modulus))] + [free_number(0.0)] * (n_d - 1)
 
     conventions = [
         f"Material: {name}, MAT = {mat}; read inside /PREP7",
@@ -150,12 +160,18 @@ def to_ansys(
         "a_i = g_i = G_i/G0 (G0 = E_inf + sum G_i), tau_i in s; no bulk relaxation",
         "TB,HYPER NEO: mu = 2 C10; OGDEN: W = sum mu_p/alpha_p (l1b^a+l2b^a+l3b^a-3), "
         "mu_p(Ansys) = 2 mu_p/alpha_p; Cij as vhfit (Abaqus) Cij",
-        "d = 0: incompressible (mixed u-P formulation)" if poisson is None
-        else f"d1 = 2/K0 from Poisson's ratio {poisson:g} with the instantaneous shear modulus",
+        "d = 0: incompressible (mixed u-P formulation)" if K is None
+        else f"d1 = 2/K0, K0 = {K:.9g} MPa "
+             + (f"from Poisson's ratio {poisson!r} with the instantaneous shear modulus"
+                if poisson is not None else "as given")
+             + f" (K0/mu_inst = {K / m.mu_inst:.6g})",
     ]
+    if density is None:
+        notes = [*notes, no_density_note(SOLVER, "MP,DENS")]
     which = ("INSTANTANEOUS = vhfit long-term constants / g_inf (Ansys has no long-term "
              "option)" if m.n_prony else "long-term = instantaneous (no Prony terms)")
-    lines = header("!", solver=SOLVER, notes=notes, mat=m, moduli=which, conventions=conventions)
+    lines = header("!", solver=SOLVER, notes=notes, comments=comments, mat=m, moduli=which,
+                   conventions=conventions)
     if density is not None:
         lines.append(f"MP,DENS,{mat},{free_number(density)}")
     lines.append(f"TB,HYPER,{mat},,{'' if npts is None else npts},{tbopt}")

@@ -15,7 +15,12 @@ Conventions (see docs/export.md for the sources and what is verified):
   relaxation modulus in stress units, and BETAI, a decay constant in 1/time:
   GI = G_i / 3 (vhfit's G_i is uniaxial; uniaxial = 3 × shear for an incompressible
   solid at small strain) and BETAI = 1 / τ_i.
-* PR is the Poisson's ratio LS-DYNA builds the bulk modulus from (default 0.4995).
+* PR is the Poisson's ratio LS-DYNA builds the bulk modulus from, with the LONG-TERM
+  shear modulus: K = 2 G (1 + PR) / (3 (1 − 2 PR)), G = μ0. vhfit writes the PR that
+  gives the intended K — 1000 × the instantaneous shear modulus by default, or from a
+  Poisson's ratio of the instantaneous response, or given — with enough digits that
+  K read back from the printed PR is within 0.1 % of it (:func:`lsdyna_pr`; the long
+  format gives ~1e-9).
 * Fields are fixed width, 8 to a card. Default is the long format (20-character
   fields, keyword suffix ``+``), which keeps 13 significant digits; the standard
   10-character format keeps only 4-6 and is offered for old readers.
@@ -28,19 +33,24 @@ import re
 import warnings
 from collections.abc import Sequence
 
+import numpy as np
+
 from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
+    BULK_RATIO,
     SUPPORT,
     Material,
+    check_compressibility,
     fixed_number,
     header,
+    no_density_note,
     parse_number,
     resolve,
     unsupported,
 )
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_lsdyna", "from_lsdyna"]
+__all__ = ["to_lsdyna", "from_lsdyna", "lsdyna_pr", "lsdyna_bulk_modulus"]
 
 SOLVER = "LS-DYNA"
 
@@ -57,6 +67,8 @@ _WHY = {
     "gent": "no LS-DYNA material has Gent's energy",
     "van_der_waals": "no LS-DYNA material has the Van der Waals energy",
 }
+#: Largest relative error of the bulk modulus that LS-DYNA computes from the printed PR.
+PR_RTOL = 1e-3
 #: Optional viscoelastic cards read by each keyword (LS-DYNA manual, via PyDyna's docs).
 MAX_PRONY = {"HYPERELASTIC_RUBBER": 6, "OGDEN_RUBBER": 12}
 
@@ -80,8 +92,37 @@ def _names(width: int, names: list[str]) -> str:
     return "$#" + "".join(cells)[2:]
 
 
-def _check_card(mat, mid, poisson, name, density, long_format) -> None:
-    """Refuse what MAT_077_H/O cannot hold or what would not run, one line each."""
+def lsdyna_pr(K: float, G: float) -> float:
+    """The PR from which LS-DYNA's K = 2 G (1 + PR) / (3 (1 − 2 PR)) gives ``K``.
+
+    Parameters
+    ----------
+    K : float
+        The intended bulk modulus, MPa.
+    G : float
+        The shear modulus LS-DYNA pairs with PR: the long-term μ0 of the card's constants.
+
+    Returns
+    -------
+    float
+        PR = (3K − 2G) / (6K + 2G).
+
+    Examples
+    --------
+    >>> pr = lsdyna_pr(K=1000.0, G=1.0)
+    >>> round(pr, 10), round(lsdyna_bulk_modulus(pr, G=1.0), 6)
+    (0.4995001666, 1000.0)
+    """
+    return (3.0 * K - 2.0 * G) / (6.0 * K + 2.0 * G)
+
+
+def lsdyna_bulk_modulus(pr: float, G: float) -> float:
+    """LS-DYNA's bulk modulus K = 2 G (1 + PR) / (3 (1 − 2 PR)) of a PR (see :func:`lsdyna_pr`)."""
+    return 2.0 * G * (1.0 + pr) / (3.0 * (1.0 - 2.0 * pr))
+
+
+def _check_card(mat, mid, name) -> None:
+    """Refuse what MAT_077_H/O cannot hold, one line each."""
     kind = mat.hyperelastic
     if kind not in SUPPORTED:
         raise unsupported(SOLVER, kind, SUPPORTED, _WHY.get(kind, ""))
@@ -94,22 +135,71 @@ def _check_card(mat, mid, poisson, name, density, long_format) -> None:
             )
     if not (isinstance(mid, int) and 0 < mid < 10**8):
         raise ValueError(f"mid = {mid!r} must be a positive integer")
-    if not 0.0 <= poisson < 0.5:
-        raise ValueError(f"poisson = {poisson!r} must lie in [0, 0.5)")
     if not name or len(name) > 80 or "\n" in name:
         raise ValueError(f"material title {name!r}: 1-80 characters on one line")
-    if density is not None and not (math.isfinite(density) and density > 0):
-        raise ValueError(f"density = {density!r} must be > 0 (tonne/mm^3)")
     keyword = "OGDEN_RUBBER" if kind in _OGDEN_MODELS else "HYPERELASTIC_RUBBER"
     if mat.n_prony > MAX_PRONY[keyword]:
         raise ValueError(
             f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} Prony terms; "
             f"this model has {mat.n_prony}: prune or refit with fewer terms"
         )
-    w = 20 if long_format else 10
-    if parse_number(fixed_number(poisson, w)) >= 0.5:
-        raise ValueError(f"PR = {poisson!r} rounds to 0.5 in {w}-character fields "
-                         "(infinite bulk modulus): use long_format=True or a smaller PR")
+
+
+def _pr_field(mat: Material, poisson, bulk_modulus, width: int) -> tuple[str, list[str]]:
+    """The PR field as printed and the header lines that explain it.
+
+    The printed PR must give back the intended K to :data:`PR_RTOL` (in double precision)
+    and lie in
+    [0, 0.5): LS-DYNA reads a negative PR as the flag of an extra card.
+    """
+    K = mat.bulk_modulus(poisson, bulk_modulus)
+    if poisson is not None:
+        why = f"from Poisson's ratio {poisson!r} of the instantaneous response"
+    elif bulk_modulus is not None:
+        why = "as given"
+    else:
+        K, why = mat.default_bulk_modulus(), f"{BULK_RATIO:g} x mu_inst, the default"
+    G, mu_inst = mat.mu0, mat.mu_inst
+    pr = lsdyna_pr(K, G)
+    if pr < 0:
+        raise ValueError(
+            f"bulk modulus {K:.6g} MPa is below 2/3 of the long-term shear modulus "
+            f"({G:.6g} MPa): LS-DYNA's PR would be negative ({pr:.4g}), which MAT_077 reads "
+            "as a flag: give a larger bulk_modulus or poisson")
+    text = fixed_number(pr, width).strip()
+    pr_back = parse_number(text)
+    if pr_back >= 0.5:
+        raise ValueError(f"PR = {pr!r} (for K = {K:.6g} MPa) rounds to 0.5 in {width}-character "
+                         "fields (infinite bulk modulus): use long_format=True or a smaller "
+                         "bulk modulus")
+    K_back = lsdyna_bulk_modulus(pr_back, G)
+    rounding = []
+    if not abs(K_back - K) <= PR_RTOL * K:
+        msg = (f"PR = {pr!r} (for K = {K:.6g} MPa) needs more digits than {width}-character "
+               f"fields hold: {text} gives K = {K_back:.6g} MPa; use long_format=True")
+        rounding.append("WARNING: " + msg)
+        warnings.warn(msg, stacklevel=3)
+    pr32 = float(np.float32(pr_back))
+    K32 = lsdyna_bulk_modulus(pr32, G) if pr32 < 0.5 else math.inf
+    lines = [
+        f"PR = {text}: LS-DYNA's K = 2 G (1+PR)/(3 (1-2 PR)) with G = long-term mu0 = "
+        f"{G:.9g} MPa gives K = {K_back:.9g} MPa ({why}); instantaneous shear modulus "
+        f"mu_inst = {mu_inst:.9g} MPa, K/mu_inst = {K_back / mu_inst:.6g}",
+        *rounding,
+    ]
+    off = abs(K32 - K) / K
+    if off > 0.01:
+        lines.append(
+            f"WARNING: a single-precision LS-DYNA stores PR as {pr32!r}, i.e. K = {K32:.4g} "
+            f"MPa ({100 * off:.3g} % off): run double precision, or give a smaller bulk "
+            "modulus")
+    if K < 100.0 * mu_inst:
+        msg = (f"PR = {text} gives K = {K / mu_inst:.3g} x the instantaneous shear "
+               f"modulus: nearly compressible at high rates (g_inf = {mat.g_inf:.3g}); "
+               f"the default bulk modulus is {BULK_RATIO:g} mu_inst")
+        lines.append("WARNING: " + msg)
+        warnings.warn(msg, stacklevel=3)
+    return text, lines
 
 
 def to_lsdyna(
@@ -119,9 +209,11 @@ def to_lsdyna(
     name: str = "VHFIT_MATERIAL",
     mid: int = 1,
     density: float | None = None,
-    poisson: float = 0.4995,
+    poisson: float | None = None,
+    bulk_modulus: float | None = None,
     long_format: bool = True,
     notes: Sequence[str] = (),
+    comments: Sequence[str] = (),
 ) -> str:
     """LS-DYNA keyword deck (``*KEYWORD`` ... ``*END``) of a calibrated model.
 
@@ -140,12 +232,19 @@ def to_lsdyna(
     mid : int
         Material id.
     density : float, optional
-        RO in tonne/mm³; left blank (and flagged in a comment) when not given.
-    poisson : float
-        PR, from which LS-DYNA derives the bulk modulus; 0.4995 (K ≈ 1000 μ0) by default.
+        RO in tonne/mm³; left blank (and flagged in a warning comment) when not given.
+    poisson : float, optional
+        Poisson's ratio of the instantaneous response, −1 < ν < 0.5: the bulk modulus is
+        K = 2 μ_inst (1 + ν) / (3 (1 − 2ν)). This is not the PR field: LS-DYNA pairs PR
+        with the long-term shear modulus, so the card's PR is the one giving this K.
+    bulk_modulus : float, optional
+        K in MPa instead of ``poisson``. With neither, K = 1000 μ_inst.
     notes : sequence of str, optional
         Warnings written at the head of the card's comments (``vhfit fit`` passes the
         calibration's headlines, e.g. a g∞ at its floor).
+    comments : sequence of str, optional
+        Further comment lines after the units (``vhfit fit`` says which fit the
+        constants come from).
     long_format : bool
         20-character fields (keyword suffix ``+``, 13 significant digits) when True;
         the classic 10-character fields (4-6 significant digits) when False.
@@ -166,21 +265,20 @@ def to_lsdyna(
     *KEYWORD
     *MAT_HYPERELASTIC_RUBBER_TITLE
     VHFIT_MATERIAL
-             1    1.0e-9    0.4995         0
+             1    1.0e-9   0.49975         0
            0.0       5.0       0.0       0.0       0.0       0.0
           10.0     1.0e4
     *END
     """
     model, params = resolve(model, params)
     mat = Material.from_model(model, params)
-    _check_card(mat, mid, poisson, name, density, long_format)
+    _check_card(mat, mid, name)
+    check_compressibility(poisson, bulk_modulus, density)
     kind = mat.hyperelastic
     ogden = kind in _OGDEN_MODELS
     keyword = "OGDEN_RUBBER" if ogden else "HYPERELASTIC_RUBBER"
     w = 20 if long_format else 10
-
-    mu_inst = mat.mu0 / mat.g_inf
-    K = 2.0 * mat.mu0 * (1.0 + poisson) / (3.0 * (1.0 - 2.0 * poisson))
+    pr_text, pr_lines = _pr_field(mat, poisson, bulk_modulus, w)
     conventions = [
         ("Ogden MAT_077_O: W = sum MU_p/ALPHA_p (l1b^a + l2b^a + l3b^a - 3); "
          "MU_p = 2 mu_p/alpha_p from vhfit's (Abaqus) mu_p")
@@ -188,29 +286,20 @@ def to_lsdyna(
         "MAT_077_H: W = sum Cpq (I1b-3)^p (I2b-3)^q, C10 C01 C11 C20 C02 C30 = vhfit Cij",
         "Prony cards: GI = shear relaxation modulus = G_i/3 (vhfit G_i is uniaxial), "
         "BETAI = 1/tau_i (1/s); added to the long-term hyperelastic stress",
-        f"PR = {poisson!r}: K = 2 G (1+PR)/(3 (1-2 PR)) = {K:.6g} MPa with G = long-term "
-        f"mu0 = {mat.mu0:.6g} MPa; instantaneous shear modulus {mu_inst:.6g} MPa "
-        f"(K/mu_inst = {K / mu_inst:.4g})",
+        *pr_lines,
         ("Long format: 20-character fields (keyword suffix +)" if long_format else
          "Standard 10-character fields: values rounded to 4-6 significant digits"),
     ]
-    if K < 100.0 * mu_inst:
-        r = 1000.0 / mat.g_inf  # K = 1000 mu_inst, as a ratio to the long-term G
-        suggest = (3.0 * r - 2.0) / (6.0 * r + 2.0)
-        msg = (f"PR = {poisson!r} gives K = {K / mu_inst:.3g} x the instantaneous shear "
-               f"modulus: nearly compressible at high rates (g_inf = {mat.g_inf:.3g}); "
-               f"PR = {suggest:.10f} gives K = 1000 mu_inst")
-        conventions.append("WARNING: " + msg)
-        warnings.warn(msg, stacklevel=2)
     if density is None:
-        conventions.append("RO (density, tonne/mm^3) is left blank: set it before running")
+        notes = [*notes, no_density_note(SOLVER, "RO")]
     lines = ["*KEYWORD"]
     lines += header("$", solver=SOLVER, mat=mat, conventions=conventions, width=80, notes=notes,
-                    moduli="LONG-TERM (LS-DYNA adds the Prony stress to them)")
+                    comments=comments, moduli="LONG-TERM (LS-DYNA adds the Prony stress to them)")
     lines.append(f"*MAT_{keyword}_TITLE" + ("+" if long_format else ""))
     lines.append(name)
     lines.append(_names(w, ["mid", "ro", "pr", "n", "nv", "g", "sigf", "ref"]))
-    lines.append(_card([mid, density, float(poisson), 0], w))
+    lines.append(_card([mid, density, None, 0], w))
+    lines[-1] = lines[-1][:2 * w] + pr_text.rjust(w) + lines[-1][3 * w:]
     c = mat.constants
     if ogden:
         n = int(kind[-1]) if kind[-1].isdigit() else 1

@@ -1,0 +1,143 @@
+"""What each solver will compute from vhfit's cards: fit error against card error.
+
+For each data set, two fits — in the ``"hereditary"`` formulation (Abaqus, Ansys) and in
+the ``"lsdyna"`` formulation (LS-DYNA MAT_077) — and for each fit its three cards,
+written, parsed back and re-simulated in the formulation their solver integrates
+(:func:`vhfit.export.check.check_cards`), scored with RMSAPE (Eq. 20) on the data. The
+goal: each card's solver error within 1.05 x the fit's (+ 1e-6 percentage point of
+round-off, for exact fits) when the fit was made for that solver (Abaqus and Ansys
+cards of the hereditary fit, the LS-DYNA card of the lsdyna fit). The other cells are
+the cross errors — e.g. a hereditary fit pasted into LS-DYNA — that show why
+``vhfit fit --for lsdyna`` matters.
+
+Data sets:
+
+* SEBS: the bundled synthetic demo curves (``vhfit.datasets``; the paper's Table 5
+  constants at its rates, to -0.3/-0.6), Mooney-Rivlin + 4 Prony terms;
+* gelatin: curves generated from the paper's Table 6 constants at its rates
+  (``benchmarks/cases.py``), Mooney-Rivlin + 2 terms;
+* multi-mode: uniaxial, equibiaxial, planar tension ramps and simple shear at two rates,
+  generated with Mooney-Rivlin + 2 terms once in each formulation.
+
+Run::
+
+    python benchmarks/bench_solvers.py            # about a minute on a free core
+    python benchmarks/bench_solvers.py --quick    # shorter searches
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+import warnings
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import cases  # noqa: E402
+
+import vhfit  # noqa: E402
+from vhfit import datasets  # noqa: E402
+from vhfit.export import export  # noqa: E402
+from vhfit.export.check import SOLVER_FORMULATION, allowed_rmsape, check_cards  # noqa: E402
+
+SOLVERS = ("abaqus", "ansys", "lsdyna")
+FORMULATIONS = ("hereditary", "lsdyna")
+MULTI = dict(C10=0.2, C01=0.05, G1=1.5, tau1=0.01, G2=0.8, tau2=1.0)
+MODES = ("uniaxial", "equibiaxial", "planar", "simple_shear")
+#: Percentage points of RMSAPE below which two errors are the same: the round-off of a
+#: card read back (g_i -> G_i) on an exact fit, whose error is itself ~1e-12 %.
+ROUND_OFF = 1e-6
+
+
+def multimode(formulation: str, n: int = 20) -> list:
+    """Tension ramps in three modes and simple shear, at -1 and -100 1/s magnitudes."""
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2, formulation=formulation)
+    out = []
+    for mode in MODES:
+        for r in (1.0, 100.0):
+            eps = np.linspace(0.5 / n, 0.5, n)
+            s = m.stress(MULTI, strain=eps, strain_rate=r, deformation=mode,
+                         measure="engineering")
+            out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, deformation=mode,
+                                   name=f"{mode} {r:g} 1/s"))
+    return out
+
+
+def data_sets() -> dict:
+    """Name -> (curves, Prony terms)."""
+    return {
+        "SEBS demo (Table 5)": (datasets.load_sebs(), 4),
+        "gelatin (Table 6)": (cases.curves_for(cases.GELATIN, cases.GELATIN_RATES), 2),
+        "multi-mode, hereditary data": (multimode("hereditary"), 2),
+        "multi-mode, LS-DYNA data": (multimode("lsdyna"), 2),
+    }
+
+
+def run_case(curves, n_prony: int, formulation: str, quick: bool) -> dict:
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = vhfit.calibrate(curves, n_prony=n_prony, tau_strategy="semifree", seed=0,
+                              formulation=formulation, uncertainty=False,
+                              maxiter=120 if quick else 1000)
+        cards = {s: export(cal, to=s) for s in SOLVERS}
+    checks = check_cards(cards, curves, fits=cal)
+    row = {"fit": formulation, "fit_rmsape": checks["abaqus"].fit_rmsape,
+           "seconds": time.perf_counter() - t0}
+    for s, c in checks.items():
+        row[s] = c.rmsape
+    own = [s for s in SOLVERS if SOLVER_FORMULATION[s] == formulation]
+    row["own_ratio"] = max(row[s] / row["fit_rmsape"] for s in own) if row["fit_rmsape"] else 1.0
+    row["goal"] = all(row[s] <= 1.05 * row["fit_rmsape"] + ROUND_OFF for s in own)
+    row["within_margin"] = all(row[s] <= allowed_rmsape(row["fit_rmsape"]) for s in own)
+    return row
+
+
+def table(results: dict) -> list[str]:
+    lines = [
+        "| data | fitted in | fit RMSAPE % | Abaqus card % | Ansys card % | LS-DYNA card % "
+        "| own cards / fit | goal |",
+        "|---|---|---:|---:|---:|---:|---:|---|",
+    ]
+    for name, rows in results.items():
+        for r in rows:
+            cells = []
+            for s in SOLVERS:
+                v = f"{r[s]:.4g}"
+                cells.append(v if SOLVER_FORMULATION[s] == r["fit"] else f"*{v}*")
+            lines.append(f"| {name} | {r['fit']} | {r['fit_rmsape']:.4g} | "
+                         + " | ".join(cells)
+                         + f" | {r['own_ratio']:.6f} | {'yes' if r['goal'] else 'NO'} |")
+    lines.append("")
+    lines.append("*italic*: cross error (the card's solver integrates the other formulation).")
+    return lines
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="shorter searches (120 generations)")
+    ap.add_argument("--json", metavar="FILE", help="also write the rows as JSON")
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    results: dict = {}
+    for name, (curves, n) in data_sets().items():
+        results[name] = [run_case(curves, n, f, args.quick) for f in FORMULATIONS]
+        print(f"{name}: done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
+    print("\n".join(table(results)))
+    ok = all(r["goal"] for rows in results.values() for r in rows)
+    print(f"\ngoal (each own card within 1.05 x the fit + {ROUND_OFF:g}): "
+          f"{'met' if ok else 'NOT met'}; "
+          f"total {time.perf_counter() - t0:.0f} s")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=2)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

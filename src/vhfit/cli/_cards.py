@@ -1,0 +1,207 @@
+"""The solver cards of ``vhfit fit``: which fit each solver gets, the cards, their check.
+
+``--for`` picks the solvers; each is served by a fit in the formulation it integrates
+(:data:`vhfit.export.check.SOLVER_FORMULATION`), so one fit may serve several solvers
+and several fits may be run. Every written card is then parsed back and re-simulated in
+its solver's formulation on the data (:mod:`vhfit.export.check`); a card whose error
+exceeds its fit's by more than the margin gets a warning, in the card and the summary.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from vhfit._io import atomic_write
+from vhfit.cli._common import UsageError, one_line
+from vhfit.export import export, supported_laws, to_abaqus_test_data
+from vhfit.export.check import (
+    MARGIN_ABSOLUTE,
+    MARGIN_RELATIVE,
+    SOLVER_FORMULATION,
+    check_cards,
+)
+
+__all__ = ["SOLVERS", "CARD_FILES", "TEST_DATA_FILE", "Cards", "plan_fits", "check_targets",
+           "card_options", "write_cards", "check_table"]
+
+SOLVERS = ("abaqus", "lsdyna", "ansys")
+CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
+              "json": "material.json", "abaqus_explicit": "abaqus_explicit.inp"}
+#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
+TEST_DATA_FILE = "abaqus_test_data.inp"
+_NAMES = {"abaqus": "Abaqus", "lsdyna": "LS-DYNA", "ansys": "Ansys",
+          "abaqus_explicit": "Abaqus/Explicit"}
+
+
+def plan_fits(targets) -> dict[str, list[str]]:
+    """Formulation -> the solvers its fit serves (``"hereditary"`` first).
+
+    Without targets (no ``--for``): one ``"hereditary"`` fit for every solver.
+    """
+    chosen = [s for s in SOLVERS if s in targets] if targets else list(SOLVERS)
+    plan: dict[str, list[str]] = {}
+    for s in sorted(chosen, key=lambda s: SOLVER_FORMULATION[s] != "hereditary"):
+        plan.setdefault("hereditary" if not targets else SOLVER_FORMULATION[s], []).append(s)
+    return {f: [s for s in SOLVERS if s in v] for f, v in plan.items()}
+
+
+def check_targets(targets, law: str) -> None:
+    """``--for`` solvers whose cards cannot hold the law: a usage error, before fitting."""
+    for s in targets or ():
+        if law not in supported_laws(s):
+            others = [o for o in SOLVERS if law in supported_laws(o)]
+            fix = (f"drop --for {s} (the law's cards: {', '.join(others)})" if others
+                   else "no solver card holds this law")
+            raise UsageError(
+                f"--for {s}: {_NAMES[s]} has no card for the hyperelastic law {law!r}; {fix}, "
+                f"or choose a --model among {', '.join(supported_laws(s))}")
+
+
+def card_options(args) -> dict:
+    """The writers' keyword arguments from ``--density``, ``--poisson``, ``--bulk-modulus``."""
+    return {k: getattr(args, k, None) for k in ("density", "poisson", "bulk_modulus")}
+
+
+@dataclass
+class Cards:
+    """What :func:`write_cards` wrote and found."""
+
+    files: dict = field(default_factory=dict)  # solver -> file name
+    errors: dict = field(default_factory=dict)  # solver -> why no card
+    notes: dict = field(default_factory=dict)  # solver -> writer warnings
+    fits: dict = field(default_factory=dict)  # solver -> formulation of its fit
+    check: dict = field(default_factory=dict)  # solver -> CardCheck, or {"error": ...}
+    warnings: list = field(default_factory=list)  # headline warnings of the check
+    summary: list = field(default_factory=list)  # lines for summary.txt
+
+    def check_dict(self) -> dict:
+        """The ``card_check`` entry of results.json."""
+        return {s: c if isinstance(c, dict) else c.to_dict() for s, c in self.check.items()}
+
+
+def _source(form: str, solvers: list[str], several: bool, solver: str) -> list[str]:
+    """The card comment saying which fit the constants come from."""
+    own = SOLVER_FORMULATION[solver.split("_")[0]]
+    serves = ", ".join(solvers)
+    line = (f"Fit: vhfit formulation '{form}' (this fit serves {serves}"
+            + ("; each other solver has its own fit" if several else "") + "); "
+            f"{_NAMES[solver]} integrates '{own}'")
+    if own != form:
+        line += f": see the card check; `vhfit fit --for {solver.split('_')[0]}` fits for it"
+    return [line]
+
+
+def _texts(fits, plan, args) -> tuple[dict, Cards]:
+    """Every card's text in memory (solver -> (text, writer kwargs, fit))."""
+    out, res = {}, Cards()
+    opts = card_options(args)
+    for form, solvers in plan.items():
+        cal = fits.get(form)
+        if cal is None:  # interrupted before this fit
+            for s in solvers:
+                res.errors[s] = f"the '{form}' fit was not run (interrupted)"
+            continue
+        jobs = [(s, {}) for s in solvers]
+        if "abaqus" in solvers and getattr(args, "abaqus_explicit", False):
+            jobs.append(("abaqus_explicit", {"explicit": True}))
+        for solver, extra in jobs:
+            kw = dict(notes=list(cal.headlines), **opts, **extra,
+                      comments=_source(form, solvers, len(plan) > 1, solver))
+            try:
+                with warnings.catch_warnings(record=True) as ws:
+                    warnings.simplefilter("always")
+                    text = export(cal, to=solver.split("_")[0], **kw)
+            except Exception as exc:  # a solver that cannot take this model is not fatal
+                res.errors[solver] = one_line(exc)
+                continue
+            notes = list(dict.fromkeys(one_line(w.message) for w in ws))
+            if notes:
+                res.notes[solver] = notes
+            out[solver] = (text, kw, cal)
+            res.fits[solver] = form
+    return out, res
+
+
+def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
+    """Write the cards of ``plan`` (formulation -> solvers) from ``fits`` (formulation ->
+    Calibration), check each against ``curves``, and write material.json and the Abaqus
+    test data of the first fit."""
+    texts, res = _texts(fits, plan, args)
+    for solver, (text, kw, cal) in texts.items():
+        try:
+            res.check[solver] = check = check_cards({solver: text}, curves, fits=cal)[solver]
+        except Exception as exc:  # the check reports, it never stops the outputs
+            res.check[solver] = {"error": one_line(exc)}
+        else:
+            if check.warning():
+                res.warnings.append(check.warning())
+                kw = dict(kw, notes=[*kw["notes"], check.warning()])
+                text = export(cal, to=solver.split("_")[0], **kw)
+        atomic_write(out / CARD_FILES[solver], text)
+        res.files[solver] = CARD_FILES[solver]
+    first = next(iter(fits.values()))
+    atomic_write(out / CARD_FILES["json"], export(first, to="json"))
+    res.files["json"] = CARD_FILES["json"]
+    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
+           for c in curves):
+        try:
+            text = to_abaqus_test_data(curves, first.model.hyperelastic.name)
+        except ValueError as exc:
+            res.errors["abaqus test data"] = one_line(exc)
+        else:
+            atomic_write(out / TEST_DATA_FILE, text)
+            res.files["abaqus test data"] = TEST_DATA_FILE
+    res.summary = _summary(res, curves, args, fits, plan)
+    return res
+
+
+def check_table(check: dict, curve_names) -> list[str]:
+    """The card check as text lines (solver rows, then per-curve errors)."""
+    lines = [
+        "card check: each card parsed back and re-simulated in its solver's formulation on "
+        "every test history; RMSAPE (Eq. 20) on the data; a card passes when its error <= "
+        f"{1 + MARGIN_RELATIVE:g} x its fit's + {MARGIN_ABSOLUTE:g}",
+        f"  {'card':<16}{'solver law':<13}{'fit (law)':<26}{'card':>12}{'allowed':>12}",
+    ]
+    rows = {s: c if isinstance(c, dict) else c.to_dict() for s, c in check.items()}
+    for s, c in rows.items():
+        if "error" in c:
+            lines.append(f"  {s:<16}not checked: {c['error']}")
+            continue
+        fit = (f"{c['fit_rmsape']:.4g} % ({c['fit_formulation']})"
+               if c.get("fit_rmsape") is not None else "-")
+        allowed = f"{c['allowed']:.4g} %" if c.get("allowed") is not None else "-"
+        lines.append(f"  {s:<16}{c['formulation']:<13}{fit:<26}{c['rmsape']:>10.4g} %"
+                     f"{allowed:>12}" + ("  EXCEEDS" if c.get("exceeds") else "  ok"))
+    done = [s for s, c in rows.items() if "error" not in c]
+    if done and curve_names:
+        lines.append("  per curve (RMSAPE %): " + " | ".join(done))
+        for i, name in enumerate(curve_names):
+            vals = " | ".join(f"{rows[s]['per_curve'][i]:.4g}" for s in done)
+            lines.append(f"    {str(name):<30} {vals}")
+    return lines
+
+
+def _summary(res: Cards, curves, args, fits, plan) -> list[str]:
+    lines = []
+    if len(plan) > 1 or next(iter(plan)) != "hereditary":
+        lines.append("fits: " + "; ".join(
+            f"'{f}' for {', '.join(s)}"
+            + (f" (RMSAPE {fits[f].rmsape:.4g} %)" if f in fits else " (not run)")
+            for f, s in plan.items()))
+    if res.files:
+        lines.append("solver cards: " + ", ".join(f"{k} -> {v}" for k, v in res.files.items()))
+    for k, v in res.notes.items():
+        lines += [f"note ({k} card): {n}" for n in v]
+    for k, v in res.errors.items():
+        lines.append(f"no {k} card: {v}")
+    if getattr(args, "density", None) is None:
+        lines.append("note: no --density: the cards carry no density (*DENSITY, RO, MP,DENS) "
+                     "and say so; give --density RHO (tonne/mm^3, 1e-9 for 1000 kg/m^3) for "
+                     "dynamic or explicit analyses")
+    if res.check:
+        names = [str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)]
+        lines += [""] + check_table(res.check, names)
+    return lines

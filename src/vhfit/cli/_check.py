@@ -1,0 +1,120 @@
+"""``vhfit check``: the error each solver will show with the cards of a fit, on the data."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+from vhfit import datasets
+from vhfit.cli._cards import CARD_FILES, check_table
+from vhfit.cli._common import EXIT_OK, UsageError, count_prony, load_results, one_line
+from vhfit.cli._fit import read_curves
+from vhfit.cli._plugins import resolve_model_name
+from vhfit.export import parse
+from vhfit.export.check import card_solver, check_card, in_formulation
+from vhfit.model import ViscoHyperelastic
+
+__all__ = ["cmd_check"]
+
+_DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time")
+
+
+def cmd_check(args) -> int:
+    """``vhfit check RESULTS.json [--data FILE...] [--card FILE...]``."""
+    res = load_results(args.results)
+    folder = Path(args.results).resolve().parent
+    fits = _fits(res, args.results)
+    cards = _cards(args, res, folder)
+    curves = _curves(args, res)
+    primary = str(res.get("formulation", "hereditary"))
+    card_fits = res.get("card_fits") or {}
+    checks = {}
+    for key, (solver, text) in cards.items():
+        fit = fits.get(card_fits.get(key, card_fits.get(solver, primary)), fits[primary])
+        try:
+            checks[key] = check_card(text, curves, solver=solver, fit=fit)
+        except ValueError as exc:
+            raise UsageError(f"{key} card: {one_line(exc)}") from None
+    if args.json:
+        print(json.dumps({"card_check": {k: c.to_dict() for k, c in checks.items()}}, indent=2))
+        return EXIT_OK
+    names = [str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)]
+    for c in checks.values():
+        if c.warning():
+            print(f"WARNING: {c.warning()}")
+    print("\n".join(check_table(checks, names)))
+    return EXIT_OK
+
+
+def _curves(args, res: dict) -> list:
+    """The data: ``--data``, else the input files the results record (the demo's bundled
+    set as the demo reads it)."""
+    inputs = res.get("inputs") or []
+    if not args.data and any(i.get("bundled") == "vhfit.datasets.sebs" for i in inputs):
+        return datasets.load_sebs()
+    data = args.data or [i["path"] for i in inputs if "path" in i]
+    if not data:
+        raise UsageError(f"{args.results}: no input files recorded; give the data with --data")
+    curves, _ = read_curves(data, _data_args(args, res.get("cli_options") or {}))
+    return curves
+
+
+def _fits(res: dict, path: str) -> dict:
+    """Formulation -> (model, params) of every fit in the results."""
+    entries = dict(res.get("fits") or {})
+    entries.setdefault(str(res.get("formulation", "hereditary")), res)
+    out = {}
+    for form, r in entries.items():
+        try:
+            name = resolve_model_name(r["hyperelastic"])
+            model = in_formulation(ViscoHyperelastic(name, count_prony(r["params"])), form)
+            out[form] = (model, model.as_dict(model.check(r["params"])))
+        except (KeyError, ValueError, TypeError) as exc:
+            raise UsageError(f"{path}: the '{form}' fit cannot be read ({one_line(exc)})"
+                             ) from None
+    return out
+
+
+def _cards(args, res: dict, folder: Path) -> dict:
+    """Card key -> (solver, text): the ``--card`` files, else the results folder's cards."""
+    out = {}
+    if args.card:
+        for f in args.card:
+            text = _read(f)
+            try:
+                model_solver = card_solver(text)
+                parse(text, model_solver)
+            except ValueError as exc:
+                raise UsageError(f"--card {f}: {one_line(exc)}") from None
+            out[os.path.basename(f)] = (model_solver, text)
+        return out
+    listed = res.get("cards") or {}
+    for key in CARD_FILES:
+        if key == "json" or key not in listed:
+            continue
+        out[key] = (key.split("_")[0], _read(str(folder / listed[key])))
+    if not out:
+        raise UsageError(f"{folder}: the results list no solver cards; give them with --card")
+    return out
+
+
+def _read(path: str) -> str:
+    try:
+        with open(path, encoding="utf-8") as f:
+            return f.read()
+    except OSError as exc:
+        raise UsageError(f"{path}: cannot read ({exc.strerror}); give the card's path with "
+                         "--card") from None
+
+
+def _data_args(args, saved: dict) -> argparse.Namespace:
+    """The data options: given on the command line, else the fit's own."""
+    ns = argparse.Namespace()
+    for k in _DATA_OPTIONS:
+        v = getattr(args, k, None) if hasattr(args, k) else saved.get(k)
+        if k.startswith("trim_") and v:
+            v = [None if w is None else tuple(w) for w in v]
+        setattr(ns, k, v)
+    return ns

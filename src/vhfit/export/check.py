@@ -1,0 +1,303 @@
+"""Card check: the error each solver will show with a written card, scored against the data.
+
+A round trip (card -> parser -> the same stresses) proves that a card carries vhfit's
+numbers; it cannot show that the solver, integrating its own viscoelastic law with
+those numbers, reproduces the test data. The card check does that: each card is parsed
+back (:func:`vhfit.export.parse`), re-simulated in the formulation its solver
+integrates (:data:`SOLVER_FORMULATION`: Abaqus and Ansys relax the deviatoric
+instantaneous stress, ``"hereditary"``; LS-DYNA's MAT_077 adds a Prony convolution of
+the Green strain rate to the long-term stress, ``"lsdyna"``; docs/theory.md) along
+every test history, and scored with RMSAPE (paper Eq. 20) on the objective points of
+the data. The fit's own error is scored the same way, so the two are comparable.
+
+A card whose solver error exceeds the fit's by more than the margin
+(:func:`allowed_rmsape`: 5 % relative plus 0.01 percentage point) gets a warning that
+names the remedy: a fit in that solver's formulation (``vhfit fit --for lsdyna``,
+``calibrate(..., formulation="lsdyna")``).
+
+Examples
+--------
+>>> import numpy as np, vhfit
+>>> from vhfit.export import to_abaqus
+>>> from vhfit.export.check import check_card
+>>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+>>> p = dict(C10=0.2, C01=0.05, G1=1.5, tau1=0.01)
+>>> eps = np.linspace(-0.05, -0.4, 8)
+>>> curves = [vhfit.Curve(strain=eps, stress=m.stress(p, strain=eps, strain_rate=r,
+...                       measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
+>>> res = check_card(to_abaqus(m, p), curves, solver="abaqus", fit=(m, p))
+>>> res.formulation, res.rmsape < 1e-9, res.exceeds
+('hereditary', True, False)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vhfit.export import parse
+from vhfit.model import ViscoHyperelastic
+from vhfit.objective import Objective
+
+__all__ = [
+    "SOLVER_FORMULATION",
+    "MARGIN_RELATIVE",
+    "MARGIN_ABSOLUTE",
+    "CardCheck",
+    "allowed_rmsape",
+    "solver_formulation",
+    "in_formulation",
+    "card_solver",
+    "card_stress",
+    "check_card",
+    "check_cards",
+]
+
+#: The viscoelastic formulation each solver integrates (docs/theory.md; SPEC of the
+#: cards in docs/export.md).
+SOLVER_FORMULATION: dict[str, str] = {
+    "abaqus": "hereditary",
+    "ansys": "hereditary",
+    "lsdyna": "lsdyna",
+}
+#: A card passes when its RMSAPE <= fit RMSAPE × (1 + MARGIN_RELATIVE) + MARGIN_ABSOLUTE.
+MARGIN_RELATIVE = 0.05
+#: ... in percentage points: room for the card's printed digits on a near-exact fit.
+MARGIN_ABSOLUTE = 0.01
+
+_NAMES = {"abaqus": "Abaqus", "lsdyna": "LS-DYNA", "ansys": "Ansys"}
+
+
+def allowed_rmsape(fit_rmsape: float) -> float:
+    """The largest card RMSAPE that passes against a fit's RMSAPE (percent).
+
+    Examples
+    --------
+    >>> allowed_rmsape(2.0)
+    2.11
+    """
+    return float(fit_rmsape) * (1.0 + MARGIN_RELATIVE) + MARGIN_ABSOLUTE
+
+
+def solver_formulation(solver: str) -> str:
+    """The formulation the solver integrates (``"abaqus_explicit"`` counts as Abaqus).
+
+    Examples
+    --------
+    >>> solver_formulation("lsdyna"), solver_formulation("abaqus_explicit")
+    ('lsdyna', 'hereditary')
+    """
+    key = _solver_key(solver)
+    if key not in SOLVER_FORMULATION:
+        raise ValueError(f"solver {solver!r}: choose one of {', '.join(SOLVER_FORMULATION)}")
+    return SOLVER_FORMULATION[key]
+
+
+def _solver_key(solver: str) -> str:
+    key = str(solver).strip().lower().replace("-", "")
+    return "abaqus" if key.startswith("abaqus") else key
+
+
+def _formulation_of(model) -> str:
+    return str(getattr(model, "formulation", "hereditary"))
+
+
+def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelastic:
+    """The same law, number of terms and tolerance, integrated in ``formulation``.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> m = vhfit.ViscoHyperelastic("yeoh", n_prony=2)
+    >>> in_formulation(m, "hereditary") is m
+    True
+    """
+    if formulation == _formulation_of(model):
+        return model
+    return ViscoHyperelastic(model.hyperelastic.name, model.n_prony, rtol=model.rtol,
+                             formulation=formulation)
+
+
+def _scores(model: ViscoHyperelastic, params, curves: Sequence) -> tuple[float, list[float],
+                                                                          np.ndarray]:
+    """RMSAPE, per-curve RMSAPE and the stresses of ``model`` on the curves' points."""
+    x = model.as_array(params)
+    stress = model.batch(list(curves))(x[None, :])[0]
+    obj = Objective(list(curves), "rmsape")
+    return float(obj(stress)), [float(v) for v in obj.per_curve(stress)], stress
+
+
+@dataclass(frozen=True)
+class CardCheck:
+    """What one card gives in its solver's formulation, beside the fit it came from.
+
+    Attributes
+    ----------
+    solver : str
+        ``"abaqus"``, ``"lsdyna"``, ``"ansys"`` (or ``"abaqus_explicit"``).
+    formulation : str
+        The formulation the card was re-simulated in (its solver's).
+    rmsape : float
+        RMSAPE (Eq. 20, percent) of the card's stresses against the data.
+    per_curve : list of float
+        The same per curve.
+    fit_formulation : str or None
+        The formulation of the fit the card was written from (None: not given).
+    fit_rmsape : float or None
+        That fit's RMSAPE on the same points, scored the same way.
+    fit_per_curve : list of float
+        The same per curve.
+    """
+
+    solver: str
+    formulation: str
+    rmsape: float
+    per_curve: list
+    fit_formulation: str | None = None
+    fit_rmsape: float | None = None
+    fit_per_curve: list = field(default_factory=list)
+
+    @property
+    def allowed(self) -> float | None:
+        """The largest RMSAPE that passes (:func:`allowed_rmsape` of the fit's)."""
+        return None if self.fit_rmsape is None else allowed_rmsape(self.fit_rmsape)
+
+    @property
+    def exceeds(self) -> bool:
+        """The card's error exceeds the fit's by more than the margin."""
+        return self.allowed is not None and not self.rmsape <= self.allowed
+
+    def warning(self) -> str | None:
+        """The headline warning of a card that fails the check, with its remedy; else None."""
+        if not self.exceeds:
+            return None
+        name = _NAMES.get(_solver_key(self.solver), self.solver)
+        head = (f"{name} card: {name} will show RMSAPE {self.rmsape:.4g} % on the data, the fit "
+                f"{self.fit_rmsape:.4g} % (allowed {self.allowed:.4g} %)")
+        if self.fit_formulation != self.formulation:
+            return (f"{head}: {name} integrates the Prony series in the '{self.formulation}' "
+                    f"formulation, the fit used '{self.fit_formulation}'; fit for it with "
+                    f"`vhfit fit --for {_solver_key(self.solver)}` (Python: calibrate(..., "
+                    f"formulation='{self.formulation}'))")
+        return (f"{head}: the card's numbers do not reproduce the fit (rounded fields?); write "
+                "it in full precision (LS-DYNA long format)")
+
+    def to_dict(self) -> dict:
+        """The ``card_check`` entry of a results file."""
+        return {
+            "rmsape": float(self.rmsape),
+            "per_curve": [float(v) for v in self.per_curve],
+            "formulation": self.formulation,
+            "fit_formulation": self.fit_formulation,
+            "fit_rmsape": None if self.fit_rmsape is None else float(self.fit_rmsape),
+            "allowed": self.allowed,
+            "exceeds": self.exceeds,
+        }
+
+
+def card_stress(text: str, curves: Sequence, *, solver: str | None = None
+                ) -> tuple[ViscoHyperelastic, dict, np.ndarray]:
+    """Parse a card and simulate it in its solver's formulation on the curves' histories.
+
+    Parameters
+    ----------
+    text : str
+        The card (Abaqus, LS-DYNA or Ansys; the format is guessed when ``solver`` is None).
+    curves : sequence of Curve
+        The test data: their histories and objective points.
+    solver : str, optional
+        ``"abaqus"``, ``"lsdyna"`` or ``"ansys"``.
+
+    Returns
+    -------
+    model : ViscoHyperelastic
+        The card's law in the solver's formulation.
+    params : dict
+        The card's constants in vhfit's convention.
+    stress : ndarray
+        The model stresses at every objective point of every curve (concatenated), in
+        each curve's measure.
+    """
+    solver = solver or card_solver(text)
+    model, params = parse(text, _solver_key(solver))
+    model = in_formulation(model, solver_formulation(solver))
+    x = model.as_array(params)
+    return model, params, model.batch(list(curves))(x[None, :])[0]
+
+
+def card_solver(text: str) -> str:
+    """The solver a card is written for, from its keywords.
+
+    Examples
+    --------
+    >>> card_solver("*MAT_HYPERELASTIC_RUBBER"), card_solver("TB,HYPER,1,,,NEO")
+    ('lsdyna', 'ansys')
+    """
+    body = "\n".join(ln for ln in text.splitlines()
+                     if not ln.lstrip().startswith(("**", "$", "!"))).upper()
+    if "*MAT_" in body:
+        return "lsdyna"
+    if "*HYPERELASTIC" in body:
+        return "abaqus"
+    if "TB," in body.replace(" ", ""):
+        return "ansys"
+    raise ValueError("not an Abaqus, LS-DYNA or Ansys material card (no *HYPERELASTIC, "
+                     "*MAT_ or TB, command)")
+
+
+def check_card(text: str, curves: Sequence, *, solver: str | None = None,
+               fit=None) -> CardCheck:
+    """Score one card against the data in its solver's formulation.
+
+    Parameters
+    ----------
+    text : str
+        The card.
+    curves : sequence of Curve
+        The data the fit was made to (the same objective points).
+    solver : str, optional
+        The card's solver (guessed from the text when None).
+    fit : Calibration or (ViscoHyperelastic, params), optional
+        The fit the card was written from: its own RMSAPE is scored the same way, in its
+        own formulation (``fit.model.formulation``), for the comparison.
+
+    Returns
+    -------
+    CardCheck
+    """
+    solver = solver or card_solver(text)
+    model, params, stress = card_stress(text, curves, solver=solver)
+    obj = Objective(list(curves), "rmsape")
+    res = dict(solver=solver, formulation=_formulation_of(model), rmsape=float(obj(stress)),
+               per_curve=[float(v) for v in obj.per_curve(stress)])
+    if fit is not None:
+        fm, fp = (fit.model, fit.params) if hasattr(fit, "model") else fit
+        e, per, _ = _scores(fm, fp, curves)
+        res.update(fit_formulation=_formulation_of(fm), fit_rmsape=e, fit_per_curve=per)
+    return CardCheck(**res)
+
+
+def check_cards(cards: Mapping[str, str], curves: Sequence, *, fits=None) -> dict[str, CardCheck]:
+    """Score every card of a fit against the data (see :func:`check_card`).
+
+    Parameters
+    ----------
+    cards : mapping of str to str
+        Solver (``"abaqus"``, ``"lsdyna"``, ``"ansys"``, ``"abaqus_explicit"``) -> card text.
+    curves : sequence of Curve
+        The data.
+    fits : Calibration, or mapping of solver to Calibration, optional
+        The fit each card was written from (one for all cards, or one per solver).
+
+    Returns
+    -------
+    dict of str to CardCheck
+        In the order of ``cards``.
+    """
+    out = {}
+    for solver, text in cards.items():
+        fit = fits.get(solver) if isinstance(fits, Mapping) else fits
+        out[solver] = check_card(text, curves, solver=solver, fit=fit)
+    return out

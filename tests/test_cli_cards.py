@@ -1,0 +1,229 @@
+"""``vhfit fit --for``, the card flags (--density, --poisson, --bulk-modulus,
+--abaqus-explicit), the card check in the outputs, and ``vhfit check`` — in-process.
+
+Hand values: the data are three noise-free compression ramps of Mooney-Rivlin + 1 Prony
+term, C10 = 0.2, C01 = 0.1, G1 = 1.8, tau1 = 0.01, fitted (exactly, or to its noise-free
+optimum) by a one-term fit: mu0 = 2 (C10 + C01), E_inf = 3 mu0, G0 = E_inf + G1,
+mu_inst = G0 / 3. The compressibility numbers are worked out from the fitted constants
+with the documented formulas (docs/export.md), not read from the cards.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vhfit import cli
+from vhfit.model import ViscoHyperelastic
+
+P = dict(C10=0.2, C01=0.1, G1=1.8, tau1=0.01)
+
+
+@pytest.fixture(scope="module")
+def data(tmp_path_factory) -> list[str]:
+    folder = tmp_path_factory.mktemp("cards-data")
+    m = ViscoHyperelastic("mooney_rivlin", 1)
+    paths = []
+    for r in (-1.0, -30.0, -1000.0):
+        eps = np.linspace(0.0, -0.5, 21)
+        s = m.stress(P, strain=eps, strain_rate=r, measure="engineering")
+        path = folder / f"ramp_{-r:g}.csv"
+        path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
+                        + "".join(f"{float(e)!r},{float(v)!r}\n" for e, v in zip(eps, s)))
+        paths.append(str(path))
+    return paths
+
+
+def fit(data, out: Path, *flags) -> dict:
+    argv = ["fit", *data, "--prony", "1", "--seed", "0", "--no-plot", "-q", "--out", str(out),
+            *flags]
+    assert cli.main(argv) == 0
+    return json.loads((out / "results.json").read_text())
+
+
+def moduli(params) -> tuple[float, float]:
+    """mu0 (long-term) and mu_inst (instantaneous) of fitted Mooney-Rivlin + 1 term."""
+    mu0 = 2 * (params["C10"] + params["C01"])
+    return mu0, (3 * mu0 + params["G1"]) / 3
+
+
+def data_lines(text: str, prefix: str) -> list[str]:
+    return [ln for ln in text.splitlines() if ln.strip() and not ln.startswith(prefix)]
+
+
+# ============================================================ cards that run
+@pytest.fixture(scope="module")
+def default_run(data, tmp_path_factory):
+    out = tmp_path_factory.mktemp("default") / "o"
+    return out, fit(data, out, "--density", "1.1e-9", "--abaqus-explicit")
+
+
+def test_density_reaches_every_card(default_run):
+    out, _ = default_run
+    abq = data_lines((out / "abaqus.inp").read_text(), "**")
+    assert abq[1:3] == ["*DENSITY", "1.1e-09,"]
+    dyna = data_lines((out / "lsdyna.k").read_text(), "$")
+    assert float(dyna[3][20:40]) == 1.1e-9  # card 1: MID RO PR N, 20-character fields
+    ans = data_lines((out / "ansys.mac").read_text(), "!")
+    assert ans[0] == "MP,DENS,1,1.1e-09"
+    for name in ("abaqus.inp", "lsdyna.k", "ansys.mac"):
+        assert "WARNING: no density" not in (out / name).read_text()
+
+
+def test_default_bulk_modulus_gives_lsdyna_pr_and_explicit_d1(default_run):
+    """K = 1000 mu_inst: LS-DYNA's K = 2 mu0 (1 + PR)/(3 (1 - 2 PR)) must give it, and
+    the Abaqus/Explicit D1 = 2/K; the Standard card keeps D1 = 0 and says why."""
+    out, res = default_run
+    mu0, mu_inst = moduli(res["params"])
+    K = 1000 * mu_inst
+    pr = float(data_lines((out / "lsdyna.k").read_text(), "$")[3][40:60])
+    assert pr == pytest.approx((3 * K - 2 * mu0) / (6 * K + 2 * mu0), rel=1e-14)
+    assert 2 * mu0 * (1 + pr) / (3 * (1 - 2 * pr)) == pytest.approx(K, rel=1e-9)
+    explicit = (out / "abaqus_explicit.inp").read_text()
+    row = [float(v) for v in data_lines(explicit, "**")[4].split(",")]
+    assert row[:2] == [res["params"]["C10"], res["params"]["C01"]]
+    assert row[2] == pytest.approx(2 / K, rel=1e-14)
+    assert "Abaqus/Explicit" in explicit.splitlines()[0]
+    standard = (out / "abaqus.inp").read_text()
+    assert [float(v) for v in data_lines(standard, "**")[4].split(",")][2] == 0.0
+    assert "Standard with hybrid elements ONLY" in " ".join(standard.split())
+    for name in ("abaqus.inp", "abaqus_explicit.inp", "lsdyna.k", "ansys.mac"):
+        assert "Units: N, mm, s, MPa" in (out / name).read_text()
+
+
+def test_poisson_and_bulk_modulus_set_every_solvers_compressibility(data, tmp_path):
+    res = fit(data, tmp_path / "nu", "--poisson", "0.49", "--for", "abaqus,ansys")
+    mu0, mu_inst = moduli(res["params"])
+    K = 2 * mu_inst * 1.49 / (3 * 0.02)  # nu = 0.49 of the instantaneous response
+    abq = data_lines((tmp_path / "nu" / "abaqus.inp").read_text(), "**")
+    assert float(abq[2].split(",")[2]) == pytest.approx(2 / K, rel=1e-14)
+    ans = data_lines((tmp_path / "nu" / "ansys.mac").read_text(), "!")
+    assert float(ans[1].split(",")[4]) == pytest.approx(2 / K, rel=1e-14)  # TBDATA,1,c10,c01,d
+    assert not (tmp_path / "nu" / "lsdyna.k").exists()  # not asked for
+
+    fit(data, tmp_path / "k", "--bulk-modulus", "500", "--for", "lsdyna")
+    pr = float(data_lines((tmp_path / "k" / "lsdyna.k").read_text(), "$")[3][40:60])
+    res = json.loads((tmp_path / "k" / "results.json").read_text())
+    mu0, _ = moduli(res["params"])
+    assert 2 * mu0 * (1 + pr) / (3 * (1 - 2 * pr)) == pytest.approx(500.0, rel=1e-12)
+
+
+def test_no_density_is_loud_in_cards_and_summary(data, tmp_path):
+    fit(data, tmp_path / "o", "--for", "ansys")
+    assert "! WARNING: no density: MP,DENS is not written" in (tmp_path / "o" / "ansys.mac"
+                                                              ).read_text()
+    assert "note: no --density" in (tmp_path / "o" / "summary.txt").read_text()
+
+
+# ================================================================ --for and the check
+def test_default_fit_checks_every_card_and_flags_lsdyna(default_run):
+    """One hereditary fit serves all cards; the LS-DYNA card, integrated in LS-DYNA's
+    formulation, misses the data by more than the margin at these rates."""
+    out, res = default_run
+    check = res["card_check"]
+    assert set(check) == {"abaqus", "abaqus_explicit", "lsdyna", "ansys"}
+    for s in ("abaqus", "ansys"):
+        assert check[s]["formulation"] == "hereditary"
+        assert check[s]["rmsape"] == pytest.approx(res["rmsape"], rel=1e-9, abs=1e-12)
+        assert len(check[s]["per_curve"]) == 3 and not check[s]["exceeds"]
+    dyna = check["lsdyna"]
+    assert dyna["formulation"] == "lsdyna" and dyna["fit_formulation"] == "hereditary"
+    assert dyna["exceeds"] and dyna["rmsape"] > 1.05 * res["rmsape"] + 0.01
+    assert res["card_fits"] == {"abaqus": "hereditary", "abaqus_explicit": "hereditary",
+                                "lsdyna": "hereditary", "ansys": "hereditary"}
+    summary = (out / "summary.txt").read_text()
+    head = summary.split("\n\n")[0]
+    assert "WARNING: LS-DYNA card" in head and "--for lsdyna" in head
+    card = (out / "lsdyna.k").read_text()
+    assert "$ WARNING: LS-DYNA card" in card
+    assert "formulation 'hereditary' (this fit serves abaqus, lsdyna, ansys)" in " ".join(
+        ln.lstrip("$ ") for ln in card.splitlines())
+
+
+def test_for_lsdyna_and_abaqus_runs_two_fits_and_says_which_card_is_whose(data, tmp_path):
+    out = tmp_path / "o"
+    res = fit(data, out, "--for", "lsdyna", "--for", "abaqus")
+    assert res["formulation"] == "hereditary"
+    assert sorted(res["fits"]) == ["hereditary", "lsdyna"]
+    assert res["fits"]["lsdyna"]["solvers"] == ["lsdyna"]
+    assert res["fits"]["lsdyna"]["formulation"] == "lsdyna"
+    assert res["card_fits"] == {"abaqus": "hereditary", "lsdyna": "lsdyna"}
+    assert sorted(p.name for p in out.iterdir() if p.suffix in (".inp", ".k", ".mac")) == [
+        "abaqus.inp", "lsdyna.k"]
+    dyna = res["card_check"]["lsdyna"]
+    assert dyna["fit_formulation"] == "lsdyna"
+    assert dyna["fit_rmsape"] == pytest.approx(res["fits"]["lsdyna"]["rmsape"], rel=1e-6)
+    assert dyna["rmsape"] <= 1.05 * dyna["fit_rmsape"] + 0.01 and not dyna["exceeds"]
+    summary = (out / "summary.txt").read_text()
+    assert "fits: 'hereditary' for abaqus" in summary and "'lsdyna' for lsdyna" in summary
+    assert "== the fit in the 'lsdyna' formulation, for lsdyna ==" in summary
+    assert "mooney_rivlin + 1 Prony term(s), 'lsdyna' formulation" in summary
+    # the LS-DYNA constants are the lsdyna fit's
+    cards = data_lines((out / "lsdyna.k").read_text(), "$")
+    assert float(cards[4][20:40]) == pytest.approx(res["fits"]["lsdyna"]["params"]["C01"],
+                                                     rel=1e-12)
+
+
+def test_vhfit_check_reproduces_the_fits_card_check(default_run, data, capsys):
+    out, res = default_run
+    capsys.readouterr()
+    assert cli.main(["check", str(out / "results.json"), "--data", *data, "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["card_check"]
+    assert set(got) == set(res["card_check"])
+    for k, v in got.items():
+        assert v["rmsape"] == pytest.approx(res["card_check"][k]["rmsape"], rel=1e-12)
+    assert cli.main(["check", str(out / "results.json"), "--card",
+                     str(out / "lsdyna.k")]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("WARNING: LS-DYNA card") and "lsdyna.k" in text
+
+
+# ================================================================== bad input
+@pytest.mark.parametrize("flags, needle", [
+    (["--for", "abaqus", "--model", "gent"], "--for abaqus"),
+    (["--for", "lsdyna", "--model", "arruda_boyce"], "--for lsdyna"),
+    (["--for", "radioss"], "--for 'radioss'"),
+    (["--density", "0"], "--density 0"),
+    (["--density=-1e-9"], "--density -1e-9"),
+    (["--bulk-modulus", "0"], "--bulk-modulus 0"),
+    (["--bulk-modulus=-5"], "--bulk-modulus -5"),
+    (["--poisson", "0.5"], "--poisson 0.5"),
+    (["--poisson=-1"], "--poisson -1"),
+    (["--poisson", "0.3", "--bulk-modulus", "10"], "--bulk-modulus"),
+])
+def test_bad_card_flags_are_refused_before_fitting(flags, needle, data, tmp_path,
+                                                   monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "never"
+    assert cli.main(["fit", *data, "--prony", "1", "--out", str(out), "-q", *flags]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vhfit: error: ") and needle in err[0], err
+    assert not out.exists()  # nothing written
+
+
+def test_export_takes_the_card_flags(default_run, capsys):
+    out, res = default_run
+    capsys.readouterr()
+    assert cli.main(["export", str(out / "results.json"), "--to", "abaqus", "--explicit",
+                     "--bulk-modulus", "400", "--density", "1e-9"]) == 0
+    rows = data_lines(capsys.readouterr().out, "**")
+    assert rows[1:3] == ["*DENSITY", "1e-09,"]
+    assert float(rows[4].split(",")[2]) == 2 / 400
+    assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna", "--explicit"]) == 2
+    assert "--explicit" in capsys.readouterr().err
+
+
+def test_export_takes_each_solvers_own_fit(data, tmp_path, capsys):
+    out = tmp_path / "o"
+    res = fit(data, out, "--for", "abaqus,lsdyna")
+    capsys.readouterr()
+    assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna"]) == 0
+    rows = data_lines(capsys.readouterr().out, "$")
+    assert float(rows[4][20:40]) == pytest.approx(res["fits"]["lsdyna"]["params"]["C01"],
+                                                  rel=1e-12)
+    assert cli.main(["export", str(out / "results.json"), "--to", "abaqus"]) == 0
+    rows = data_lines(capsys.readouterr().out, "**")
+    assert float(rows[2].split(",")[1]) == res["params"]["C01"]
