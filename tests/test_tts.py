@@ -252,6 +252,8 @@ def test_reduce_to_reference_shifts_every_item_with_factors_built_from_the_sweep
     curve = vhfit.Curve(strain=[0.0, -0.1, -0.2], stress=[0.0, -1.0, -2.0], strain_rate=-1.0,
                         metadata={"temperature": 40.0})
     ref = vhfit.Curve(strain=[0.0, -0.1], stress=[0.0, -1.0], strain_rate=-1.0)
+    with pytest.raises(DataError, match="no temperature, beside tests at 8 temperatures"):
+        tts.reduce_to_reference([*sweeps, curve, ref])
     out, mc = tts.reduce_to_reference([*sweeps, curve, ref], T_ref=20.0)
     assert isinstance(mc, tts.MasterCurve)
     assert all(getattr(x, "temperature", None) is None for x in out[:-2])

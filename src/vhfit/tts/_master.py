@@ -360,7 +360,7 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
 
     Items carry their test temperature as ``temperature`` (sweeps, relaxation tests) or
     ``metadata["temperature"]`` (stress–strain curves); ``None`` means "at the reference
-    already". With one temperature (or none) and no ``shift_factors`` the items come back
+    already" (then the reference must be said: ``T_ref`` or a law's). With one temperature (or none) and no ``shift_factors`` the items come back
     unchanged. Otherwise each item at T is replaced by ``item.shifted(a_T)``, with a_T
     from ``shift_factors`` (a law, a dict or a pair, as :func:`master_curve`) or, without
     them, from the master curve built by overlap of the frequency sweeps (or relaxation
@@ -396,6 +396,12 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     spread = known[-1] - known[0] if known else 0.0
     if shift_factors is None and spread <= tolerance:
         return items, None
+    if T_ref is None and getattr(shift_factors, "T_ref", None) is None and None in temps:
+        k = temps.index(None)
+        raise DataError(f"{_label(items[k], k)}: no temperature, beside tests at "
+                        f"{len(known)} temperatures: say which is the reference "
+                        "(vhfit.tts.reduce_to_reference(items, T_ref=...)) or give every "
+                        "test its temperature")
     source = shift_factors
     if shift_factors is None:
         moduli = [it for it, T in zip(items, temps) if T is not None
