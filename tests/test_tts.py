@@ -281,3 +281,25 @@ def test_reduce_to_reference_leaves_one_temperature_alone_and_refuses_uncovered_
             metadata={"temperature": 50.0})])
     out, law = tts.reduce_to_reference([a, b], shift_factors=LAW)
     assert out[1].frequency[0] == pytest.approx(f[0] * LAW.aT(60.0), rel=1e-14)
+
+
+def test_calibrate_fits_sweeps_at_several_temperatures_at_the_reference():
+    """calibrate puts tests at several temperatures at T_ref first: the fit of the raw
+    sweeps equals the fit of their master curve."""
+    import warnings
+
+    f = np.logspace(-1, 2, 13)
+    sweeps = []
+    for T in (10.0, 20.0, 30.0):
+        e1, e2 = storage_loss(f * LAW.aT(T))
+        sweeps.append(vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2, temperature=T))
+    master = tts.master_curve(sweeps).item()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = vhfit.calibrate(sweeps, hyperelastic="neo_hooke", n_prony=2, seed=0, maxiter=30)
+        b = vhfit.calibrate([master], hyperelastic="neo_hooke", n_prony=2, seed=0, maxiter=30)
+    assert a.params == pytest.approx(b.params, rel=1e-9)
+    far = vhfit.FrequencySweep(frequency=f, storage=1e6 + f, loss=f, temperature=90.0,
+                               name="far")
+    with pytest.raises(DataError, match="^far: no shift factor for T = 90"):
+        vhfit.calibrate([*sweeps, far], hyperelastic="neo_hooke", n_prony=1)

@@ -220,7 +220,8 @@ def _propagate(sets, known, names, domain: str) -> list[float]:
                 raise DataError(
                     f"{names[k]}: no shift factor for T = {Tb:g} and its moduli do not "
                     f"overlap those at T = {Ta:g} ({exc}): give shift factors for it "
-                    "(shift_factors=..., or a shift-factor file)") from None
+                    "(vhfit.tts, shift_factors= a law or a table) or sweeps that overlap "
+                    "their neighbours") from None
             L[k] = sign * d
     return [float(v) for v in L]
 
@@ -360,8 +361,9 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
 
     Items carry their test temperature as ``temperature`` (sweeps, relaxation tests) or
     ``metadata["temperature"]`` (stress–strain curves); ``None`` means "at the reference
-    already" (then the reference must be said: ``T_ref`` or a law's). With one temperature (or none) and no ``shift_factors`` the items come back
-    unchanged. Otherwise each item at T is replaced by ``item.shifted(a_T)``, with a_T
+    already" (then the reference must be said: ``T_ref`` or a law's). With one
+    temperature (or none) and no ``shift_factors`` the items come back unchanged.
+    Otherwise each item at T is replaced by ``item.shifted(a_T)``, with a_T
     from ``shift_factors`` (a law, a dict or a pair, as :func:`master_curve`) or, without
     them, from the master curve built by overlap of the frequency sweeps (or relaxation
     tests) among the items.
