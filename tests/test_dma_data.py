@@ -183,3 +183,15 @@ def test_curves_from_arrays_reads_a_mapping_of_moduli():
     with pytest.raises(vhfit.DataError, match="column 'loss_MPa'.*loss modulus -0.2 < 0"):
         vhfit.data.curves_from_arrays({"frequency_Hz": [0.1, 1.0], "storage_MPa": [1.0, 2.0],
                                        "loss_MPa": [0.1, -0.2]})
+
+
+def test_metadata_lines_units_and_columns_of_moduli_files():
+    """'# kind: G' makes unmarked moduli shear moduli; units= and columns= apply."""
+    text = "# kind: G\n# name: rubber\nT_C,freq,Storage,Loss\n20,1,1,0.1\n20,2,2,0.2\n"
+    [s] = vhfit.read_csv(io.StringIO(text), units={"modulus": "kPa"})
+    assert (s.name, s.kind, s.temperature) == ("rubber [T = 20]", "G", 20.0)
+    np.testing.assert_allclose(s.storage, [3e-3, 6e-3])
+    text = "a,b,c\n1,1,0.1\n2,2,0.2\n"
+    [s] = vhfit.read_csv(io.StringIO(text), columns={"frequency": "a", "storage": "b",
+                                                     "loss": "c"})
+    np.testing.assert_allclose(s.loss, [0.1, 0.2])
