@@ -6,6 +6,10 @@ only when a plot is drawn, so everything else in vhfit works without it. With a
 canvas, no display needed) and saved; without one it is made with pyplot so that it
 shows in a notebook or an interactive session.
 
+The DMA plots (docs/dma.md) take a :class:`vhfit.tts.MasterCurve`: the raw sweeps
+coloured by temperature, the master curve (with a fitted Prony spectrum), the shift
+factors with the fitted law, and the relative residuals of the spectrum.
+
 The data-against-fit plot puts curves whose stress magnitudes differ by more than a
 factor ``ratio`` (default 10) on separate panels, as the paper did for SEBS and
 gelatin (its Figs. 10 and 11): a slow curve at 0.1 MPa is invisible next to a fast
@@ -20,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.spectrum import design_matrix
+
 __all__ = [
     "PlotUnavailable",
     "have_matplotlib",
@@ -27,6 +33,10 @@ __all__ = [
     "plot_fit",
     "plot_history",
     "plot_order_scan",
+    "plot_sweeps",
+    "plot_master_curve",
+    "plot_shift_factors",
+    "plot_spectrum_residuals",
 ]
 
 INSTALL_HINT = "plots need matplotlib: pip install 'vhfit[plot]' (or pip install matplotlib)"
@@ -259,4 +269,156 @@ def plot_order_scan(cal, path=None):
     ax.set_ylabel("RMSAPE (%)")
     ax.grid(True, which="both", alpha=0.3)
     ax.set_title("error against number of Prony terms", fontsize=10)
+    return _finish(fig, path)
+
+
+# ------------------------------------------------------------------------ DMA
+def _colours(n: int) -> list:
+    from matplotlib import colormaps
+
+    cmap = colormaps["coolwarm"]
+    return [cmap(i / max(n - 1, 1)) for i in range(n)]
+
+
+def _dma_figure(path, master, size: tuple[float, float]):
+    """One-panel figure for a master curve: (figure, axes, is it frequency data)."""
+    fig, axes = _figure(path, 1, 1, figsize=size, layout="constrained")
+    return fig, axes[0, 0], master.domain == "frequency"
+
+
+def _moduli_axes(ax, frequency: bool, reduced: bool) -> None:
+    what = ("reduced frequency f a_T (Hz)" if reduced else "frequency (Hz)") if frequency \
+        else ("reduced time t / a_T (s)" if reduced else "time (s)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(what)
+    ax.set_ylabel("modulus (MPa)")
+    ax.grid(True, which="both", alpha=0.3)
+
+
+def plot_sweeps(master, path=None, *, shifted: bool = False):
+    """The sweeps of a master curve, one colour per temperature (blue cold, red hot).
+
+    Parameters
+    ----------
+    master : MasterCurve
+        From :func:`vhfit.tts.master_curve`.
+    path : path-like, optional
+        Save the figure there.
+    shifted : bool
+        Plot them at their reduced frequency (time): the master curve by temperature.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax, freq = _dma_figure(path, master, (6.0, 4.4))
+    sets = list(master.sets)
+    for c, s in zip(_colours(len(sets)), sets):
+        a = 10.0 ** s["log_aT"] if shifted else 1.0
+        x = s["x"] * a if freq else s["x"] / a
+        lab = f"{s['temperature']:.4g}"
+        ax.plot(x, s["y1"], "o-", ms=3, lw=0.8, color=c, label=lab)
+        if s["y2"] is not None:
+            ax.plot(x, s["y2"], "s--", ms=3, lw=0.8, color=c, mfc="none")
+    _moduli_axes(ax, freq, shifted)
+    ax.legend(fontsize=6, ncol=2, title="T", title_fontsize=7, loc="best")
+    kind = "storage (o) and loss (s) moduli" if freq else "relaxation modulus"
+    ax.set_title(f"{'shifted' if shifted else 'measured'} {kind}", fontsize=10)
+    return _finish(fig, path)
+
+
+def _spectrum_moduli(spectrum, x, frequency: bool):
+    """E′ and E″ (or E(t) and None) of a Prony spectrum at ``x``."""
+    domain = "frequency" if frequency else "time"
+    A = design_matrix(domain, np.asarray(x, dtype=np.float64), spectrum.tau)
+    m = A @ np.concatenate([[spectrum.E_inf], spectrum.G])
+    return (m[: x.size], m[x.size:]) if frequency else (m, None)
+
+
+def plot_master_curve(master, spectrum=None, path=None):
+    """The master curve at T_ref, with a fitted Prony spectrum's moduli as lines.
+
+    Parameters
+    ----------
+    master : MasterCurve
+    spectrum : PronySpectrum, optional
+        From :func:`vhfit.spectrum.prony_spectrum`.
+    path : path-like, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax, freq = _dma_figure(path, master, (6.0, 4.4))
+    if freq:
+        ax.plot(master.x, master.storage, "o", ms=3, mfc="none", color="C0", label="E' data")
+        ax.plot(master.x, master.loss, "s", ms=3, mfc="none", color="C3", label="E'' data")
+    else:
+        ax.plot(master.x, master.modulus, "o", ms=3, mfc="none", color="C0", label="E(t) data")
+    if spectrum is not None:
+        fine = np.logspace(np.log10(master.x.min()), np.log10(master.x.max()), 400)
+        m1, m2 = _spectrum_moduli(spectrum, fine, freq)
+        ax.plot(fine, m1, "-", color="C0", label=f"Prony, N = {spectrum.n_prony}")
+        if m2 is not None:
+            ax.plot(fine, m2, "-", color="C3")
+    _moduli_axes(ax, freq, True)
+    ax.legend(fontsize=8)
+    ax.set_title(f"master curve at T_ref = {master.T_ref:g}", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_shift_factors(master, path=None, *, law=None):
+    """log10 a_T of each temperature with the fitted (or given) law as a line.
+
+    Parameters
+    ----------
+    master : MasterCurve
+    path : path-like, optional
+    law : WLF, Arrhenius or PolynomialShift, optional
+        Default the master curve's own ``law``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    law = law if law is not None else master.law
+    fig, axes = _figure(path, 1, 1, figsize=(5.5, 4.0), layout="constrained")
+    ax = axes[0, 0]
+    T = np.asarray(master.temperatures)
+    ax.plot(T, master.log_aT, "o", color="k", mfc="none", label="from the sweeps")
+    if law is not None:
+        fine = np.linspace(T.min(), T.max(), 200)
+        consts = ", ".join(f"{k} = {v:.4g}" for k, v in law.constants().items())
+        ax.plot(fine, law.log_aT(fine), "-", color="C1", label=f"{law.name}: {consts}")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("temperature")
+    ax.set_ylabel("log10 a_T")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title("shift factors", fontsize=10)
+    return _finish(fig, path)
+
+
+def plot_spectrum_residuals(master, spectrum, path=None):
+    """Relative residuals (model − data)/data of a Prony spectrum on the master curve.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax, freq = _dma_figure(path, master, (6.0, 3.6))
+    m1, m2 = _spectrum_moduli(spectrum, master.x, freq)
+    first = master.storage if freq else master.modulus
+    ax.semilogx(master.x, (m1 - first) / first, "o", ms=3, color="C0",
+                label="E'" if freq else "E(t)")
+    if freq:
+        ax.semilogx(master.x, (m2 - master.loss) / master.loss, "s", ms=3, color="C3",
+                    label="E''")
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    ax.set_xlabel("reduced frequency f a_T (Hz)" if freq else "reduced time t / a_T (s)")
+    ax.set_ylabel("relative residual")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"residuals: RMS {spectrum.error:.3g}, N = {spectrum.n_prony}", fontsize=10)
     return _finish(fig, path)

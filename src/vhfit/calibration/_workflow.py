@@ -18,6 +18,7 @@ from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.model import ViscoHyperelastic
+from vhfit.tts import reduce_to_reference
 
 __all__ = ["calibrate"]
 
@@ -50,7 +51,7 @@ def _as_curves(curves) -> list:
             )
     if not out:
         raise ValueError("calibrate needs at least one curve")
-    return out
+    return reduce_to_reference(out)[0]  # tests at several temperatures: all to T_ref
 
 
 

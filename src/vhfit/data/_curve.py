@@ -511,6 +511,16 @@ class Curve(_CurveAttributes):
             attrs["_weight"] = w
         return self._derive(**attrs)
 
+    def shifted(self, a_T: float) -> Curve:
+        """The test at the reference temperature: history in reduced time t/a_T (rate × a_T)."""
+        a = float(a_T)
+        if not (np.isfinite(a) and a > 0):
+            raise DataError(f"{self._where()}: a_T = {a_T!r}: give a finite shift factor > 0")
+        if self._equilibrium:  # fully relaxed: no time to shift
+            return self
+        t = None if self._time is None else _frozen(self._time / a)
+        return self._derive(_rate=self._rate * a, _time=t)
+
     def __repr__(self) -> str:
         if self._equilibrium:
             rate = "equilibrium"

@@ -29,6 +29,7 @@ from vhfit.export._common import SUPPORT, Material, generator, resolve
 from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
 from vhfit.export.ansys import from_ansys, to_ansys
 from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
+from vhfit.export.shift import add_shift
 from vhfit.model import ViscoHyperelastic
 
 __all__ = [
@@ -182,7 +183,8 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
         Target format.
     **options
         Passed to the writer (``name``, ``density``, ``moduli`` for Abaqus,
-        ``poisson``, ``long_format`` for LS-DYNA, ...).
+        ``poisson``, ``long_format`` for LS-DYNA, ...); ``shift=`` a WLF law
+        (:class:`vhfit.tts.WLF`) adds the temperature shift (:mod:`vhfit.export.shift`).
 
     Returns
     -------
@@ -200,7 +202,10 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
     >>> "TB,PRONY,1,,1,SHEAR" in export({"model": m, "params": p}, to="ansys")
     True
     """
-    return _WRITERS[_target(to)](model, params, **options)
+    shift = options.pop("shift", None)
+    text = _WRITERS[_target(to)](model, params, **options)
+    return text if shift is None else add_shift(text, shift, _target(to),
+                                                mat=options.get("mat", 1))
 
 
 def parse(text: str, fmt: str | None = None) -> tuple[ViscoHyperelastic, dict]:
