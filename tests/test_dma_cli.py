@@ -79,3 +79,15 @@ def test_bad_moduli_files_exit_2_with_one_line(files, tmp_path, capsys, text, ne
     err = capsys.readouterr().err.strip()
     assert needle in err and len(err.splitlines()) == 1
     assert not out.exists()
+
+
+def test_fit_with_plots_draws_the_moduli_beside_the_stress(files, tmp_path, capsys):
+    """With matplotlib, a fit of moduli and stress draws fit.png (stress–strain curves
+    only) and moduli.png (the sweep), and says nothing failed."""
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "out"
+    assert cli.main(["fit", *map(str, files), "--prony", "2", "--seed", "0", "--out",
+                     str(out)]) == 0
+    printed = capsys.readouterr()
+    assert "plots failed" not in printed.out + printed.err
+    assert (out / "fit.png").stat().st_size > 0 and (out / "moduli.png").stat().st_size > 0

@@ -50,3 +50,40 @@ def test_the_four_dma_figures_are_drawn_and_saved(master, tmp_path):
     assert np.interp(20.0, x, y) == pytest.approx(0.0, abs=1e-3)
     res = figs["resid.png"].axes[0].lines[0].get_ydata()
     assert np.sqrt(np.mean(res**2)) <= spec.error * np.sqrt(2) + 1e-12
+
+
+def test_moduli_fit_draws_the_data_and_the_model_of_each_item(tmp_path):
+    """plot_moduli_fit: the sweep's E′ and E″ and the relaxation test's E(t) appear as
+    the data given, and the model lines are the Maxwell moduli of the fitted constants
+    (written here from the complex modulus, not from vhfit); stress–strain curves are
+    left to plot_fit."""
+    import vhfit  # noqa: PLC0415
+
+    params = dict(C10=0.2, C01=0.05, G1=3.0, tau1=1e-2, G2=1.0, tau2=1.0)
+    E_inf, G, tau = 1.5, np.array([3.0, 1.0]), np.array([1e-2, 1.0])
+    f = np.logspace(-2, 2, 9)
+    Es = E_inf + (G * (2j * np.pi * f[:, None] * tau) / (1 + 2j * np.pi * f[:, None] * tau)).sum(1)
+    t = np.logspace(-3, 1, 7)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=Es.real, loss=Es.imag, name="dma")
+    relax = vhfit.Relaxation(time=t, modulus=E_inf + (G * np.exp(-t[:, None] / tau)).sum(1))
+
+    class Cal:  # what plot_moduli_fit reads of a Calibration
+        model = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+
+        def fitted_curves(self, items):
+            return [c.fitted_curve(self.model, params) for c in items]
+
+    assert plot.is_moduli(sweep) and plot.is_moduli(relax)
+    curve = vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0)
+    assert not plot.is_moduli(curve)
+    fig = plot.plot_moduli_fit(Cal(), [sweep, curve, relax], tmp_path / "m.png")
+    assert (tmp_path / "m.png").stat().st_size > 0
+    lines = [ln for ax in fig.axes for ln in ax.get_lines() if len(ln.get_xdata())]
+    storage = next(ln for ln in lines if ln.get_label() == "dma: E'")
+    np.testing.assert_allclose(storage.get_ydata(), Es.real, rtol=1e-15)
+    fine = [ln for ln in lines if ln.get_linestyle() == "-" and len(ln.get_xdata()) == 200]
+    x = fine[0].get_xdata()
+    ref = E_inf + (G * (2j * np.pi * x[:, None] * tau) / (1 + 2j * np.pi * x[:, None] * tau)).sum(1)
+    np.testing.assert_allclose(fine[0].get_ydata(), ref.real, rtol=1e-12)
+    with pytest.raises(ValueError, match="no frequency sweeps"):
+        plot.plot_moduli_fit(Cal(), [])

@@ -31,6 +31,8 @@ __all__ = [
     "have_matplotlib",
     "group_by_magnitude",
     "plot_fit",
+    "plot_moduli_fit",
+    "is_moduli",
     "plot_history",
     "plot_order_scan",
     "plot_sweeps",
@@ -158,7 +160,10 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
     -------
     matplotlib.figure.Figure
     """
-    curves = list(curves)
+    curves = [c for c in curves if not is_moduli(c)]
+    if not curves:
+        raise ValueError("no stress-strain curves to plot: draw frequency sweeps and "
+                         "relaxation tests with plot_moduli_fit")
     fits = cal.fitted_curves(curves)
     peaks = [
         max(np.max(np.abs(_data_points(c)[1])), np.max(np.abs(f["fine_model"])))
@@ -197,6 +202,57 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
         if getattr(cal, "rmsape", None) is not None:
             title += f": RMSAPE {cal.rmsape:.3g} %"
     fig.suptitle(title, fontsize=10)
+    return _finish(fig, path)
+
+
+def is_moduli(item) -> bool:
+    """Whether ``item`` is a frequency sweep or a relaxation test (moduli, not stress)."""
+    return bool(getattr(getattr(item, "history", None), "is_linear", False))
+
+
+def plot_moduli_fit(cal, items: Sequence, path=None):
+    """Frequency sweeps and relaxation tests against the calibrated model, log–log.
+
+    Storage (circles) and loss (squares) moduli over frequency on one panel, relaxation
+    moduli over time on another; markers are data, lines the model (E-type moduli).
+
+    Parameters
+    ----------
+    cal : Calibration
+    items : sequence
+        The data it was fitted to; stress–strain curves among them are skipped.
+    path : path-like, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    items = [c for c in items if is_moduli(c)]
+    if not items:
+        raise ValueError("no frequency sweeps or relaxation tests to plot")
+    fits = cal.fitted_curves(items)
+    sweeps = [i for i, f in enumerate(fits) if "storage" in f]
+    relax = [i for i, f in enumerate(fits) if "storage" not in f]
+    panels = [p for p in (sweeps, relax) if p]
+    fig, axes = _figure(path, 1, len(panels), figsize=(5.4 * len(panels), 4.2),
+                        layout="constrained")
+    colours = _colours(len(items))
+    for ax, panel in zip(axes[0], panels):
+        for i in panel:
+            f, c, lab = fits[i], colours[i], _label(items[i], i)
+            if "storage" in f:
+                ax.plot(f["frequency"], f["storage"], "o", ms=3, mfc="none", color=c,
+                        label=f"{lab}: E'")
+                ax.plot(f["frequency"], f["loss"], "s", ms=3, mfc="none", color=c,
+                        label=f"{lab}: E''")
+                ax.plot(f["fine_frequency"], f["fine_storage"], "-", lw=1.2, color=c)
+                ax.plot(f["fine_frequency"], f["fine_loss"], "--", lw=1.2, color=c)
+            else:
+                ax.plot(f["time"], f["modulus"], "o", ms=3, mfc="none", color=c, label=lab)
+                ax.plot(f["fine_time"], f["fine_model"], "-", lw=1.2, color=c)
+        _moduli_axes(ax, "storage" in fits[panel[0]], False)
+        ax.legend(fontsize=7, loc="best")
+    fig.suptitle("markers: data, lines: model", fontsize=10)
     return _finish(fig, path)
 
 

@@ -396,11 +396,15 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
         return {}, f"plots skipped: {plot.INSTALL_HINT}"
     plots: dict[str, str] = {}
     try:
-        plot.plot_fit(cal, curves, out / "fit.png",
-                      title=None if not demo else
-                      f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
-                      f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
-        plots["fit"] = "fit.png"
+        if not all(plot.is_moduli(c) for c in curves):
+            plot.plot_fit(cal, curves, out / "fit.png",
+                          title=None if not demo else
+                          f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
+                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
+            plots["fit"] = "fit.png"
+        if any(plot.is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
+            plot.plot_moduli_fit(cal, curves, out / "moduli.png")
+            plots["moduli"] = "moduli.png"
         if cal.history and cal.history.get("nit"):
             plot.plot_history(cal, out / "history.png")
             plots["history"] = "history.png"
