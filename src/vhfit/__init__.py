@@ -9,7 +9,7 @@ The public API::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import export, formulations, hyperelastic, viscoelastic
+from vhfit import export, formulations, hyperelastic, spectrum, tts, viscoelastic
 from vhfit._version import __version__
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
@@ -50,6 +50,8 @@ __all__ = [
     "per_curve_rmsape",
     "read_csv",
     "rmsape",
+    "spectrum",
+    "tts",
     "viscoelastic",
     "__version__",
 ]
