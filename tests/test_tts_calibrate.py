@@ -155,3 +155,23 @@ def test_bad_shift_arguments_are_one_line_errors(kw, needle):
         vhfit.calibrate(ramps(), n_prony=1, **kw)
     msg = str(exc.value)
     assert needle in msg and "\n" not in msg
+
+
+def test_read_csv_gives_one_item_per_temperature_level(tmp_path):
+    """Readings of one level drift by hundredths of a degree: one sweep per level, at the
+    level's mean temperature; a set column decides alone."""
+    T = [20.02, 19.97, 20.01, 39.96, 40.03, 40.01, 20.0]
+    body = "\n".join(f"{f},{10 + k},{1 + k},{t}" for k, (f, t) in
+                     enumerate(zip([0.1, 1, 10, 0.1, 1, 10, 100], T)))
+    path = tmp_path / "drift.csv"
+    path.write_text("frequency_Hz,storage_MPa,loss_MPa,temperature_C\n" + body + "\n")
+    a, b = vhfit.read_csv(path)
+    assert a.temperature == pytest.approx((20.02 + 19.97 + 20.01 + 20.0) / 4, rel=1e-14)
+    assert b.temperature == pytest.approx((39.96 + 40.03 + 40.01) / 3, rel=1e-14)
+    assert a.frequency.tolist() == [0.1, 1.0, 10.0, 100.0] and b.storage.tolist() == [13, 14, 15]
+    sets = tmp_path / "sets.csv"  # the last row is a second sweep at 20, its own set
+    sets.write_text("frequency_Hz,storage_MPa,loss_MPa,temperature_C,set_index\n" + "\n".join(
+        f"{line},{s}" for line, s in zip(body.splitlines(), [0, 0, 0, 1, 1, 1, 2])) + "\n")
+    items = vhfit.read_csv(sets)
+    assert [x.frequency.size for x in items] == [3, 3, 1]
+    assert items[2].temperature == 20.0
