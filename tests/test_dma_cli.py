@@ -155,6 +155,11 @@ def test_fit_with_a_given_wlf_shift_writes_it_into_the_cards(tts_files, tmp_path
     assert "no time-temperature shift written" in (out / "lsdyna.k").read_text()
     summary = (out / "summary.txt").read_text()
     assert "time-temperature shift: WLF C1 = 8.86, C2 = 101.6 at T_ref = 20 (given)" in summary
+    # vhfit check re-reads the files at their temperatures and shifts them as the fit did
+    capsys.readouterr()
+    assert cli.main(["check", str(out / "results.json"), "--json"]) == 0
+    check = json.loads(capsys.readouterr().out)["card_check"]
+    assert check["abaqus"]["rmsape"] < 1e-6 and check["ansys"]["rmsape"] < 1e-6
 
 
 def test_fit_builds_the_shift_from_the_sweeps_and_export_keeps_it(tts_files, tmp_path,
