@@ -142,6 +142,21 @@ def test_stress_strain_at_one_temperature_has_no_shift():
     assert "time-temperature" not in cal.summary()
 
 
+def test_a_test_without_temperature_beside_built_shifts_needs_t_ref():
+    plain = vhfit.Curve(strain=[0.0, -0.1], stress=[0.0, -1.0], strain_rate=-1.0, name="p")
+    with pytest.raises(ValueError, match="^p: no temperature, beside tests at 5 temperatures"):
+        tts.shift_to_reference([*sweeps(), *ramps(), plain])
+    ref = tts.shift_to_reference([*sweeps(), *ramps(), plain], T_ref=T_REF)
+    assert ref.items[-1] is plain and ref.source == "overlap"
+
+
+def test_a_table_for_tests_without_temperatures_is_refused():
+    with pytest.raises(ValueError, match="^shift_factors: a table of log10 a_T, but no test "
+                       "has a temperature"):
+        tts.shift_to_reference([vhfit.Curve(strain=[0.0, -0.1], stress=[0.0, -1.0],
+                                            strain_rate=-1.0)], shift_factors={20.0: 0.0})
+
+
 @pytest.mark.parametrize("kw, needle", [
     (dict(shift_factors="wlf"), "shift_factors = 'wlf': give a law"),
     (dict(shift_factors=([0.0, 20.0], [1.0])), "2 temperatures and 1 log10 a_T"),

@@ -230,13 +230,14 @@ class Calibration:
                "overlap": "WLF fitted to the shift factors built from the sweeps' overlap"}
         law = self.shift
         if law is None:
-            head = f"time-temperature shift: table at T_ref = {self.T_ref:g}, no law"
+            head = f"time-temperature shift: given table (T_ref {self.T_ref}), no law fitted"
         else:
             consts = ", ".join(f"{k} = {v:.6g}" for k, v in law.constants().items()
                                if k != "T_ref")
             head = (f"time-temperature shift: {law.name.upper()} {consts} at T_ref = "
                     f"{law.T_ref:g} ({how.get(self.shift_source, self.shift_source)})")
-        table = "  ".join(f"{T:g}: {L + 0.0:.4g}" for T, L in sorted(self.shift_table.items()))
+        table = "  ".join(f"{T:g}: {L + 0.0:.4g}" for T, L in sorted(self.shift_table.items())
+                          ) or "none (no test has a temperature)"
         return [head, f"  log10 a_T by temperature: {table}",
                 "  constants above are at T_ref; a test at T ran with its times / a_T"]
 

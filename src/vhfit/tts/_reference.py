@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit.data import DataError
 from vhfit.tts._laws import fit_shift_law
 from vhfit.tts._master import MasterCurve, _temperature_of, reduce_to_reference
 
@@ -120,6 +121,7 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     known = sorted({T for T in temps if T is not None})
     source = "none"
     law = None
+    given_T = T_ref  # a test without temperature is at T_ref only when T_ref is said
     if shift_factors is None and known and known[-1] - known[0] > TOLERANCE:
         built = _from_overlap(items, temps, T_ref)
         if built is not None:
@@ -130,12 +132,17 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
         T_ref = float(law.T_ref)
     elif shift_factors is not None:
         source = "table"
-    out, _ = reduce_to_reference(items, shift_factors=shift_factors, T_ref=T_ref,
+        if not known:
+            raise DataError("shift_factors: a table of log10 a_T, but no test has a "
+                            "temperature: give each test its temperature (temperature=, "
+                            "metadata={'temperature': T}) or drop shift_factors")
+    out, _ = reduce_to_reference(items, shift_factors=shift_factors,
+                                 T_ref=T_ref if source == "law" else given_T,
                                  tolerance=TOLERANCE)
     if source == "none":  # one temperature (or none): nothing shifted
         return ReferenceShift(out, None, T_ref)
     table = _applied(known, shift_factors, law)
-    if source == "table":
+    if source == "table" and table:
         T_ref = T_ref if T_ref is not None else min(table, key=lambda T: abs(table[T]))
         if len(table) >= 2:
             law = fit_shift_law(list(table), list(table.values()), "wlf", T_ref=T_ref)
