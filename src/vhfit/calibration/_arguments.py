@@ -96,10 +96,44 @@ def _pairs(a: dict) -> None:
         _fail("target", t, "give a number (the objective value that ends the search)")
 
 
+def _shift(a: dict) -> None:
+    """``shift_factors`` (a law, a dict {T: log10 a_T} or a pair) and ``T_ref``."""
+    T_ref, sf = a["T_ref"], a["shift_factors"]
+    if T_ref is not None and not _is_real(T_ref):
+        _fail("T_ref", T_ref, "give the reference temperature as a finite number, or None")
+    if sf is None:
+        return
+    fix = ("give a law (vhfit.tts.WLF(C1, C2, T_ref), ...), a dict {temperature: log10 a_T} "
+           "or a pair (temperatures, log10 a_T)")
+    if hasattr(sf, "log_aT"):
+        law_T = getattr(sf, "T_ref", None)
+        if T_ref is not None and law_T is not None and abs(float(law_T) - T_ref) > 1e-12:
+            _fail("T_ref", T_ref, f"the shift law is referred to T_ref = {law_T!r}: drop "
+                  "T_ref or give a law at it")
+        return
+    if isinstance(sf, dict):
+        pairs = list(sf.items())
+    elif isinstance(sf, (tuple, list)) and len(sf) == 2:
+        try:
+            tt, ll = (list(map(float, v)) for v in sf)
+        except (TypeError, ValueError):
+            _fail("shift_factors", sf, fix)
+        if len(tt) != len(ll):
+            _fail("shift_factors", sf, f"{len(tt)} temperatures and {len(ll)} log10 a_T: "
+                  "give one log10 a_T per temperature")
+        pairs = list(zip(tt, ll))
+    else:
+        _fail("shift_factors", sf, fix)
+    if not pairs or not all(_is_real(T) and _is_real(L) for T, L in pairs):
+        _fail("shift_factors", sf, "give at least one temperature, each with a finite "
+              "log10 a_T")
+
+
 def check_arguments(a: dict) -> None:
     """Raise a one-line ValueError naming the first bad argument of ``calibrate`` and the fix."""
     _choices(a)
     _pairs(a)
+    _shift(a)
     _int(a, "max_prony", 1)
     _int(a, "popsize", 5, optional=True)
     _int(a, "maxiter", 1, optional=True)

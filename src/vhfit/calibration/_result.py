@@ -14,6 +14,7 @@ from vhfit._io import atomic_write, dumps
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
+from vhfit.tts import WLF, Arrhenius, PolynomialShift
 
 __all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT"]
 
@@ -63,6 +64,27 @@ def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
     return np.full(points, np.nan), History.equilibrium(fine, deformation=h.deformation)
 
 
+def _shift_from(d) -> dict:
+    """The ``shift`` fields of a Calibration from the results file's ``shift`` entry."""
+    if not isinstance(d, dict):
+        return {}
+    c, name = d.get("constants") or {}, d.get("law")
+    if name == "wlf":
+        law = WLF(float(c["C1"]), float(c["C2"]), float(c["T_ref"]))
+    elif name == "arrhenius":
+        law = Arrhenius(float(c["E_a"]), float(c["T_ref"]),
+                        float(c.get("absolute_zero", -273.15)))
+    elif name == "polynomial":
+        coef = [float(c[f"c{k}"]) for k in range(1, len(c))]
+        law = PolynomialShift(tuple(coef), float(c["T_ref"]))
+    else:
+        law = None
+    table = dict(zip(map(float, d.get("temperatures", [])), map(float, d.get("log_aT", []))))
+    T_ref = d.get("T_ref")
+    return {"shift": law, "shift_table": table, "shift_source": d.get("source"),
+            "T_ref": None if T_ref is None else float(T_ref)}
+
+
 class CalibrationWarning(UserWarning):
     """Something about a calibration the user should know (floor active, unidentifiable τ…)."""
 
@@ -105,6 +127,16 @@ class Calibration:
         The warnings that change how the result may be used (a g∞ at its floor, Prony
         terms the data cannot identify): :meth:`summary` and the solver cards' comments
         put them first.
+    shift : WLF, Arrhenius, PolynomialShift or None
+        Time–temperature shift law of tests at several temperatures: the given law, or
+        the WLF law fitted to the shift factors used (docs/dma.md); None when every test
+        was at one temperature. The constants are those at ``T_ref``.
+    shift_table : dict
+        Temperature -> log10 a_T applied to the tests at it.
+    shift_source : str or None
+        "law" (given), "table" (given factors), "overlap" (built from the sweeps).
+    T_ref : float or None
+        Reference temperature of the constants (with a shift).
     """
 
     model: ViscoHyperelastic
@@ -126,6 +158,10 @@ class Calibration:
     headlines: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
     curve_names: list = field(default_factory=list)
+    shift: object = None
+    shift_table: dict = field(default_factory=dict)
+    shift_source: str | None = None
+    T_ref: float | None = None
 
     @property
     def x(self) -> np.ndarray:
@@ -161,6 +197,8 @@ class Calibration:
             ci = self.confidence.get(name)
             cis = f"[{ci[0]:.4g}, {ci[1]:.4g}]" if ci else ""
             lines.append(f"{name:<10}{v:>14.6g}  {units[name]:<5}{cis:>30}")
+        if self.shift_source is not None:
+            lines += ["", *self._shift_lines()]
         if self.n_prony:
             lines.append("")
             lines.append("g_i = " + ", ".join(f"{g:.6g}" for g in self.g)
@@ -186,8 +224,43 @@ class Calibration:
                 lines.append("warning: " + w)
         return "\n".join(lines)
 
+    def _shift_lines(self) -> list[str]:
+        """The time–temperature shift in a few lines of the summary."""
+        how = {"law": "given", "table": "WLF fitted to the given shift factors",
+               "overlap": "WLF fitted to the shift factors built from the sweeps' overlap"}
+        law = self.shift
+        if law is None:
+            head = f"time-temperature shift: given table (T_ref {self.T_ref}), no law fitted"
+        else:
+            consts = ", ".join(f"{k} = {v:.6g}" for k, v in law.constants().items()
+                               if k != "T_ref")
+            head = (f"time-temperature shift: {law.name.upper()} {consts} at T_ref = "
+                    f"{law.T_ref:g} ({how.get(self.shift_source, self.shift_source)})")
+        table = "  ".join(f"{T:g}: {L + 0.0:.4g}" for T, L in sorted(self.shift_table.items())
+                          ) or "none (no test has a temperature)"
+        return [head, f"  log10 a_T by temperature: {table}",
+                "  constants above are at T_ref; a test at T ran with its times / a_T"]
+
+    def _shift_dict(self) -> dict:
+        law = self.shift
+        return {
+            "law": None if law is None else law.name,
+            "constants": None if law is None else law.constants(),
+            "T_ref": None if self.T_ref is None else float(self.T_ref),
+            "source": self.shift_source,
+            "temperatures": [float(T) for T in self.shift_table],
+            "log_aT": [float(v) for v in self.shift_table.values()],
+        }
+
     def to_dict(self) -> dict:
-        """JSON-ready dict with everything needed to reproduce and export the result."""
+        """JSON-ready dict with everything needed to reproduce and export the result
+        (a ``shift`` entry only for tests at several temperatures)."""
+        out = self._base_dict()
+        if self.shift_source is not None:
+            out["shift"] = self._shift_dict()
+        return out
+
+    def _base_dict(self) -> dict:
         return {
             "hyperelastic": self.model.hyperelastic.name,
             "formulation": self.model.formulation,
@@ -277,6 +350,7 @@ class Calibration:
             warnings=list(res.get("warnings", [])),
             headlines=list(res.get("headlines", [])), options=dict(res.get("options", {})),
             curve_names=list(res.get("curve_names", [])),
+            **_shift_from(res.get("shift")),
         )
 
     def fitted_curves(self, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:

@@ -18,7 +18,7 @@ from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.model import ViscoHyperelastic
-from vhfit.tts import reduce_to_reference
+from vhfit.tts import shift_to_reference
 
 __all__ = ["calibrate"]
 
@@ -51,8 +51,7 @@ def _as_curves(curves) -> list:
             )
     if not out:
         raise ValueError("calibrate needs at least one curve")
-    return reduce_to_reference(out)[0]  # tests at several temperatures: all to T_ref
-
+    return out
 
 
 def calibrate(
@@ -89,6 +88,8 @@ def calibrate(
     resume: bool = False,
     check_rates: bool = True,
     formulation: str = "hereditary",
+    shift_factors=None,
+    T_ref: float | None = None,
 ) -> Calibration:
     """Calibrate a hyperelastic law + Prony series to curves at several strain rates.
 
@@ -181,6 +182,16 @@ def calibrate(
         (default; Abaqus, Ansys) or "lsdyna" (LS-DYNA's MAT_077_H / MAT_077_O), so that
         the constants reproduce the data in that solver's law (docs/theory.md §14). The
         result's ``model.formulation`` names it.
+    shift_factors : law, dict or (temperatures, log10 a_T), optional
+        Time–temperature shift of tests at several temperatures (``temperature`` of
+        sweeps and relaxation tests, ``metadata["temperature"]`` of curves): a law
+        (:class:`vhfit.tts.WLF`, ...), a dict {T: log10 a_T} or a pair of arrays. Without
+        it, tests at several temperatures are shifted with the factors built from the
+        sweeps' overlap (docs/dma.md). The result's ``shift`` is the law (given, or WLF
+        fitted to the factors used) and ``shift_table`` the log10 a_T per temperature.
+    T_ref : float, optional
+        Reference temperature of the fitted constants (default: the law's, or the middle
+        sweep temperature).
 
     Returns
     -------
@@ -201,6 +212,8 @@ def calibrate(
     t0 = time.perf_counter()
     curves = _as_curves(curves)
     check_arguments(locals())
+    ref = shift_to_reference(curves, shift_factors=shift_factors, T_ref=T_ref)
+    curves = ref.items  # tests at several temperatures: all at T_ref
     common = dict(
         tau_strategy=tau_strategy, bounds=bounds, objective=objective, method=method, seed=seed,
         workers=workers,
@@ -237,6 +250,14 @@ def calibrate(
         warnings.warn(msg, CalibrationWarning, stacklevel=2)
         cal.warnings.insert(0, msg)
         cal.headlines.insert(0, msg)
+    return _with_shift(cal, ref)
+
+
+def _with_shift(cal: Calibration, ref) -> Calibration:
+    """The result with the time–temperature shift its tests were put at T_ref with."""
+    if ref.source != "none":
+        cal.shift, cal.shift_table = ref.law, dict(ref.log_aT)
+        cal.shift_source, cal.T_ref = ref.source, ref.T_ref
     return cal
 
 

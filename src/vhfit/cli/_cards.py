@@ -24,7 +24,7 @@ from vhfit.export.check import (
 )
 
 __all__ = ["SOLVERS", "CARD_FILES", "TEST_DATA_FILE", "Cards", "plan_fits", "check_targets",
-           "card_options", "write_cards", "check_table"]
+           "card_options", "card_shift", "write_cards", "check_table"]
 
 SOLVERS = ("abaqus", "lsdyna", "ansys")
 CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
@@ -61,6 +61,22 @@ def check_targets(targets, law: str) -> None:
             raise UsageError(
                 f"--for {s}: {_NAMES[s]} has no card for the hyperelastic law {law!r}; {fix}, "
                 f"or choose a --model among {', '.join(supported_laws(s))}")
+
+
+def card_shift(cal) -> tuple[object, str | None]:
+    """The fit's time–temperature shift for the cards: (WLF law or None, note or None).
+
+    A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's); another law
+    cannot (the cards take WLF only), which the note says.
+    """
+    law = getattr(cal, "shift", None)
+    if law is None:
+        return None, None
+    if getattr(law, "name", None) == "wlf":
+        return law, None
+    return None, (f"no time-temperature shift in the card: the fit's {law.name} law has no "
+                  "card form (the cards take WLF); fit with --shift wlf:C1,C2, or without "
+                  "--shift to have WLF fitted to the sweeps' shift factors")
 
 
 def card_options(args) -> dict:
@@ -110,9 +126,14 @@ def _texts(fits, plan, args) -> tuple[dict, Cards]:
         jobs = [(s, {}) for s in solvers]
         if "abaqus" in solvers and getattr(args, "abaqus_explicit", False):
             jobs.append(("abaqus_explicit", {"explicit": True}))
+        shift, note = card_shift(cal)
         for solver, extra in jobs:
             kw = dict(notes=list(cal.headlines), **opts, **extra,
                       comments=_source(form, solvers, len(plan) > 1, solver))
+            if shift is not None:
+                kw["shift"] = shift
+            if note:
+                res.notes.setdefault(solver, []).append(note)
             try:
                 with warnings.catch_warnings(record=True) as ws:
                     warnings.simplefilter("always")

@@ -7,9 +7,10 @@ import json
 import os
 from pathlib import Path
 
-from vhfit import datasets
+from vhfit import datasets, tts
 from vhfit.cli._cards import CARD_FILES, check_table
 from vhfit.cli._common import EXIT_OK, UsageError, count_prony, load_results, one_line
+from vhfit.cli._export import _wlf
 from vhfit.cli._fit import read_curves
 from vhfit.cli._plugins import resolve_model_name
 from vhfit.export import parse
@@ -58,7 +59,23 @@ def _curves(args, res: dict) -> list:
     if not data:
         raise UsageError(f"{args.results}: no input files recorded; give the data with --data")
     curves, _ = read_curves(data, _data_args(args, res.get("cli_options") or {}))
-    return curves
+    return _at_reference(curves, res.get("shift"), args.results)
+
+
+def _at_reference(curves, shift, path) -> list:
+    """Tests at several temperatures shifted to T_ref as the fit shifted them: its table of
+    log10 a_T (the fit's own temperatures), else its law."""
+    if not isinstance(shift, dict):
+        return curves
+    table = dict(zip(shift.get("temperatures", []), shift.get("log_aT", [])))
+    law = _wlf(shift, path) if shift.get("law") == "wlf" else None
+    try:
+        return tts.shift_to_reference(curves, shift_factors=table or law,
+                                      T_ref=shift.get("T_ref")).items
+    except ValueError:
+        if law is None:
+            raise
+        return tts.shift_to_reference(curves, shift_factors=law).items
 
 
 def _fits(res: dict, path: str) -> dict:

@@ -7,6 +7,7 @@ from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, load_resul
 from vhfit.cli._plugins import resolve_model_name
 from vhfit.export import export
 from vhfit.model import ViscoHyperelastic
+from vhfit.tts import WLF
 
 __all__ = ["cmd_export"]
 
@@ -35,6 +36,9 @@ def cmd_export(args) -> int:
                 raise UsageError(f"--explicit is an Abaqus variant: drop it, or give --to abaqus "
                                  f"(not {args.to})")
             kw["explicit"] = True
+    shift = _wlf(res.get("shift"), args.results)
+    if shift is not None and args.to != "json":
+        kw["shift"] = shift
     try:
         text = export(model, params, to=args.to, **kw)
     except ValueError as exc:
@@ -43,3 +47,16 @@ def cmd_export(args) -> int:
         text += "\n"
     emit(text, args.out, what=f"{args.to} card")
     return EXIT_OK
+
+
+def _wlf(entry, path):
+    """The WLF shift of a results file's ``shift`` entry (None without one, or for another
+    law: the cards take WLF only)."""
+    if not isinstance(entry, dict) or entry.get("law") != "wlf":
+        return None
+    c = entry.get("constants") or {}
+    try:
+        return WLF(C1=float(c["C1"]), C2=float(c["C2"]), T_ref=float(c["T_ref"]))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise UsageError(f"{path}: shift entry {c!r} is not a WLF law ({one_line(exc)}); "
+                         "give the results.json written by vhfit fit") from None

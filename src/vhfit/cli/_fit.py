@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from vhfit import datasets, plot
+from vhfit import datasets, plot, tts
 from vhfit._io import atomic_write
 from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
 from vhfit.cli import _moduli
@@ -64,6 +64,7 @@ def cmd_fit(args) -> int:
         raise UsageError("--force and --resume contradict each other: give one")
     _check_card_flags(args)
     curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
+    _check_shift(curves, args)  # temperatures without shift information: nothing written
     out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
     return run_fit(curves, inputs, args, out, label=None, command=args._argv)
 
@@ -108,6 +109,36 @@ def _check_card_flags(args) -> None:
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
         check_targets(args.targets, resolve_model_name(args.model))
+
+
+def _shift_law(args):
+    """The law of ``--shift`` at ``--tref`` (None without ``--shift``)."""
+    given = getattr(args, "shift", None)
+    if given is None:
+        return None
+    name, vals = given
+    text = f"{name}:{','.join(f'{v:g}' for v in vals)}"
+    if args.tref is None:
+        raise UsageError(f"--shift {text}: give --tref T, the reference temperature of the law")
+    try:
+        if name == "wlf":
+            return tts.WLF(C1=vals[0], C2=vals[1], T_ref=args.tref)
+        return tts.Arrhenius(vals[0], args.tref, *vals[1:])
+    except ValueError as exc:
+        raise UsageError(f"--shift {text}: {one_line(exc)}") from None
+
+
+def _check_shift(curves, args) -> None:
+    """Tests at several temperatures: their shift to --tref, checked before anything is
+    written (the tests at the reference are kept in ``args._at_ref`` for the outputs)."""
+    law = _shift_law(args)
+    try:
+        ref = tts.shift_to_reference(curves, shift_factors=law, T_ref=args.tref)
+    except ValueError as exc:
+        raise UsageError(f"{one_line(exc)} (command line: --shift wlf:C1,C2 --tref T)"
+                         ) from None
+    args._shift_law = law
+    args._at_ref = ref.items if ref.source != "none" else None
 
 
 def _demo_check(out: Path) -> None:
@@ -279,6 +310,10 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
         kw["max_prony"] = args.max_prony
     if formulation != "hereditary":  # the default, left out: the call is today's
         kw["formulation"] = formulation
+    if getattr(args, "_shift_law", None) is not None:
+        kw["shift_factors"] = args._shift_law
+    if getattr(args, "tref", None) is not None:
+        kw["T_ref"] = args.tref
     try:
         cal = calibrate(curves, **kw)
     except KeyboardInterrupt:
@@ -327,6 +362,7 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
     first fit of ``plan`` is the results' own, the others are listed under ``fits``."""
     cal = next(iter(fits.values()))
+    raw, curves = curves, getattr(args, "_at_ref", None) or curves  # tests at T_ref
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
     head = [f"data: {label}"] if label else []
@@ -372,7 +408,7 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     }
     if len(plan) > 1:
         extra["fits"] = {f: {"solvers": plan[f], **_fit_record(c)} for f, c in fits.items()}
-    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=curves,
+    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
              extra=extra)
     written[RESULTS] = "results"
     written["_summary"] = text
@@ -418,8 +454,9 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
 
 def _jsonable(d: dict) -> dict:
     out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
-    if out.get("deformation", "") is None:  # not given: the files said (as before the flag)
-        del out["deformation"]
+    for later in ("deformation", "formulation", "tref", "shift"):
+        if out.get(later, "") is None:  # not given: the record is as before the flag
+            del out[later]
     return out
 
 

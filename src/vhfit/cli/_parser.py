@@ -115,6 +115,24 @@ def _float(what: str) -> Callable[[str], float]:
     return conv
 
 
+def _shift(text: str) -> tuple[str, tuple[float, ...]]:
+    """``--shift wlf:C1,C2`` or ``arrhenius:E_A[,T0]`` as (law, constants)."""
+    law, sep, rest = text.partition(":")
+    law = law.strip().lower()
+    sizes = {"wlf": (2,), "arrhenius": (1, 2)}
+    form = ("give wlf:C1,C2 or arrhenius:E_A[,T0] (E_A in J/mol, T0 the absolute zero, "
+            "-273.15 for C)")
+    if not sep or law not in sizes:
+        raise argparse.ArgumentTypeError(f"--shift {text!r}: {form}")
+    try:
+        vals = tuple(float(v) for v in rest.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--shift {text!r}: not numbers; {form}") from None
+    if len(vals) not in sizes[law] or not all(math.isfinite(v) for v in vals):
+        raise argparse.ArgumentTypeError(f"--shift {text!r}: {form}")
+    return law, vals
+
+
 _SOLVER_ALIASES = {"ls-dyna": "lsdyna", "dyna": "lsdyna", "apdl": "ansys", "mapdl": "ansys"}
 
 
@@ -251,6 +269,14 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                    action="append",
                    help="compare only where LOW <= time (s) <= HIGH, e.g. :120 to leave out "
                         "a slack end of unloading; once for all files or once per file")
+    p.add_argument("--tref", type=_float("--tref"), metavar="T",
+                   help="reference temperature of the fitted constants, for tests at several "
+                        "temperatures (a 'temperature' column or '# temperature:' line; "
+                        "default: the shift law's, or the middle sweep temperature)")
+    p.add_argument("--shift", type=_shift, metavar="LAW:CONSTANTS",
+                   help="known time-temperature shift at --tref: wlf:C1,C2 or "
+                        "arrhenius:E_A[,T0] (default: built from the sweeps' overlap and "
+                        "fitted by WLF); a WLF shift goes into the Abaqus and Ansys cards")
     _add_fit_options(p, demo=False)
     p.set_defaults(func=cmd_fit)
 

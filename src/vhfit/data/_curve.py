@@ -512,14 +512,17 @@ class Curve(_CurveAttributes):
         return self._derive(**attrs)
 
     def shifted(self, a_T: float) -> Curve:
-        """The test at the reference temperature: history in reduced time t/a_T (rate × a_T)."""
+        """The test at the reference temperature: history in reduced time t/a_T (rate × a_T),
+        without ``metadata["temperature"]``."""
         a = float(a_T)
         if not (np.isfinite(a) and a > 0):
             raise DataError(f"{self._where()}: a_T = {a_T!r}: give a finite shift factor > 0")
+        # at the reference now: no temperature left to shift it by again
+        meta = {k: v for k, v in self._metadata.items() if k != "temperature"}
         if self._equilibrium:  # fully relaxed: no time to shift
-            return self
+            return self._derive(_metadata=meta)
         t = None if self._time is None else _frozen(self._time / a)
-        return self._derive(_rate=self._rate * a, _time=t)
+        return self._derive(_rate=self._rate * a, _time=t, _metadata=meta)
 
     def __repr__(self) -> str:
         if self._equilibrium:

@@ -2,10 +2,11 @@
 
 ``_moduli_plan`` reads a table's headers (``frequency_Hz``, ``omega [rad/s]``,
 ``E' [MPa]``, ``loss_modulus_kPa``, ``|G*| (Pa)``, ``tan_delta``, ``time_s``,
-``E(t) [MPa]``, ``temperature_C``) and says whether the table holds moduli rather than a
-stress–strain curve; ``_moduli_items`` builds one :class:`FrequencySweep` or
-:class:`Relaxation` per temperature of the table (one item when there is no temperature
-column), with messages that name the file, line and column.
+``E(t) [MPa]``, ``temperature_C``, ``set_index``) and says whether the table holds moduli
+rather than a stress–strain curve; ``_moduli_items`` builds one :class:`FrequencySweep` or
+:class:`Relaxation` per temperature level of the table (the rows of one set, or readings
+within half a degree; one item when there is no temperature column), with messages that
+name the file, line and column.
 """
 
 from __future__ import annotations
@@ -27,7 +28,10 @@ from vhfit.data._table import _Table
 _HZ = {"hz": 1.0, "1/s": 1.0, "khz": 1e3, "cps": 1.0}
 _RAD = {"rad/s": 1.0, "rad/sec": 1.0, "rad/min": 1 / 60}
 _ROLES = ("frequency", "omega", "storage", "loss", "modulus", "tan_delta", "time",
-          "relaxation", "temperature")
+          "relaxation", "temperature", "set")
+#: Records of one temperature level: within this many degrees of the level's first.
+LEVEL_TOLERANCE = 0.5
+_SET_NAMES = ("set", "set_index", "set_id", "set_no", "set_number", "segment")
 _MODULUS_ROLES = ("storage", "loss", "modulus", "relaxation")
 
 
@@ -104,6 +108,8 @@ def _classify_header(j: int, header: str) -> _MCol | None:
     if not tokens:
         return None
     first = tokens[0]
+    if "_".join(tokens) in _SET_NAMES:
+        return _MCol(j, header, "set", "")
     if first == "t" and unit is None and len(tokens) == 2 and _is_temperature(tokens[1]):
         return _MCol(j, header, "temperature", tokens[1])
     if first in ("temperature", "temp", "t") and (first != "t" or _is_temperature(unit)):
@@ -190,7 +196,7 @@ def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
         "omega": (_RAD, "rad/s"),
         "time": (_TIME_UNITS, "s, ms, min or h"),
     }.get(col.role, (_STRESS_UNITS, "Pa, kPa, MPa or GPa"))
-    if col.role in ("tan_delta", "temperature"):
+    if col.role in ("tan_delta", "temperature", "set"):
         return 1.0
     f = table.get(nu if col.role != "frequency" or nu else "hz")
     if f is None:
@@ -220,8 +226,9 @@ def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
     base = name or meta.get("name") or stem
     temps = values.get("temperature")
     groups = ([(None, np.arange(table.n_rows))] if temps is None else
-              [(float(T), np.flatnonzero(temps == T)) for T in dict.fromkeys(temps.tolist())])
-    headers = {r: c.header for r, c in cols.items()}
+              _levels(temps, values.get("set")))
+    values.pop("set", None)
+    headers = {r: c.header for r, c in cols.items() if r != "set"}
     if "relaxation" in headers:
         headers["modulus"] = headers.pop("relaxation")
     out: list[FrequencySweep | Relaxation] = []
@@ -240,6 +247,27 @@ def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
         else:
             out.append(Relaxation(time=v["time"], modulus=v["relaxation"], **common))
     return out
+
+
+def _levels(temps: np.ndarray, sets: np.ndarray | None) -> list[tuple[float, np.ndarray]]:
+    """(mean temperature, rows) of each temperature level, in order of appearance.
+
+    A set column says which rows form one level; without one, a row joins the level
+    whose first temperature is within :data:`LEVEL_TOLERANCE` of its own (the readings
+    of one level drift by hundredths of a degree), else starts a new level.
+    """
+    keys: list[float] = []
+    rows: list[list[int]] = []
+    for i, T in enumerate(temps.tolist()):
+        key = float(sets[i]) if sets is not None else T
+        near = [k for k, v in enumerate(keys) if (v == key if sets is not None
+                                                   else abs(v - key) <= LEVEL_TOLERANCE)]
+        if near:
+            rows[near[-1]].append(i)
+        else:
+            keys.append(key)
+            rows.append([i])
+    return [(float(np.mean(temps[r])), np.asarray(r)) for r in rows]
 
 
 def _sweep_moduli(v: dict[str, np.ndarray]) -> dict[str, np.ndarray | None]:

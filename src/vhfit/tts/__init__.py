@@ -13,6 +13,7 @@ stress–strain test at T the reference model driven through the reduced time t/
     law = tts.WLF(C1=17.4, C2=51.6, T_ref=20.0)
     mc = tts.master_curve(sweeps, law="wlf")          # shift factors built and fitted
     curve_ref = tts.shift_curve(curve_at_60C, law.aT(60.0))
+    ref = tts.shift_to_reference(items)               # items at T_ref, ref.law, ref.log_aT
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from vhfit.tts._master import (
     reduce_to_reference,
     sweeps_from_columns,
 )
+from vhfit.tts._reference import ReferenceShift, shift_to_reference
 
 __all__ = [
     "GAS_CONSTANT",
@@ -49,6 +51,8 @@ __all__ = [
     "pair_shift",
     "reduce_to_reference",
     "sweeps_from_columns",
+    "ReferenceShift",
+    "shift_to_reference",
     "shift_curve",
 ]
 
