@@ -85,5 +85,9 @@ def test_moduli_fit_draws_the_data_and_the_model_of_each_item(tmp_path):
     x = fine[0].get_xdata()
     ref = E_inf + (G * (2j * np.pi * x[:, None] * tau) / (1 + 2j * np.pi * x[:, None] * tau)).sum(1)
     np.testing.assert_allclose(fine[0].get_ydata(), ref.real, rtol=1e-12)
+    assert fig.axes[0].get_xlabel() == "frequency (Hz)"
+    Cal.shift_table = {40.0: -2.0}  # a calibration that shifted tests to T_ref
+    fig = plot.plot_moduli_fit(Cal(), [sweep])
+    assert fig.axes[0].get_xlabel().startswith("reduced frequency")
     with pytest.raises(ValueError, match="no frequency sweeps"):
         plot.plot_moduli_fit(Cal(), [])

@@ -250,7 +250,8 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
             else:
                 ax.plot(f["time"], f["modulus"], "o", ms=3, mfc="none", color=c, label=lab)
                 ax.plot(f["fine_time"], f["fine_model"], "-", lw=1.2, color=c)
-        _moduli_axes(ax, "storage" in fits[panel[0]], False)
+        # items shifted to T_ref by the calibration sit at reduced frequency (time)
+        _moduli_axes(ax, "storage" in fits[panel[0]], bool(getattr(cal, "shift_table", None)))
         ax.legend(fontsize=7, loc="best")
     fig.suptitle("markers: data, lines: model", fontsize=10)
     return _finish(fig, path)
