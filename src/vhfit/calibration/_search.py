@@ -16,6 +16,7 @@ import numpy as np
 
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
+from vhfit.calibration._polish import polish as polish_fit
 
 __all__ = ["Search", "run_search", "check_de_options"]
 
@@ -106,8 +107,13 @@ def _history(solver, setup: float = 0.0) -> dict:
 
 
 def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, stall, callback,
-               de_options, checkpoint, checkpoint_every, resume, max_time, t0) -> Search:
-    """Differential evolution over ``space`` until a stopping criterion is met."""
+               de_options, checkpoint, checkpoint_every, resume, max_time, t0,
+               polish: bool = False) -> Search:
+    """Differential evolution over ``space`` until a stopping criterion is met.
+
+    ``polish``: a polish follows the search, which may then stop as soon as a polish of
+    its best member reaches the target (:class:`_EarlyFinish`).
+    """
     dbounds = space.bounds()
     if not dbounds:  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
         return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
@@ -126,6 +132,8 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
     crits, reasons = stop_criteria(tol, target, stall, left)
     t_in = t0
     track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every, t0)
+    if polish:
+        track.finish = _EarlyFinish(space, target)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         with warnings.catch_warnings():
@@ -149,6 +157,9 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective
             z, stop = _solve(solver, track, finished, reasons)
+            if track.finish is not None and track.finish.done:
+                stop = "target reached by a polish of the best member"
+                objective.nfev += track.finish.nfev
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
                                  None if stop == "interrupted" else stop)
@@ -179,6 +190,7 @@ class _Tracker:
         self.evaluations = 0  # individuals evaluated up to that boundary
         self.best_x, self.best_f = None, np.inf
         self.saved = time.perf_counter()
+        self.finish = None  # an _EarlyFinish, if a polish follows the search
 
     def __call__(self, intermediate_result) -> bool:
         r = intermediate_result
@@ -194,9 +206,40 @@ class _Tracker:
             if time.perf_counter() - self.saved >= self.every:
                 _checkpoint.save(self.ckpt, self.key, self.state, self.evaluations)
                 self.saved = time.perf_counter()
+        if self.finish is not None and self.finish(best, np.asarray(r.x)):
+            return True
         if self.callback is None:
             return False
         return bool(self.callback({
             "generation": int(r.nit), "best": best, "mean": mean,
             "elapsed": time.perf_counter() - self.t0, "n_prony": self.n_prony,
             "x": np.array(r.x)}))
+
+
+class _EarlyFinish:
+    """Stop the search once a polish of its best member reaches the target.
+
+    Where the space allows it (``space.search_target``: laws with several linear
+    constants and a nonlinear shape, such as Ogden with 2+ terms) the best member is
+    polished once, the first time its error falls below that looser level: DE's last
+    decades crawl along a curved valley that least squares crosses in a few steps. If
+    the polish reaches the target the search stops (the caller's polish then repeats
+    it from the same point); if not, the search goes on as it would have, having spent
+    one polish.
+    """
+
+    def __init__(self, space, target: float):
+        self.space, self.target = space, float(target)
+        self.level = float(space.search_target(target))
+        self.tried = self.level <= self.target  # nothing to gain: never try
+        self.done = False
+        self.nfev = 0
+
+    def __call__(self, best: float, z: np.ndarray) -> bool:
+        if self.tried or not best <= self.level:
+            return False
+        self.tried = True
+        _, err, n = polish_fit(self.space.prob, self.space.to_params(z))
+        self.nfev += n
+        self.done = bool(err <= self.target)
+        return self.done

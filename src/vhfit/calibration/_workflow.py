@@ -272,7 +272,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         space, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter,
         tol=tol, target=target, stall=stall, callback=callback, de_options=de_options,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
-        max_time=max_time, t0=t0)
+        max_time=max_time, t0=t0, polish=polish)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     nfev = found.nfev
