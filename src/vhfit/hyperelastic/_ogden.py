@@ -126,7 +126,9 @@ def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndar
 
     Examples
     --------
-    >>> [float(v[0]) for v in ogden_sums([4.0], [0.5], [0.5], [0.5], [2.0])]
+    One term, μ = 0.5 and α = 2 (neo-Hooke), at λ = (4, 1/2, 1/2): μ λk², to rounding
+
+    >>> [round(float(v[0]), 12) for v in ogden_sums([4.0], [0.5], [0.5], [0.5], [2.0])]
     [8.0, 0.125, 0.125]
     """
     lam = [np.asarray(v) for v in (l1, l2, l3)]
