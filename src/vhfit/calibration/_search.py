@@ -219,27 +219,32 @@ class _Tracker:
 class _EarlyFinish:
     """Stop the search once a polish of its best member reaches the target.
 
-    Where the space allows it (``space.search_target``: laws with several linear
+    Where the space allows it (``space.finish_levels``: laws with several linear
     constants and a nonlinear shape, such as Ogden with 2+ terms) the best member is
-    polished once, the first time its error falls below that looser level: DE's last
-    decades crawl along a curved valley that least squares crosses in a few steps. If
-    the polish reaches the target the search stops (the caller's polish then repeats
-    it from the same point); if not, the search goes on as it would have, having spent
-    one polish.
+    polished the first time its error falls below each level: DE's approach crawls
+    along curved valleys that least squares crosses in a few steps. If a polish gets
+    well below the target (``ACCEPT`` times it: where the search would have stopped,
+    the final polish usually goes that far too) the search stops, and the caller's
+    polish repeats it from the same point; if not, the search goes on as it would
+    have, having spent that polish.
     """
+
+    ACCEPT = 1e-2
+    MAX_NFEV = 200  # the final polish's own budget
 
     def __init__(self, space, target: float):
         self.space, self.target = space, float(target)
-        self.level = float(space.search_target(target))
-        self.tried = self.level <= self.target  # nothing to gain: never try
+        self.levels = sorted((float(v) for v in space.finish_levels(target)
+                              if v > self.target), reverse=True)
         self.done = False
         self.nfev = 0
 
     def __call__(self, best: float, z: np.ndarray) -> bool:
-        if self.tried or not best <= self.level:
+        if not self.levels or not best <= self.levels[0]:
             return False
-        self.tried = True
-        _, err, n = polish_fit(self.space.prob, self.space.to_params(z))
+        while self.levels and best <= self.levels[0]:
+            self.levels.pop(0)  # one polish covers every level the error has passed
+        _, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
         self.nfev += n
-        self.done = bool(err <= self.target)
+        self.done = bool(err <= self.ACCEPT * self.target)
         return self.done

@@ -104,22 +104,24 @@ class SeparableSpace:
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
 
     #: with a polish after it, the search of a law with several linear constants and a
-    #: nonlinear shape stops at this multiple of the target (see :meth:`search_target`)
-    LOOSE_TARGET = 100.0
+    #: nonlinear shape polishes its best member when its error first falls below each of
+    #: these multiples of the target (see :meth:`finish_levels`)
+    FINISH_LEVELS = (1e4, 1e2)
 
-    def search_target(self, target: float) -> float:
-        """The objective value at which the global search may stop when a polish follows.
+    def finish_levels(self, target: float) -> tuple[float, ...]:
+        """Errors below which a polish of the search's best member is tried, largest first.
 
         For a law with several linear constants and nonlinear shape constants (Ogden
-        with 2+ terms) the last two decades of DE's approach crawl along a curved
-        valley in (shape, log τ) that the polish — least squares on all parameters —
-        crosses in a few iterations: on the multi-mode recovery of an Ogden-2 material
-        the search stops ~30 % sooner and the polish still reaches 1e-12 %. Every other
-        law keeps ``target``. The caller runs the full search if the polish misses it.
+        with 2+ terms) DE's approach crawls along curved valleys in (shape, log τ) that
+        the polish — least squares on all parameters — crosses in a few iterations: on
+        the multi-mode recovery of an Ogden-2 material a polish from where the error is
+        still ~1e4 times the target reaches 1e-12 %. Each level is tried once; a polish
+        that misses the target costs its evaluations and the search goes on. Every
+        other law: none.
         """
         if self.other and len(self.amp) > 1 and not self.exact:
-            return target * self.LOOSE_TARGET
-        return target
+            return tuple(target * f for f in self.FINISH_LEVELS)
+        return ()
 
     def bounds(self) -> list[tuple[float, float]]:
         hm, pb, b = self.prob.hm, self.prob.bounds, []
@@ -268,9 +270,9 @@ class FullSpace:
     def __init__(self, prob: Problem):
         self.prob = prob
 
-    def search_target(self, target: float) -> float:
-        """The global search's stopping value: the target itself."""
-        return target
+    def finish_levels(self, target: float) -> tuple[float, ...]:
+        """No early polish of the all-parameter search."""
+        return ()
 
     def bounds(self) -> list[tuple[float, float]]:
         pb = self.prob.bounds
