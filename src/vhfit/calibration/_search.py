@@ -56,6 +56,7 @@ class Search:
     stop: str
     history: dict
     t0: float  # start time, moved back by the time a resumed run had already spent
+    polished: tuple | None = None  # (x, error) of the polish that ended the search early
 
 
 def _chunk_errors(args) -> np.ndarray:
@@ -157,14 +158,18 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective
             z, stop = _solve(solver, track, finished, reasons)
+            polished = None
             if track.finish is not None and track.finish.done:
                 stop = "target reached by a polish of the best member"
+                polished = track.finish.result
+            if track.finish is not None:
                 objective.nfev += track.finish.nfev
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
                                  None if stop == "interrupted" else stop)
             history = _history(solver, setup)
-    return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0)
+    return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0,
+                  polished)
 
 
 def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
@@ -224,9 +229,9 @@ class _EarlyFinish:
     polished the first time its error falls below each level: DE's approach crawls
     along curved valleys that least squares crosses in a few steps. If a polish gets
     well below the target (``ACCEPT`` times it: where the search would have stopped,
-    the final polish usually goes that far too) the search stops, and the caller's
-    polish repeats it from the same point; if not, the search goes on as it would
-    have, having spent that polish.
+    the final polish usually goes that far too) the search stops and hands the
+    polished point to the caller (``Search.polished``: its polish would repeat the same
+    steps); if not, the search goes on as it would have, having spent that polish.
     """
 
     ACCEPT = 1e-2
@@ -238,13 +243,15 @@ class _EarlyFinish:
                               if v > self.target), reverse=True)
         self.done = False
         self.nfev = 0
+        self.result = None  # (x, error) of the last polish
 
     def __call__(self, best: float, z: np.ndarray) -> bool:
         if not self.levels or not best <= self.levels[0]:
             return False
         while self.levels and best <= self.levels[0]:
             self.levels.pop(0)  # one polish covers every level the error has passed
-        _, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+        x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
         self.nfev += n
+        self.result = (x, err)
         self.done = bool(err <= self.ACCEPT * self.target)
         return self.done

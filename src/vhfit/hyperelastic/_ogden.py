@@ -133,15 +133,21 @@ def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndar
     """
     lam = [np.asarray(v) for v in (l1, l2, l3)]
     consts = [np.asarray(v) for v in (*mus, *alphas)]
-    lead = np.broadcast_shapes(*(v.shape for v in consts))
-    if (lam[0].ndim != 1 or any(v.shape != lam[0].shape for v in lam)
-            or not (lead == () or (len(lead) == 2 and lead[1] == 1))
-            or any(v.dtype.kind != "f" for v in lam + consts)):
+    if lam[0].ndim != 1 or any(v.shape != lam[0].shape or v.dtype.kind != "f" for v in lam):
         return _numpy_sums(lam, mus, alphas)  # other shapes or types (e.g. complex)
-    P = lead[0] if lead else 1
-    cols = [np.broadcast_to(v, lead).reshape(P) for v in consts]
-    n = len(mus)
-    mu, al = np.column_stack(cols[:n]), np.column_stack(cols[n:])
+    first = consts[0].shape
+    if len(first) == 2 and first[1] == 1 and all(
+            v.shape == first and v.dtype == np.float64 for v in consts):
+        lead = first  # the columns (P, 1) of a population: the common case, no copies
+        mu, al = np.hstack(consts[:len(mus)]), np.hstack(consts[len(mus):])
+    else:
+        lead = np.broadcast_shapes(*(v.shape for v in consts))
+        if (not (lead == () or (len(lead) == 2 and lead[1] == 1))
+                or any(v.dtype.kind != "f" for v in consts)):
+            return _numpy_sums(lam, mus, alphas)
+        P = lead[0] if lead else 1
+        cols = [np.broadcast_to(v, lead).reshape(P) for v in consts]
+        mu, al = np.column_stack(cols[:len(mus)]), np.column_stack(cols[len(mus):])
     rules, logs = stretch_plan(*lam)
     big = max(float(np.max(np.abs(v), initial=0.0)) for v in logs)
     if not float(np.max(np.abs(al), initial=0.0)) * big < SAFE_EXPONENT:
