@@ -165,13 +165,10 @@ class SeparableSpace:
 
         ys = prob.y * prob.scale
         kappa = prob.g_inf_min / (1.0 - prob.g_inf_min) if prob.g_inf_min > 0 else 0.0
-        # every individual's matrix at once, C-ordered (P, n_points, 1 + N) as nnls wants it
-        AA = np.empty((P, base.shape[1], 1 + N))
-        np.multiply(base, prob.scale, out=AA[:, :, 0])
-        np.multiply(H.transpose(0, 2, 1), prob.scale[:, None], out=AA[:, :, 1:])
-        finite = np.isfinite(AA).all(axis=(1, 2))
-        for p in np.flatnonzero(finite):
-            A = AA[p]
+        for p in range(P):
+            A = np.column_stack([base[p]] + [H[p, i] for i in range(N)]) * prob.scale[:, None]
+            if not np.all(np.isfinite(A)):
+                continue
             a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
                 # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
