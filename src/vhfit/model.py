@@ -512,6 +512,18 @@ class Batch:
         tau = np.atleast_2d(np.asarray(tau, dtype=np.float64))
         P, N = tau.shape
         s_hat, ok, E_inf = self._s_hat(hyper)
+        if self._pos_u.size == self.n_points:
+            # all uniaxial with a rate or a time (positions in order): the gathers are the
+            # columns themselves, no zeros to scatter them into
+            ov = _kernels.overstress_columns(
+                s_hat, self.sample_stretch, self.step, self.sample_off, self.step_off,
+                np.ascontiguousarray(tau), _kernels.DERIV, parallel,
+            )
+            base = s_hat[:, self._gather_sample]
+            h = ov[:, self._gather_node].reshape(P, N, self.n_points)
+            base[~ok] = np.inf
+            h[~ok] = np.inf
+            return self._measure(base), self._measure(h)
         base = np.zeros((P, self.n_points))
         h = np.zeros((P, N, self.n_points))
         if self._pos_u.size:

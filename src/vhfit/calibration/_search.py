@@ -16,6 +16,7 @@ import numpy as np
 
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
+from vhfit.calibration._polish import polish as polish_fit
 
 __all__ = ["Search", "run_search", "check_de_options"]
 
@@ -55,6 +56,7 @@ class Search:
     stop: str
     history: dict
     t0: float  # start time, moved back by the time a resumed run had already spent
+    polished: tuple | None = None  # (x, error) of the polish that ended the search early
 
 
 def _chunk_errors(args) -> np.ndarray:
@@ -106,8 +108,13 @@ def _history(solver, setup: float = 0.0) -> dict:
 
 
 def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, stall, callback,
-               de_options, checkpoint, checkpoint_every, resume, max_time, t0) -> Search:
-    """Differential evolution over ``space`` until a stopping criterion is met."""
+               de_options, checkpoint, checkpoint_every, resume, max_time, t0,
+               polish: bool = False) -> Search:
+    """Differential evolution over ``space`` until a stopping criterion is met.
+
+    ``polish``: a polish follows the search, which may then stop as soon as a polish of
+    its best member reaches the target (:class:`_EarlyFinish`).
+    """
     dbounds = space.bounds()
     if not dbounds:  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
         return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
@@ -126,6 +133,8 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
     crits, reasons = stop_criteria(tol, target, stall, left)
     t_in = t0
     track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every, t0)
+    if polish:
+        track.finish = _EarlyFinish(space, target)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         with warnings.catch_warnings():
@@ -149,11 +158,18 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective
             z, stop = _solve(solver, track, finished, reasons)
+            polished = None
+            if track.finish is not None and track.finish.done:
+                stop = "target reached by a polish of the best member"
+                polished = track.finish.result
+            if track.finish is not None:
+                objective.nfev += track.finish.nfev
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
                                  None if stop == "interrupted" else stop)
             history = _history(solver, setup)
-    return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0)
+    return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0,
+                  polished)
 
 
 def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
@@ -179,6 +195,7 @@ class _Tracker:
         self.evaluations = 0  # individuals evaluated up to that boundary
         self.best_x, self.best_f = None, np.inf
         self.saved = time.perf_counter()
+        self.finish = None  # an _EarlyFinish, if a polish follows the search
 
     def __call__(self, intermediate_result) -> bool:
         r = intermediate_result
@@ -194,9 +211,47 @@ class _Tracker:
             if time.perf_counter() - self.saved >= self.every:
                 _checkpoint.save(self.ckpt, self.key, self.state, self.evaluations)
                 self.saved = time.perf_counter()
+        if self.finish is not None and self.finish(best, np.asarray(r.x)):
+            return True
         if self.callback is None:
             return False
         return bool(self.callback({
             "generation": int(r.nit), "best": best, "mean": mean,
             "elapsed": time.perf_counter() - self.t0, "n_prony": self.n_prony,
             "x": np.array(r.x)}))
+
+
+class _EarlyFinish:
+    """Stop the search once a polish of its best member reaches the target.
+
+    Where the space allows it (``space.finish_levels``: laws with several linear
+    constants and a nonlinear shape, such as Ogden with 2+ terms) the best member is
+    polished the first time its error falls below each level: DE's approach crawls
+    along curved valleys that least squares crosses in a few steps. If a polish gets
+    well below the target (``ACCEPT`` times it: where the search would have stopped,
+    the final polish usually goes that far too) the search stops and hands the
+    polished point to the caller (``Search.polished``: its polish would repeat the same
+    steps); if not, the search goes on as it would have, having spent that polish.
+    """
+
+    ACCEPT = 1e-2
+    MAX_NFEV = 200  # the final polish's own budget
+
+    def __init__(self, space, target: float):
+        self.space, self.target = space, float(target)
+        self.levels = sorted((float(v) for v in space.finish_levels(target)
+                              if v > self.target), reverse=True)
+        self.done = False
+        self.nfev = 0
+        self.result = None  # (x, error) of the last polish
+
+    def __call__(self, best: float, z: np.ndarray) -> bool:
+        if not self.levels or not best <= self.levels[0]:
+            return False
+        while self.levels and best <= self.levels[0]:
+            self.levels.pop(0)  # one polish covers every level the error has passed
+        x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+        self.nfev += n
+        self.result = (x, err)
+        self.done = bool(err <= self.ACCEPT * self.target)
+        return self.done

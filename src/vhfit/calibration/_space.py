@@ -103,6 +103,26 @@ class SeparableSpace:
         self.beta = not self.exact and len(self.amp) == 2 and min(lo_amp) >= 0
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
 
+    #: with a polish after it, the search of a law with several linear constants and a
+    #: nonlinear shape polishes its best member when its error first falls below each of
+    #: these multiples of the target (see :meth:`finish_levels`)
+    FINISH_LEVELS = (1e4, 1e2)
+
+    def finish_levels(self, target: float) -> tuple[float, ...]:
+        """Errors below which a polish of the search's best member is tried, largest first.
+
+        For a law with several linear constants and nonlinear shape constants (Ogden
+        with 2+ terms) DE's approach crawls along curved valleys in (shape, log τ) that
+        the polish — least squares on all parameters — crosses in a few iterations: on
+        the multi-mode recovery of an Ogden-2 material a polish from where the error is
+        still ~1e4 times the target reaches 1e-12 %. Each level is tried once; a polish
+        that misses the target costs its evaluations and the search goes on. Every
+        other law: none.
+        """
+        if self.other and len(self.amp) > 1 and not self.exact:
+            return tuple(target * f for f in self.FINISH_LEVELS)
+        return ()
+
     def bounds(self) -> list[tuple[float, float]]:
         hm, pb, b = self.prob.hm, self.prob.bounds, []
         if self.beta:
@@ -246,6 +266,10 @@ class FullSpace:
 
     def __init__(self, prob: Problem):
         self.prob = prob
+
+    def finish_levels(self, target: float) -> tuple[float, ...]:
+        """No early polish of the all-parameter search."""
+        return ()
 
     def bounds(self) -> list[tuple[float, float]]:
         pb = self.prob.bounds

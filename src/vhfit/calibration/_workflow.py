@@ -307,11 +307,13 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         space, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter,
         tol=tol, target=target, stall=stall, callback=callback, de_options=de_options,
         checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
-        max_time=max_time, t0=t0)
+        max_time=max_time, t0=t0, polish=polish)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     nfev = found.nfev
-    if polish and found.stop != "interrupted":
+    if found.polished is not None:  # the search ended by this polish of its best member
+        x, err = found.polished
+    elif polish and found.stop != "interrupted":
         x, err, n_pol = polish_fit(prob, x)
         nfev += n_pol
     return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,

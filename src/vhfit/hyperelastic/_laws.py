@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from vhfit.hyperelastic._ogden import ogden_sums
 from vhfit.hyperelastic._registry import register
 
 _POS = (0.0, math.inf)
@@ -65,24 +66,11 @@ def _ogden_term(l1, l2, l3, mu, alpha):
 def _ogden_dW(l1, l2, l3, *pairs):
     """λa ∂W/∂λa = Σ_p (2μp/αp) λa^αp for a = 1, 2, 3 (closed form: no complex powers).
 
-    λ^α is taken as exp(α ln λ), one log per stretch; a stretch passed twice (the same
-    array, as equibiaxial and uniaxial kinematics do) is evaluated once and its result
-    returned twice.
+    One compiled pass over the parameter sets and samples (:mod:`._ogden`): λ1^α is
+    exp(α ln λ1) and the other powers follow from it where the test's kinematics tie the
+    stretches together; a stretch passed twice gets the same array twice.
     """
-    mus, alphas = pairs[::2], pairs[1::2]
-    done: dict[int, np.ndarray] = {}
-    out = []
-    for la in (l1, l2, l3):
-        if id(la) not in done:
-            lnl = np.log(la)
-            acc = None
-            for mu, alpha in zip(mus, alphas):
-                term = np.exp(alpha * lnl)
-                term *= 2 * mu / alpha
-                acc = term if acc is None else acc + term
-            done[id(la)] = acc
-        out.append(done[id(la)])
-    return tuple(out)
+    return ogden_sums(l1, l2, l3, pairs[::2], pairs[1::2])
 
 
 _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))

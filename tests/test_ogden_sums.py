@@ -1,0 +1,113 @@
+"""The compiled Ogden sums against the formula λk ∂W/∂λk = Σ_p (2μp/αp) λk^αp.
+
+The reference is written here with Python's own power function on each stretch of each
+test's kinematics (λ1 λ2 λ3 = 1), term by term — none of the derived powers (1/√(λ^α),
+1/(λ^α)², ...) the library takes from λ1^α. Errors are relative to Σ_p |terms|, the
+scale of the rounding of a sum of terms of either sign.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from _budget import accuracy
+from hypothesis import given
+from hypothesis import strategies as st
+
+from vhfit import hyperelastic as hyp
+from vhfit import modes
+
+DEFORMATIONS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear")
+
+
+def stretches_of(deformation, x1, x2):
+    """(λ1, λ2, λ3) written from the kinematics, one sample at a time."""
+    out = []
+    for a, b in zip(x1, x2):
+        if deformation == "uniaxial":
+            out.append((a, a**-0.5, a**-0.5))
+        elif deformation == "equibiaxial":
+            out.append((a, a, a**-2))
+        elif deformation == "planar":
+            out.append((a, 1.0, 1 / a))
+        elif deformation == "biaxial":
+            out.append((a, b, 1 / (a * b)))
+        else:  # simple shear, amount a: λ = a/2 + √(1 + a²/4), principal (λ, 1/λ, 1)
+            lam = a / 2 + math.sqrt(1 + a * a / 4)
+            out.append((lam, 1 / lam, 1.0))
+    return out
+
+
+def reference(deformation, x1, x2, consts):
+    """Σ_p 2μp/αp λk^αp and Σ_p |...| per parameter set, sample and stretch."""
+    ref = np.zeros((len(consts), 3, len(x1)))
+    scale = np.zeros_like(ref)
+    for p, c in enumerate(consts):
+        for s, lam in enumerate(stretches_of(deformation, x1, x2)):
+            for k in range(3):
+                terms = [2 * mu / al * lam[k] ** al for mu, al in zip(c[::2], c[1::2])]
+                ref[p, k, s] = sum(terms)
+                scale[p, k, s] = sum(abs(t) for t in terms)
+    return ref, scale
+
+
+terms = st.integers(2, 6)
+alphas = st.floats(-12.0, 12.0).filter(lambda a: abs(a) > 0.05)
+mus = st.floats(-2.0, 2.0)
+
+
+@accuracy
+@given(st.sampled_from(DEFORMATIONS), terms, st.data())
+def test_kirchhoff_of_ogden_laws_match_the_formula_in_every_test(deformation, n, data):
+    x1 = data.draw(st.lists(st.floats(0.2, 4.0), min_size=1, max_size=6))
+    if deformation == "simple_shear":
+        x1 = [v - 1.0 for v in x1]  # an amount of shear of either sign
+    x2 = data.draw(st.lists(st.floats(0.3, 3.0), min_size=len(x1), max_size=len(x1)))
+    consts = data.draw(st.lists(
+        st.lists(st.tuples(mus, alphas), min_size=n, max_size=n), min_size=1, max_size=4))
+    consts = [[v for pair in c for v in pair] for c in consts]
+    model = hyp.get(f"ogden{n}")
+    lam = modes.principal_stretches(deformation, np.array(x1),
+                                    np.array(x2) if deformation == "biaxial" else None)
+    got = modes.kirchhoff_stress(model, np.array(consts), *lam)
+    ref, scale = reference(deformation, x1, x2, consts)
+    for k in range(3):
+        assert np.all(np.abs(got[k] - ref[:, k]) <= 1e-13 * scale[:, k] + 1e-300)
+
+
+@accuracy
+@given(st.floats(0.2, 5.0), st.tuples(mus, alphas), st.tuples(mus, alphas))
+def test_uniaxial_stress_of_ogden2_matches_the_formula(lam, t1, t2):
+    # σ = λ1 ∂W/∂λ1 − λ2 ∂W/∂λ2 on the path (λ, λ^-1/2, λ^-1/2)
+    c = [t1[0], t1[1], t2[0], t2[1]]
+    terms = [2 * mu / al * (lam**al - lam ** (-al / 2)) for mu, al in (t1, t2)]
+    scale = sum(2 * abs(mu / al) * (lam**al + lam ** (-al / 2)) for mu, al in (t1, t2))
+    got = float(hyp.get("ogden2").stress([lam], c)[0])
+    assert abs(got - sum(terms)) <= 1e-13 * scale
+
+
+def test_large_exponents_take_every_power_by_its_own_exp():
+    # |α ln λ| ≈ 345, past the range where the derived powers are used; λ3^α = e^(∓690)
+    lam = np.array([1e3, 1e-3])
+    consts = np.array([[1.0, 50.0, 0.5, -3.0]])
+    got = modes.kirchhoff_stress(hyp.get("ogden2"), consts, *modes.principal_stretches(
+        "equibiaxial", lam))
+    ref, _ = reference("equibiaxial", lam, lam, consts.tolist())
+    for k in range(3):
+        assert np.all(np.isfinite(got[k]))
+        np.testing.assert_allclose(got[k], ref[:, k], rtol=1e-12)
+
+
+def test_invalid_constants_give_nan_not_a_number_from_a_derived_power():
+    lam = modes.principal_stretches("uniaxial", np.array([1.5, 2.0]))
+    got = modes.kirchhoff_stress(hyp.get("ogden2"), np.array([[1.0, np.nan, 0.5, 2.0]]), *lam)
+    assert all(np.isnan(g).all() for g in got)
+
+
+def test_scalar_constants_and_one_stretch_keep_their_shapes():
+    nh_like = hyp.get("ogden2")  # μ1 = 0.5, α1 = 2, μ2 = 0: neo-Hooke with C10 = 0.25
+    s = nh_like.stress([2.0], [0.5, 2.0, 0.0, 1.0])
+    assert s.shape == (1,) and abs(float(s[0]) - 0.5 * (4.0 - 0.5)) < 1e-14
+    s2 = nh_like.stress([[2.0, 1.5]], np.array([[[0.5, 2.0, 0.0, 1.0]]] * 3))
+    assert s2.shape == (3, 1, 1, 2)

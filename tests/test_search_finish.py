@@ -1,0 +1,114 @@
+"""The search's early finish: a law with a nonlinear shape may stop when a polish of the
+best member gets well below the target; otherwise the search goes on as it would have.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+import vhfit
+from vhfit.calibration import CalibrationWarning, _search
+from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._space import FullSpace, Problem, SeparableSpace
+
+
+class _Space:
+    """A stand-in space: levels 1e4 and 1e2 times the target, ``to_params`` the identity."""
+
+    prob = None
+
+    def __init__(self, levels=(1e4, 1e2)):
+        self.levels = levels
+
+    def finish_levels(self, target):
+        return tuple(f * target for f in self.levels)
+
+    def to_params(self, z):
+        return z
+
+
+def test_the_best_member_is_polished_once_per_level_it_passes(monkeypatch):
+    calls = []
+
+    def fake_polish(prob, x, max_nfev):
+        calls.append(float(x[0]))
+        return x, 5e-5, 7  # below the target 1e-4, not below 1e-2 of it: not accepted
+
+    monkeypatch.setattr(_search, "polish_fit", fake_polish)
+    f = _search._EarlyFinish(_Space(), 1e-4)
+    assert f.levels == [1.0, 1e-2]
+    assert f(2.0, np.array([1.0])) is False and calls == []  # above every level
+    assert f(0.5, np.array([2.0])) is False and calls == [2.0]  # below 1: polished, missed
+    assert f(0.1, np.array([3.0])) is False and calls == [2.0]  # no new level passed
+    assert f(1e-3, np.array([4.0])) is False and calls == [2.0, 4.0]  # below 1e-2
+    assert f(1e-5, np.array([5.0])) is False and calls == [2.0, 4.0]  # no level left
+    assert not f.done and f.nfev == 14
+
+
+def test_one_polish_covers_every_level_the_error_jumped_past(monkeypatch):
+    calls = []
+    monkeypatch.setattr(_search, "polish_fit",
+                        lambda prob, x, n: (calls.append(1), (x, 1.0, 1))[1])
+    f = _search._EarlyFinish(_Space(), 1e-4)
+    assert f(1e-3, np.array([1.0])) is False and len(calls) == 1 and f.levels == []
+
+
+def test_a_polish_well_below_the_target_stops_the_search(monkeypatch):
+    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: (x, 1e-6, 3))
+    f = _search._EarlyFinish(_Space(), 1e-4)
+    assert f(0.5, np.array([1.0])) is True and f.done and f.nfev == 3
+
+
+def test_no_levels_means_no_polish(monkeypatch):
+    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: 1 / 0)
+    f = _search._EarlyFinish(_Space(levels=()), 1e-4)
+    assert f(0.0, np.array([1.0])) is False
+
+
+def _multimode(law, truth, n=24):
+    m = vhfit.ViscoHyperelastic(law, 1)
+    out = []
+    for mode in ("uniaxial", "equibiaxial", "planar"):
+        for r in (0.1, 10.0):
+            eps = np.linspace(0.4 / n, 0.4, n)
+            s = m.stress(truth, strain=eps, strain_rate=r, deformation=mode,
+                         measure="engineering")
+            out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, deformation=mode))
+    return out
+
+
+def _space(law, curves, method=SeparableSpace):
+    model = vhfit.ViscoHyperelastic(law, 1)
+    tau_b, auto = search_bounds(model, curves, "free", 3, 1, "auto")
+    return method(Problem(model, curves, tau_b, auto, 1e-6))
+
+
+def test_only_laws_with_several_linear_constants_and_a_nonlinear_shape_finish_early():
+    og = dict(mu1=0.3, alpha1=1.8, mu2=0.01, alpha2=6.0, G1=1.0, tau1=0.3)
+    curves = _multimode("ogden2", og)
+    assert _space("ogden2", curves).finish_levels(1e-4) == (1.0, 1e-2)
+    assert _space("ogden2", curves, FullSpace).finish_levels(1e-4) == ()
+    mr = dict(C10=0.1, C01=0.05, G1=1.0, tau1=0.3)
+    assert _space("mooney_rivlin", _multimode("mooney_rivlin", mr)).finish_levels(1e-4) == ()
+    one = dict(mu1=0.3, alpha1=1.8, G1=1.0, tau1=0.3)
+    assert _space("ogden", _multimode("ogden", one)).finish_levels(1e-4) == ()
+
+
+def test_an_ogden2_recovery_ends_by_the_polish_and_reaches_the_data():
+    truth = dict(mu1=0.3, alpha1=1.8, mu2=0.01, alpha2=6.0, G1=1.0, tau1=0.3)
+    curves = _multimode("ogden2", truth)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CalibrationWarning)
+        cal = vhfit.calibrate(curves, hyperelastic="ogden2", n_prony=1, seed=0,
+                              uncertainty=False)
+    assert cal.stop_reason == "target reached by a polish of the best member"
+    assert cal.rmsape <= 1e-6
+    for k, v in truth.items():  # the terms may come back in either order
+        j = k[-1]
+        if k.startswith(("mu", "alpha")) and abs(cal.params[k] - v) > 1e-6 * abs(v):
+            other = {"1": "2", "2": "1"}[j]
+            assert abs(cal.params[k[:-1] + other] - v) <= 1e-6 * abs(v)
+        elif not k.startswith(("mu", "alpha")):
+            assert abs(cal.params[k] - v) <= 1e-6 * abs(v)
