@@ -109,8 +109,8 @@ class Calibration:
     wall_time : float
         Seconds.
     stop_reason : str
-        Why the global search stopped ("converged", "target reached", "max_time",
-        "maxiter", "interrupted", ...).
+        Why the global search stopped ("converged", "target reached", "target reached
+        by a polish of the best member", "max_time", "maxiter", "interrupted", ...).
     g, g_inf : list of float, float
         Dimensionless Prony weights (docs/theory.md §3).
     bounds : dict

@@ -165,10 +165,14 @@ class SeparableSpace:
 
         ys = prob.y * prob.scale
         kappa = prob.g_inf_min / (1.0 - prob.g_inf_min) if prob.g_inf_min > 0 else 0.0
-        for p in range(P):
-            A = np.column_stack([base[p]] + [H[p, i] for i in range(N)]) * prob.scale[:, None]
-            if not np.all(np.isfinite(A)):
-                continue
+        # every individual's matrix [σ_h/E∞, h_1..h_N] × scale in one array, built once
+        C = np.empty((P, base.shape[1], 1 + N))
+        C[:, :, 0] = base
+        C[:, :, 1:] = H.transpose(0, 2, 1)
+        C *= prob.scale[None, :, None]
+        finite = np.isfinite(C).all(axis=(1, 2))
+        for p in np.flatnonzero(finite):
+            A = C[p]
             a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
                 # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
