@@ -404,6 +404,10 @@ def test_models_lists_models_and_strategies(capsys):
     data = json.loads(capsys.readouterr().out)
     assert {m["name"] for m in data["models"]} >= {"mooney_rivlin", "neo_hooke", "yeoh"}
     assert data["tau_strategies"][:3] == ["free", "semifree", "fixed"]
+    # the formulations and which solver integrates which (abaqus, ansys: hereditary)
+    forms = {f["name"]: f["solvers"] for f in data["formulations"]}
+    assert forms["hereditary"] == ["abaqus", "ansys"] and forms["lsdyna"] == ["lsdyna"]
+    assert forms["lsdyna_deviatoric"] == []
 
 
 def test_models_discovers_entry_point_plugins(tmp_path):

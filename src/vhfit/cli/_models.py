@@ -7,6 +7,7 @@ import json
 from vhfit import hyperelastic
 from vhfit.cli._common import EXIT_OK
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins, tau_strategies
+from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 
 __all__ = ["cmd_models"]
 
@@ -29,15 +30,20 @@ def cmd_models(args) -> int:
             "doc": (hm.doc or "").strip().splitlines()[0] if hm.doc else "",
         })
     strategies = tau_strategies()
+    forms = [{"name": n, "description": f.description,
+              "solvers": [s for s, g in SOLVER_FORMULATIONS.items() if g == n]}
+             for n, f in FORMULATIONS.items()]
     if args.json:
-        print(json.dumps({"models": models, "tau_strategies": strategies, "plugins": plugins,
+        print(json.dumps({"models": models, "tau_strategies": strategies,
+                          "formulations": forms, "plugins": plugins,
                           "plugin_group": PLUGIN_GROUP}, indent=2))
         return EXIT_OK
-    _print_table(models, strategies, plugins)
+    _print_table(models, strategies, plugins, forms)
     return EXIT_OK
 
 
-def _print_table(models: list[dict], strategies: list[str], plugins: list[dict]) -> None:
+def _print_table(models: list[dict], strategies: list[str], plugins: list[dict],
+                 forms: list[dict]) -> None:
     print("hyperelastic models (vhfit fit --model NAME):")
     w = max(len(m["name"]) for m in models)
     for m in models:
@@ -50,6 +56,13 @@ def _print_table(models: list[dict], strategies: list[str], plugins: list[dict])
     print("Prony terms add G_i [MPa] and tau_i [s] for i = 1..N (vhfit fit --prony N|auto)")
     print("")
     print("tau strategies (vhfit fit --strategy NAME): " + ", ".join(strategies))
+    print("")
+    print("viscoelastic formulations (vhfit fit --formulation NAME; --for SOLVER picks the "
+          "solver's own):")
+    w = max(len(f["name"]) for f in forms)
+    for f in forms:
+        used = f"   [{', '.join(f['solvers'])}]" if f["solvers"] else ""
+        print(f"  {f['name']:<{w}}  {f['description']}{used}")
     print("")
     if plugins:
         print(f"plug-ins (entry-point group '{PLUGIN_GROUP}'):")
