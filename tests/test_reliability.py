@@ -552,3 +552,12 @@ def test_a_population_of_ten_thousand_is_evaluated_in_bounded_memory():
     assert S.shape == (P, 40) and np.all(np.isfinite(S))
     # the working arrays are O(P x samples): about 40 MB here, never a P x P object
     assert peak < 50 * P * b.sample_stretch.size * 8 / 40 + 50e6
+
+
+def test_an_infinite_constant_is_invalid_even_where_the_law_has_a_finite_limit():
+    """Arruda–Boyce with λm = ∞ is neo-Hooke in the limit, but λm = ∞ is no material:
+    the batch gives that individual +inf and the others their own finite stress."""
+    m = vhfit.ViscoHyperelastic("arruda_boyce", n_prony=0)
+    hist = [vhfit.History.constant_rate(np.linspace(-0.1, -0.5, 5), -1.0)]
+    S = m.batch(hist)(np.array([[0.5, 3.0], [1.0, np.inf]]))
+    assert np.all(S[1] == np.inf) and np.all(np.isfinite(S[0]))

@@ -549,7 +549,9 @@ class Batch:
             E_inf = 3.0 * hm.initial_shear_modulus(hyper)
             sig_h = hm.stress(self.sample_stretch, hyper)
             s_hat = sig_h / E_inf[:, None]
-        ok = (E_inf > 0) & np.all(np.isfinite(s_hat), axis=1)
+        # an infinite constant is no material even where the law has a finite limit
+        # (Arruda–Boyce with λm = ∞ is neo-Hooke)
+        ok = (E_inf > 0) & np.all(np.isfinite(s_hat), axis=1) & np.all(np.isfinite(hyper), axis=1)
         s_hat[~ok] = 0.0
         return s_hat, ok, E_inf
 

@@ -64,12 +64,15 @@ def stretch_plan(l1, l2, l3) -> tuple[list[int], list[np.ndarray]]:
 
 
 @njit(cache=True, error_model="numpy")
-def _sums(logs, rules, mu, alpha, out):  # pragma: no cover - compiled
-    """out[k, p, s] = Σ_t (2 μ[p, t]/α[p, t]) λk[s]^α[p, t] for the stretches with a row."""
+def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
+    """out[k, p, s] = Σ_t (2 μ[p, t]/α[p, t]) λk[s]^α[p, t] for the stretches with a row.
+
+    A term whose |α| max|ln λ| reaches SAFE_EXPONENT (or whose α is NaN) takes every
+    power by its own exp: the choice is the term's own, so that a parameter set's sums
+    never depend on the other sets evaluated with it.
+    """
     P, T = mu.shape
     m = logs.shape[1]
-    r1 = rules[1]
-    r2 = rules[2]
     for p in range(P):
         for s in range(m):
             a0 = 0.0
@@ -78,6 +81,14 @@ def _sums(logs, rules, mu, alpha, out):  # pragma: no cover - compiled
             for t in range(T):
                 al = alpha[p, t]
                 c = 2.0 * mu[p, t] / al
+                r1 = rules[1]
+                r2 = rules[2]
+                if not abs(al) * big < SAFE_EXPONENT:
+                    # the derived powers could overflow where λ^α itself does not
+                    if r1 == RSQRT or r1 == INV:
+                        r1 = EXP
+                    if r2 == INV or r2 == INCOMPRESSIBLE:
+                        r2 = EXP
                 e0 = np.exp(al * logs[0, s])
                 if r1 == EXP:
                     e1 = np.exp(al * logs[1, s])
@@ -150,11 +161,8 @@ def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndar
         mu, al = np.column_stack(cols[:len(mus)]), np.column_stack(cols[len(mus):])
     rules, logs = stretch_plan(*lam)
     big = max(float(np.max(np.abs(v), initial=0.0)) for v in logs)
-    if not float(np.max(np.abs(al), initial=0.0)) * big < SAFE_EXPONENT:
-        # the derived powers could overflow where λ^α itself does not (or α is NaN)
-        rules = [EXP if r in (RSQRT, INV, INCOMPRESSIBLE) else r for r in rules]
     out = np.empty((3, mu.shape[0], lam[0].size))
-    _sums(np.stack(logs), np.array(rules, dtype=np.int64), mu, al, out)
+    _sums(np.stack(logs), np.array(rules, dtype=np.int64), big, mu, al, out)
     res = [out[0], out[1], out[2]] if lead else [out[0, 0], out[1, 0], out[2, 0]]
     for k in (1, 2):
         if rules[k] in (SAME0, SAME1):
