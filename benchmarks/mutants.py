@@ -589,7 +589,7 @@ MUTANTS: list[Mutant] = [
       "a relaxation test's times taken as rates for Eq. 22",
       ("tests/test_dma_calibrate.py::test_tau_bounds_cover_the_frequencies_and_times",)),
     M("dma_not_evidence", "vhfit/calibration/_identify.py",
-      "if any(is_linear(c) for c in curves):", "if all(is_linear(c) for c in curves):",
+      "if any(is_moduli(c) for c in curves):", "if all(is_moduli(c) for c in curves):",
       "a sweep beside one rate curve is not evidence of memory",
       ("tests/test_dma_calibrate.py::test_a_sweep_is_evidence_of_memory_for_the_default_n",)),
     # ------------------------------------------------- time-temperature superposition

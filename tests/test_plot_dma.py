@@ -73,9 +73,9 @@ def test_moduli_fit_draws_the_data_and_the_model_of_each_item(tmp_path):
         def fitted_curves(self, items):
             return [c.fitted_curve(self.model, params) for c in items]
 
-    assert plot.is_moduli(sweep) and plot.is_moduli(relax)
+    assert vhfit.data.is_moduli(sweep) and vhfit.data.is_moduli(relax)
     curve = vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0)
-    assert not plot.is_moduli(curve)
+    assert not vhfit.data.is_moduli(curve)
     fig = plot.plot_moduli_fit(Cal(), [sweep, curve, relax], tmp_path / "m.png")
     assert (tmp_path / "m.png").stat().st_size > 0
     lines = [ln for ax in fig.axes for ln in ax.get_lines() if len(ln.get_xdata())]

@@ -107,7 +107,7 @@ class LinearPlan:
 
     def __init__(self, histories, slices) -> None:
         self.loads = [(h, sl) for h, sl in zip(histories, slices)
-                      if getattr(h, "is_linear", False)]
+                      if h.is_linear]
 
     def shape_columns(self, tau: np.ndarray, base: np.ndarray, h: np.ndarray) -> None:
         """Write each load's columns per unit modulus into ``base`` (P, n) and ``h`` (P, N, n)."""

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.data import is_moduli
 from vhfit.spectrum import design_matrix
 
 __all__ = [
@@ -32,7 +33,6 @@ __all__ = [
     "group_by_magnitude",
     "plot_fit",
     "plot_moduli_fit",
-    "is_moduli",
     "plot_history",
     "plot_order_scan",
     "plot_sweeps",
@@ -203,11 +203,6 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
             title += f": RMSAPE {cal.rmsape:.3g} %"
     fig.suptitle(title, fontsize=10)
     return _finish(fig, path)
-
-
-def is_moduli(item) -> bool:
-    """Whether ``item`` is a frequency sweep or a relaxation test (moduli, not stress)."""
-    return bool(getattr(getattr(item, "history", None), "is_linear", False))
 
 
 def plot_moduli_fit(cal, items: Sequence, path=None):

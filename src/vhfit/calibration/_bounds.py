@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import long_term_stress
 
-__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "is_linear"]
+__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -19,10 +20,6 @@ SEARCH_RANGES: dict[str, dict[str, tuple[float, float]]] = {
     "gent": {"Jm": (0.1, 100.0)},
     "van_der_waals": {"lambda_m": (1.75, 10.0), "a": (0.0, 2.0)},
 }
-
-def is_linear(c) -> bool:
-    """A small-strain test (frequency sweep, relaxation test) rather than a curve."""
-    return bool(getattr(c.history, "is_linear", False))
 
 
 def _linear_rates(c) -> list[float]:
@@ -36,8 +33,8 @@ def _linear_rates(c) -> list[float]:
 def rates(curves) -> np.ndarray:
     """Nominal |rates| of the rate and time curves (equilibrium curves have none), and
     ω or 1/t of the small-strain tests."""
-    linear = [r for c in curves if is_linear(c) for r in _linear_rates(c)]
-    rated = [c for c in curves if not getattr(c, "is_equilibrium", False) and not is_linear(c)]
+    linear = [r for c in curves if is_moduli(c) for r in _linear_rates(c)]
+    rated = [c for c in curves if not getattr(c, "is_equilibrium", False) and not is_moduli(c)]
     if not rated and not linear:
         raise ValueError(
             "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
@@ -91,9 +88,9 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     where those are open-ended, or [-10, 10] if unbounded.
     """
     hm = model.hyperelastic
-    moduli = np.concatenate([np.abs(c.target_stress) for c in curves if is_linear(c)]
+    moduli = np.concatenate([np.abs(c.target_stress) for c in curves if is_moduli(c)]
                             + [np.zeros(0)])
-    curves_ss = [c for c in curves if not is_linear(c)]
+    curves_ss = [c for c in curves if not is_moduli(c)]
     uni = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") == "uniaxial"]
     other = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") != "uniaxial"]
     lam = np.concatenate([c.history.out_stretch for c in uni] + [np.zeros(0)])

@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from vhfit.calibration._bounds import is_linear
+from vhfit.data import is_moduli
 
 __all__ = ["DEFAULT_N_PRONY", "RATE_RATIO", "viscous_evidence", "default_n_prony"]
 
@@ -62,7 +62,7 @@ def viscous_evidence(curves: Sequence) -> str | None:
     >>> viscous_evidence([slow])
     'one strain rate (0.01 1/s) and monotonic loading, no hold or unloading'
     """
-    if any(is_linear(c) for c in curves):
+    if any(is_moduli(c) for c in curves):
         return None  # a frequency sweep's loss modulus or a relaxation test shows memory
     rated = [c for c in curves if not _is_equilibrium(c)]
     if not rated:

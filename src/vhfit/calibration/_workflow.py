@@ -8,14 +8,14 @@ import warnings
 from collections.abc import Callable, Sequence
 
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
-from vhfit.calibration._bounds import is_linear, search_bounds
+from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._search import run_search
 from vhfit.calibration._space import SPACES, Problem
-from vhfit.data import read_csv
+from vhfit.data import is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
@@ -231,7 +231,7 @@ def calibrate(
     rate_msgs: list[str] = []
     if check_rates:
         n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
-        rate_msgs = rate_sensitivity([c for c in curves if not is_linear(c)], hyperelastic,
+        rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], hyperelastic,
                                      n_check)
     if isinstance(n_prony, str):
         cal = _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)

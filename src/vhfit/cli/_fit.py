@@ -45,7 +45,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
-from vhfit.data import read_csv
+from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "SOLVERS", "CARD_FILES",
@@ -432,13 +432,13 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
         return {}, f"plots skipped: {plot.INSTALL_HINT}"
     plots: dict[str, str] = {}
     try:
-        if not all(plot.is_moduli(c) for c in curves):
+        if not all(is_moduli(c) for c in curves):
             plot.plot_fit(cal, curves, out / "fit.png",
                           title=None if not demo else
                           f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
                           f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
             plots["fit"] = "fit.png"
-        if any(plot.is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
+        if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
             plot.plot_moduli_fit(cal, curves, out / "moduli.png")
             plots["moduli"] = "moduli.png"
         if cal.history and cal.history.get("nit"):

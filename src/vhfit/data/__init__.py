@@ -55,7 +55,7 @@ from vhfit.data import _curve, _paths, _samples
 from vhfit.data._curve import MAX_BREAKPOINTS, MAX_POINTS, PATH_RTOL, Curve
 from vhfit.data._errors import DataError, DataWarning
 from vhfit.data._measures import engineering_to_true, true_to_engineering
-from vhfit.data._moduli import FrequencySweep, Relaxation
+from vhfit.data._moduli import FrequencySweep, Relaxation, is_moduli
 from vhfit.data._paths import HOLD_MIN_DURATION, HOLD_RTOL, LEG_RTOL
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._readers import curves_from_arrays, read_csv, read_history
@@ -77,6 +77,7 @@ __all__ = [
     "Relaxation",
     "curves_from_arrays",
     "engineering_to_true",
+    "is_moduli",
     "read_csv",
     "read_history",
     "true_to_engineering",

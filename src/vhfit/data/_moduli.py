@@ -24,9 +24,25 @@ from vhfit.data._errors import DataError
 from vhfit.data._samples import _check_weight
 from vhfit.viscoelastic import loss_modulus, relaxation_modulus, storage_modulus
 
-__all__ = ["FrequencySweep", "Relaxation"]
+__all__ = ["FrequencySweep", "Relaxation", "is_moduli"]
 
 _KINDS = {"e": "E", "g": "G"}
+
+
+
+def is_moduli(item: Any) -> bool:
+    """Whether ``item`` is a small-strain test — a frequency sweep or a relaxation test,
+    data of moduli — rather than a stress–strain curve.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> is_moduli(vhfit.Relaxation(time=[0.0, 1.0], modulus=[2.0, 1.0]))
+    True
+    >>> is_moduli(vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0))
+    False
+    """
+    return bool(getattr(getattr(item, "history", None), "is_linear", False))
 
 
 class _Loc:
