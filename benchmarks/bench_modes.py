@@ -104,11 +104,15 @@ def yes(ok: bool) -> str:
 
 
 # ------------------------------------------------------------------- part 1
-def multimode_curves(law: str, truth: dict, n: int = 200) -> list:
-    m = vhfit.ViscoHyperelastic(law, 3)
+def multimode_curves(law: str, truth: dict, n: int = 200, *, modes=MODES, rates=RATES,
+                     formulation: str = "hereditary") -> list:
+    """Nominal-stress ramps of ``truth`` (its Prony terms too), ``n`` samples a curve,
+    in each of ``modes`` at each of ``rates``."""
+    m = vhfit.ViscoHyperelastic(law, sum(k.startswith("tau") for k in truth),
+                                formulation=formulation)
     out = []
-    for mode in MODES:
-        for r in RATES:
+    for mode in modes:
+        for r in rates:
             eps = np.linspace(0.5 / n, 0.5, n)
             s = m.stress(truth, strain=eps, strain_rate=r, deformation=mode,
                          measure="engineering")

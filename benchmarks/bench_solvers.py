@@ -34,11 +34,10 @@ import sys
 import time
 import warnings
 
-import numpy as np
-
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import cases  # noqa: E402
+from bench_modes import multimode_curves  # noqa: E402
 
 import vhfit  # noqa: E402
 from vhfit import datasets  # noqa: E402
@@ -56,16 +55,8 @@ ROUND_OFF = 1e-6
 
 def multimode(formulation: str, n: int = 20) -> list:
     """Tension ramps in three modes and simple shear, at -1 and -100 1/s magnitudes."""
-    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2, formulation=formulation)
-    out = []
-    for mode in MODES:
-        for r in (1.0, 100.0):
-            eps = np.linspace(0.5 / n, 0.5, n)
-            s = m.stress(MULTI, strain=eps, strain_rate=r, deformation=mode,
-                         measure="engineering")
-            out.append(vhfit.Curve(strain=eps, stress=s, strain_rate=r, deformation=mode,
-                                   name=f"{mode} {r:g} 1/s"))
-    return out
+    return multimode_curves("mooney_rivlin", MULTI, n, modes=MODES, rates=(1.0, 100.0),
+                            formulation=formulation)
 
 
 def data_sets() -> dict:
