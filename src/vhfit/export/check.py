@@ -115,13 +115,15 @@ def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelas
                              formulation=formulation)
 
 
-def _scores(model: ViscoHyperelastic, params, curves: Sequence) -> tuple[float, list[float],
-                                                                          np.ndarray]:
-    """RMSAPE, per-curve RMSAPE and the stresses of ``model`` on the curves' points."""
-    x = model.as_array(params)
-    stress = model.batch(list(curves))(x[None, :])[0]
+def _stress(model: ViscoHyperelastic, params, curves: Sequence) -> np.ndarray:
+    """The stresses of ``model`` at every objective point of the curves."""
+    return model.batch(list(curves))(model.as_array(params)[None, :])[0]
+
+
+def _scores(curves: Sequence, stress: np.ndarray) -> tuple[float, list[float]]:
+    """RMSAPE and per-curve RMSAPE (Eq. 20) of ``stress`` on the curves."""
     obj = Objective(list(curves), "rmsape")
-    return float(obj(stress)), [float(v) for v in obj.per_curve(stress)], stress
+    return float(obj(stress)), [float(v) for v in obj.per_curve(stress)]
 
 
 @dataclass(frozen=True)
@@ -218,8 +220,7 @@ def card_stress(text: str, curves: Sequence, *, solver: str | None = None
     solver = solver or card_solver(text)
     model, params = parse(text, _solver_key(solver))
     model = in_formulation(model, solver_formulation(solver))
-    x = model.as_array(params)
-    return model, params, model.batch(list(curves))(x[None, :])[0]
+    return model, params, _stress(model, params, curves)
 
 
 def card_solver(text: str) -> str:
@@ -262,16 +263,23 @@ def check_card(text: str, curves: Sequence, *, solver: str | None = None,
     -------
     CardCheck
     """
+    return _check(text, curves, solver, None if fit is None else _fit_scores(fit, curves))
+
+
+def _fit_scores(fit, curves: Sequence) -> dict:
+    """The fit's formulation and its RMSAPE, overall and per curve, on the curves."""
+    fm, fp = (fit.model, fit.params) if hasattr(fit, "model") else fit
+    e, per = _scores(curves, _stress(fm, fp, curves))
+    return dict(fit_formulation=_formulation_of(fm), fit_rmsape=e, fit_per_curve=per)
+
+
+def _check(text: str, curves: Sequence, solver: str | None, fit_scores: dict | None
+           ) -> CardCheck:
     solver = solver or card_solver(text)
     model, params, stress = card_stress(text, curves, solver=solver)
-    obj = Objective(list(curves), "rmsape")
-    res = dict(solver=solver, formulation=_formulation_of(model), rmsape=float(obj(stress)),
-               per_curve=[float(v) for v in obj.per_curve(stress)])
-    if fit is not None:
-        fm, fp = (fit.model, fit.params) if hasattr(fit, "model") else fit
-        e, per, _ = _scores(fm, fp, curves)
-        res.update(fit_formulation=_formulation_of(fm), fit_rmsape=e, fit_per_curve=per)
-    return CardCheck(**res)
+    e, per = _scores(curves, stress)
+    return CardCheck(solver=solver, formulation=_formulation_of(model), rmsape=e,
+                     per_curve=per, **(fit_scores or {}))
 
 
 def check_cards(cards: Mapping[str, str], curves: Sequence, *, fits=None) -> dict[str, CardCheck]:
@@ -291,8 +299,10 @@ def check_cards(cards: Mapping[str, str], curves: Sequence, *, fits=None) -> dic
     dict of str to CardCheck
         In the order of ``cards``.
     """
-    out = {}
+    out, scored = {}, {}  # a fit serving several cards is scored once
     for solver, text in cards.items():
         fit = fits.get(solver) if isinstance(fits, Mapping) else fits
-        out[solver] = check_card(text, curves, solver=solver, fit=fit)
+        if fit is not None and id(fit) not in scored:
+            scored[id(fit)] = _fit_scores(fit, curves)
+        out[solver] = _check(text, curves, solver, scored.get(id(fit)))
     return out
