@@ -350,6 +350,28 @@ def test_abaqus_data_lines_hold_at_most_eight_values():
     assert all(len(ln) <= 256 for ln in text.splitlines())
 
 
+@given(st.floats(1e-200, 1e200), st.floats(1e-3, 1.0), st.floats(1e-3, 1e3),
+       st.floats(1e-200, 1e200))
+def test_abaqus_numbers_fit_in_20_characters_and_read_back(c10, r, q, tau1):
+    """Regression: Abaqus' syntax allows 20 characters a number and CalculiX cuts a longer
+    one at 20, so a 21-character '4.575210514986395e-05' was read as 4.575. Every number
+    of a card fits, and a reader that keeps only the first 20 characters of each field
+    gets every constant back to 1e-12 (the digits that fit)."""
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    p = dict(C10=c10 / 3.0, C01=c10 * r / 7.0, G1=c10 * q / 11.0, tau1=tau1 / 3.0)
+    text = to_abaqus(m, p, bulk_modulus=1e4 * c10 / 3.0)
+    lines = _data(text, "**")
+    i = lines.index("*HYPERELASTIC, MOONEY-RIVLIN, MODULI=LONG TERM")
+    j = lines.index("*VISCOELASTIC, TIME=PRONY")
+    fields = [f.strip() for k in (i + 1, j + 1) for f in lines[k].split(",")]
+    assert all(len(f) <= 20 for f in fields), fields
+    c10_read, c01_read, d1, _, _, tau_read = (float(f[:20]) for f in fields)
+    assert c10_read == pytest.approx(p["C10"], rel=1e-12)
+    assert c01_read == pytest.approx(p["C01"], rel=1e-12)
+    assert d1 == pytest.approx(2.0 / (1e4 * c10 / 3.0), rel=1e-12)
+    assert tau_read == pytest.approx(p["tau1"], rel=1e-12)
+
+
 def test_ansys_tbdata_holds_at_most_six_values():
     m = vhfit.ViscoHyperelastic("polynomial3", n_prony=4)
     p = dict(zip(m.param_names, [0.1] * 9 + [1.0, 1e-3, 2.0, 1e-2, 3.0, 1e-1, 4.0, 1.0]))

@@ -341,20 +341,42 @@ def model_hint(text: str, layout: str) -> str:
 
 
 # ---------------------------------------------------------------------------- numbers
-def free_number(x: float) -> str:
-    """Shortest text that reads back as exactly ``x`` (free-format cards).
+#: Longest number a free-format data line may hold: Abaqus' input syntax rules allow 20
+#: characters for a floating-point number (sign, point and exponent included), and
+#: CalculiX, which reads the same syntax, silently cuts a longer one at 20 — so that
+#: '4.575210514986395e-05' would be read as 4.575.
+NUMBER_WIDTH = 20
+
+
+def free_number(x: float, width: int = NUMBER_WIDTH) -> str:
+    """Shortest text that reads back as ``x``, in at most ``width`` characters.
+
+    The shortest round-trip text (``repr``) when it fits; else the same digits in the
+    shortest exponent form ('4.575210514986395e-5'); else the most significant digits
+    that fit (for ``width`` = 20 at least 12, a relative change below 1e-12; 14 where
+    the exponent has one or two digits).
 
     Examples
     --------
     >>> free_number(0.1), free_number(2.0), free_number(-0.0), free_number(1e-5)
     ('0.1', '2.0', '0.0', '1e-05')
+    >>> free_number(4.575210514986395e-05), free_number(0.0004465395310138371)
+    ('4.575210514986395e-5', '4.465395310138371e-4')
     """
     x = float(x)
     if not math.isfinite(x):
         raise ValueError(f"cannot write the non-finite value {x!r} into a card")
     if x == 0.0:
         return "0.0"
-    return repr(x)
+    text = repr(x)
+    if len(text) <= width:
+        return text
+    digits = len(f"{x:.16e}".partition("e")[0].replace("-", "").replace(".", "").rstrip("0"))
+    for p in range(max(digits - 1, 0), -1, -1):
+        text = _short_exp(f"{x:.{p}e}")
+        if len(text) <= width:
+            return text
+    raise ValueError(f"cannot write {x!r} in {width} characters")
 
 
 def _short_exp(s: str) -> str:
