@@ -207,3 +207,100 @@ def test_checkpoint_key_tells_sweeps_apart_by_their_frequencies():
                        {n: (0.0, 1.0) for n in m.param_names}, 1e-6)
         keys.add(fit_key(prob, "separable", 0, 30, 0.0, None, None))
     assert len(keys) == 2
+
+
+# ------------------------------------------- data windows far from 1 s (known answers)
+# The window 1 kHz – 1 MHz is not its own image under ω ↔ 1/ω (unlike ω = 0.01..100),
+# so a sweep whose rates were taken as 1/ω would put the τ bounds ten decades away.
+KHZ_MHZ = np.logspace(3.0, 6.0, 16)  # Hz
+
+
+def sweep_of(f, e_inf, G, tau):
+    e1, e2 = maxwell(2 * np.pi * f, e_inf, G, tau)
+    return vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)
+
+
+def first_order_tolerances(f, e_inf, G, tau, rmsape):
+    """How far each constant of an exact-data fit can be from the truth, given the RMS
+    relative error (percent) the fit reached: to first order r = J δθ, θ = (E∞, G_i,
+    ln τ_i), and with every other constant re-adjusted at best
+    ‖r‖ ≥ |δθ_k| ‖(I − P_k) J_k‖ (P_k: projection onto the other columns), so
+    |δθ_k| ≤ ‖r‖ / ‖(I − P_k) J_k‖, with ‖r‖ = F √n. Doubled for the second-order
+    terms; F is floored at 1e-12 %, the rounding of moduli computed to a few ulps
+    (100 · 10 ε ≈ 2e-13 %). Returns the bounds on (E∞, G_i, ln τ_i)."""
+    w = 2 * np.pi * np.asarray(f)[:, None]
+    wt = w * np.asarray(tau)
+    d = 1.0 + wt * wt
+    e1, e2 = maxwell(2 * np.pi * f, e_inf, G, tau)
+    data = np.r_[e1, e2][:, None]
+    cols = [np.r_[np.ones(f.size), np.zeros(f.size)][:, None],  # E∞
+            np.vstack([wt * wt / d, wt / d]),  # G_i: the unit Maxwell branches
+            np.vstack([G * 2 * wt * wt / d**2, G * wt * (1 - wt * wt) / d**2])]  # ln τ_i
+    J = 100.0 * np.hstack(cols) / data
+    norm_r = 2.0 * max(rmsape, 1e-12) * np.sqrt(J.shape[0])
+    out = []
+    for k in range(J.shape[1]):
+        others = np.delete(J, k, axis=1)
+        coef, *_ = np.linalg.lstsq(others, J[:, k], rcond=None)
+        out.append(norm_r / np.linalg.norm(J[:, k] - others @ coef))
+    return np.array(out)
+
+
+def test_tau_bounds_of_windows_far_from_one_second_are_those_of_eq22_by_hand():
+    """Eq. 22 (docs/theory.md §10, §11) with a sweep's ω_min, ω_max and a relaxation
+    test's 1/t_max, 1/t_min as the rates, on windows that ω ↔ 1/ω (or t ↔ 1/t) would
+    move: τ from 10^−2 / ω_max to 10 / ω_min, and from 10^−2 t_min to 10 t_max."""
+    from vhfit.calibration._bounds import rates
+
+    sweep = sweep_of(KHZ_MHZ, 1.2, [3.0], [1e-5])
+    t = np.r_[0.0, np.logspace(1.0, 4.0, 13)]  # 10 s to 10^4 s after the step
+    relax = vhfit.Relaxation(time=t, modulus=1.2 + 3.0 * np.exp(-t / 1e3))
+    w_min, w_max = 2 * np.pi * 1e3, 2 * np.pi * 1e6
+    np.testing.assert_allclose(np.sort(rates([sweep])), [w_min, w_max], rtol=1e-14)
+    np.testing.assert_allclose(np.sort(rates([relax])), [1e-4, 0.1], rtol=1e-14)
+    for items, (lo, hi) in (([sweep], (1e-2 / w_max, 10.0 / w_min)),
+                            ([relax], (1e-2 * 10.0, 10.0 * 1e4)),
+                            ([sweep, relax], (1e-2 / w_max, 10.0 * 1e4))):
+        cal = vhfit.calibrate(items, hyperelastic="neo_hooke", n_prony=1, seed=0,
+                              decades_below=2, decades_above=1, maxiter=1, polish=False,
+                              uncertainty=False)
+        np.testing.assert_allclose(cal.bounds["tau1"], (lo, hi), rtol=1e-12)
+
+
+def test_sweep_only_fit_at_khz_to_mhz_recovers_a_ten_microsecond_tau():
+    """Exact moduli of E∞ = 1.2 MPa (neo-Hooke C10 = 0.2) and one term G = 3 MPa,
+    τ = 1e-5 s over 1 kHz – 1 MHz: the search stops at its target (1e-4 %) or below,
+    and the constants are then as close to the truth as that error allows
+    (first_order_tolerances)."""
+    G, tau = np.array([3.0]), np.array([1e-5])
+    cal = vhfit.calibrate([sweep_of(KHZ_MHZ, 1.2, G, tau)], hyperelastic="neo_hooke",
+                          n_prony=1, seed=0)
+    assert cal.rmsape <= 1e-4
+    tol = first_order_tolerances(KHZ_MHZ, 1.2, G, tau, cal.rmsape)
+    assert tol[2] < 1e-3  # the bound is a real constraint, not a formality
+    assert abs(6 * cal.params["C10"] - 1.2) <= tol[0]
+    assert abs(cal.params["G1"] - 3.0) <= tol[1]
+    assert abs(np.log(cal.params["tau1"] / 1e-5)) <= tol[2]
+
+
+def test_relaxation_times_just_outside_the_window_are_reached_at_both_ends():
+    """τ one decade below 1/ω_max (fast end) and 0.95 decade above 1/ω_min (slow end,
+    just inside Eq. 22's one decade beyond): both lie in the search range (default
+    decades_below = 3, decades_above = 1) and exact data are fitted to the target, each
+    constant within what that error allows."""
+    w_min, w_max = 2 * np.pi * KHZ_MHZ[0], 2 * np.pi * KHZ_MHZ[-1]
+    G, tau = np.array([2.0, 1.0]), np.array([0.1 / w_max, 10**0.95 / w_min])
+    cal = vhfit.calibrate([sweep_of(KHZ_MHZ, 1.2, G, tau)], hyperelastic="neo_hooke",
+                          n_prony=2, seed=0)
+    lo, hi = cal.bounds["tau1"]
+    assert lo == pytest.approx(1e-3 / w_max, rel=1e-12)
+    assert hi == pytest.approx(10.0 / w_min, rel=1e-12)
+    assert cal.rmsape <= 1e-4
+    tol = first_order_tolerances(KHZ_MHZ, 1.2, G, tau, cal.rmsape)
+    assert np.all(tol[3:] < 1e-3)
+    order = np.argsort([cal.params["tau1"], cal.params["tau2"]])
+    got_G = np.array([cal.params["G1"], cal.params["G2"]])[order]
+    got_tau = np.array([cal.params["tau1"], cal.params["tau2"]])[order]
+    assert abs(6 * cal.params["C10"] - 1.2) <= tol[0]
+    assert np.all(np.abs(got_G - G) <= tol[1:3])
+    assert np.all(np.abs(np.log(got_tau / tau)) <= tol[3:])

@@ -11,12 +11,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from _budget import accuracy
 from hypothesis import given
 from hypothesis import strategies as st
 
+import vhfit
 from vhfit import hyperelastic as hyp
 from vhfit import modes
+from vhfit.objective import Objective
 
 DEFORMATIONS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear")
 
@@ -123,3 +126,107 @@ def test_a_parameter_sets_sums_do_not_depend_on_the_others_evaluated_with_it():
         alone = modes.kirchhoff_stress(hyp.get("ogden2"), ok, *lam)
         for b, a in zip(both, alone):
             np.testing.assert_array_equal(b[:2], a)
+
+
+# ------------------------------------------- the guard where exp over- or underflows
+# Past |α ln λ| ≈ 708 a power λ^α = e^(α ln λ) leaves float64's normal range (e^709.78
+# overflows, e^−708.4 is subnormal, e^−745.1 is 0), so a power derived from λ1^α
+# (1/√(λ1^α), 1/(λ1^α λ2^α)) is wrong there even where the power itself is an ordinary
+# number: uniaxial λ2^α = e^(−α ln λ1 / 2) is e^370 for α ln λ1 = −740, not 1/√(e^−740).
+EPS = np.finfo(float).eps
+
+
+def power(lam, alpha):
+    """λ^α by Python's power function: the float64 value, inf where it overflows."""
+    try:
+        return lam**alpha
+    except OverflowError:
+        return math.inf
+
+
+def guarded_reference(deformation, x1, x2, consts):
+    """Kirchhoff sums term by term with Python's powers, and a bound on the difference
+    from exp(α ln λ) of the library's own stretches: a stretch 1 ulp away moves λ^α by
+    |α| ulp, rounding ln λ and α ln λ moves it by 2 |α ln λ| ulp, the exp and the power
+    by an ulp each: (|α| + 2 |α ln λ| + 3) ε of each term, doubled."""
+    ref = np.zeros((len(consts), 3, len(x1)))
+    tol = np.zeros_like(ref)
+    for p, c in enumerate(consts):
+        for s, lam in enumerate(stretches_of(deformation, x1, x2)):
+            for k in range(3):
+                terms = [(2 * mu / al * power(lam[k], al), al, abs(al * math.log(lam[k])))
+                         for mu, al in zip(c[::2], c[1::2])]
+                ref[p, k, s] = sum(t for t, _, _ in terms)
+                tol[p, k, s] = sum(2 * (abs(al) + 2 * x + 3) * EPS * abs(t)
+                                   for t, al, x in terms)
+    return ref, tol
+
+
+def assert_matches(got, ref, tol):
+    for k in range(3):
+        assert not np.isnan(got[k]).any()
+        inf = np.isinf(ref[:, k])
+        np.testing.assert_array_equal(got[k][inf], ref[:, k][inf])
+        assert np.all(np.abs(got[k][~inf] - ref[:, k][~inf]) <= tol[:, k][~inf])
+
+
+#: one term with α = 1000 (its μ small enough for stresses of order 1), one of
+#: ordinary size, beside parameter sets of ordinary size only
+HUGE = [1e-160, 1000.0, 0.5, 2.0]
+SMALL = [[1.0, 2.0, 0.5, -3.0], [0.3, 5.0, 0.1, 1.5]]
+
+
+@pytest.mark.parametrize("least", [-0.74, -0.8])  # ln λ1: 1000 ln λ1 = −740 (e0 subnormal)
+def test_uniaxial_powers_past_the_exp_range_are_each_terms_own_exp(least):  # or −800 (0)
+    x1 = [math.exp(least), 0.7, 1.0, 1.3]
+    consts = [SMALL[0], HUGE, SMALL[1]]
+    got = modes.kirchhoff_stress(hyp.get("ogden2"), np.array(consts),
+                                 *modes.principal_stretches("uniaxial", np.array(x1)))
+    ref, tol = guarded_reference("uniaxial", x1, x1, consts)
+    # the regime: λ1^1000 subnormal or 0, λ2^1000 = e^370 or e^400 a visible share
+    lam2_power = 2 * HUGE[0] / HUGE[1] * power(x1[0] ** -0.5, HUGE[1])
+    assert power(x1[0], HUGE[1]) < np.finfo(float).tiny
+    assert np.isfinite(ref).all() and lam2_power > 1e-3 * abs(ref[1, 1, 0])
+    assert_matches(got, ref, tol)
+
+
+def test_biaxial_third_power_past_the_exp_range_is_its_own_exp():
+    """α ln λ = (−760, 400, 360): λ1^α is 0 in float64 but λ3^α = e^360 is not ∞."""
+    x1, x2 = [math.exp(-0.76), 0.8, 1.2], [math.exp(0.4), 1.1, 0.9]
+    consts = [SMALL[0], HUGE, SMALL[1]]
+    got = modes.kirchhoff_stress(hyp.get("ogden2"), np.array(consts),
+                                 *modes.principal_stretches("biaxial", np.array(x1),
+                                                            np.array(x2)))
+    ref, tol = guarded_reference("biaxial", x1, x2, consts)
+    assert power(x1[0], HUGE[1]) == 0.0 and power(1 / (x1[0] * x2[0]), HUGE[1]) > 1e156
+    assert np.isfinite(ref).all()
+    assert_matches(got, ref, tol)
+
+
+def test_population_past_the_exp_range_each_set_alone_and_overflow_is_inf_error():
+    """Compression to λ = e^−0.8 of four sets: two ordinary, one with α1 = 1000 (finite
+    stresses), one with α1 = −1000 (λ^α = e^800 overflows, so does its stress). Each
+    set's stresses are those it has alone (to the bit) and the reference's; the
+    overflowing set, and one whose overflowing terms have both signs (∞ − ∞), get +inf
+    stresses and +inf error, never NaN."""
+    lam = np.linspace(0.95, math.exp(-0.8), 12)
+    law = hyp.get("ogden2")
+    m = vhfit.ViscoHyperelastic("ogden2", 0)
+    curve = vhfit.Curve(strain=lam - 1, stress=law.stress(lam, SMALL[0]), strain_rate=-1.0,
+                        n_points=None)
+    batch, obj = m.batch([curve]), Objective([curve])
+    overflow = [1e-160, -1000.0, 0.5, 2.0]
+    both_signs = [1e-160, -1000.0, -5e-161, -1100.0]
+    population = np.array([SMALL[0], HUGE, overflow, SMALL[1], both_signs])
+    s = batch(population)
+    err = obj(s)
+    assert not np.isnan(s).any() and not np.isnan(err).any()
+    assert np.all(np.isposinf(s[[2, 4]])) and np.all(np.isposinf(err[[2, 4]]))
+    for i in (0, 1, 3):
+        np.testing.assert_array_equal(s[i], batch(population[i:i + 1])[0])
+        np.testing.assert_array_equal(s[i], batch(population[::-1])[4 - i])
+        ref, tol = guarded_reference("uniaxial", lam, lam, [population[i].tolist()])
+        # nominal stress of the curve: (λ1 ∂W/∂λ1 − λ3 ∂W/∂λ3) / λ1
+        sig = (ref[0, 0] - ref[0, 2]) / lam
+        assert np.all(np.abs(s[i] - sig) <= (tol[0, 0] + tol[0, 2]) / lam + 4 * EPS * abs(sig))
+        assert np.isfinite(err[i])

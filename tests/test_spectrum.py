@@ -97,3 +97,79 @@ def test_the_chosen_n_is_the_smallest_within_the_stated_error_increase():
     # noise makes every extra term worth a little: more terms at 0, the true 3 at 5 %,
     # one at a 30-fold error
     assert chosen[0] > chosen[1] > chosen[2] == 3 > chosen[3]
+
+
+# ------------------------------------------- relaxation times just outside the window
+# The documented grid (docs/dma.md): τ per decade (10^(k/p), p = per_decade) spanning
+# the data window [lo, hi] — 1/(2π f_max) to 1/(2π f_min), or t_min to t_max — one
+# decade beyond each end: the smallest such grid covering [lo/10, 10 hi], so its ends
+# are 10^(k0/p), k0 = floor(p log10(lo/10)), and 10^(k1/p), k1 = ceil(p log10(10 hi)).
+LO, HI = 1.5e-3, 15.0  # s: a window whose ends are not whole decades
+WINDOW_F = np.logspace(math.log10(1 / (2 * math.pi * HI)), math.log10(1 / (2 * math.pi * LO)),
+                       41)
+WINDOW_T = np.logspace(math.log10(LO), math.log10(HI), 41)
+
+
+def grid_ends(p):
+    return math.floor(p * math.log10(LO / 10)), math.ceil(p * math.log10(10 * HI))
+
+
+def best_error_on(grid, domain, x, data):
+    """The smallest RMS relative error any non-negative Prony series on ``grid`` reaches
+    (NNLS on the relative residuals, columns written here from the moduli)."""
+    from scipy.optimize import nnls
+
+    if domain == "time":
+        A = np.column_stack([np.ones_like(x), np.exp(-x[:, None] / grid)])
+    else:
+        wt = 2 * math.pi * x[:, None] * grid
+        A = np.vstack([np.column_stack([np.ones_like(x), wt**2 / (1 + wt**2)]),
+                       np.column_stack([np.zeros_like(x), wt / (1 + wt**2)])])
+    coef, _ = nnls(A / data[:, None], np.ones_like(data), maxiter=100 * A.shape[1])
+    return float(np.sqrt(np.mean(((A @ coef - data) / data) ** 2)))
+
+
+@pytest.mark.parametrize("p", [1, 2, 3])
+def test_grid_reaches_one_decade_beyond_each_end_of_a_sweeps_window(p):
+    """Exact moduli with one τ at each end of the documented grid (1.2 decades below
+    1/(2π f_max); 1.2 to 1.8 decades above 1/(2π f_min), by p) and one inside: the grid
+    has the documented size, the spectrum finds the three τ exactly and fits to
+    rounding."""
+    k0, k1 = grid_ends(p)
+    tau = np.array([10.0 ** (k0 / p), 0.1, 10.0 ** (k1 / p)])
+    assert tau[0] < LO / 10 and tau[2] > 10 * HI  # both outside the data window
+    e1, e2 = moduli(WINDOW_F, tau=tau)
+    s = prony_spectrum(frequency=WINDOW_F, storage=e1, loss=e2, per_decade=p, n_prony=3)
+    assert s.table[0, 0] == k1 - k0 + 1
+    np.testing.assert_allclose(s.tau, tau, rtol=1e-12)
+    np.testing.assert_allclose(s.G, G, rtol=1e-8)
+    assert s.error < 1e-10
+
+
+def test_a_grid_one_decade_short_at_either_end_could_not_fit_those_data():
+    """What the same exact data allow on a grid cut short by one decade, at the fast or
+    the slow end: errors of 2.5 % and 5e-4 — the full grid's 1e-10 is out of reach."""
+    k0, k1 = grid_ends(1)
+    tau = np.array([10.0**k0, 0.1, 10.0**k1])
+    e1, e2 = moduli(WINDOW_F, tau=tau)
+    data = np.r_[e1, e2]
+    full = prony_spectrum(frequency=WINDOW_F, storage=e1, loss=e2, tolerance=0.0)
+    assert full.error < 1e-10
+    assert best_error_on(10.0 ** np.arange(k0, k1 + 1), "frequency", WINDOW_F, data) < 1e-10
+    for short in (np.arange(k0 + 1, k1 + 1), np.arange(k0, k1)):
+        assert best_error_on(10.0**short, "frequency", WINDOW_F, data) > 1e-4
+
+
+def test_relaxation_times_beyond_a_relaxation_tests_window_are_on_the_grid():
+    """In time the window is [t_min, t_max]: the grid has the documented size, and a
+    τ 1.8 decades after t_max (the slow end of the grid) is found exactly, where a grid
+    one decade short at that end stays at 2e-5. (A τ below t_min/10 has decayed to
+    e^−10 of its modulus by the first point, so the fast end shows only in the size.)"""
+    k0, k1 = grid_ends(1)
+    tau = np.array([1e-2, 1.0, 10.0**k1])
+    E = E_INF + (G * np.exp(-WINDOW_T[:, None] / tau)).sum(1)
+    s = prony_spectrum(time=WINDOW_T, modulus=E, n_prony=3)
+    assert s.table[0, 0] == k1 - k0 + 1
+    np.testing.assert_allclose(s.tau, tau, rtol=1e-12)
+    assert s.error < 1e-10
+    assert best_error_on(10.0 ** np.arange(k0, k1), "time", WINDOW_T, E) > 1e-5

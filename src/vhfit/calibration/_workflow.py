@@ -114,6 +114,10 @@ def calibrate(
         number > 0 given for such data is fitted, with a headline warning.
     tau_strategy : {"free", "semifree", "fixed"} or callable
         How the τ bounds are cut from the Eq. 22 range (docs/theory.md §11). Default "free".
+    decades_below, decades_above : float
+        Decades of that range below the fastest and above the slowest time scale of the
+        tests (1/rate, 1/ω of a sweep, t of a relaxation test): 3 and 1 by default, one
+        decade more below than the paper's Eq. 22, where a real τ1 can sit.
     bounds : "auto" or dict
         Search bounds; a dict overrides the automatic ones per parameter
         (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
