@@ -81,7 +81,7 @@ def cmd_demo(args) -> int:
     """``vhfit demo``: the bundled synthetic SEBS set, end to end."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
-    args.model, args.strategy = "mooney_rivlin", DEMO_STRATEGY
+    args.model = "mooney_rivlin"
     _check_fit_flags(args)
     _check_card_flags(args)
     with _out_folder(args, "vhfit-demo") as out:
@@ -110,15 +110,11 @@ def _run_demo(args, out: Path) -> int:
 
 
 def _check_fit_flags(args) -> None:
-    """The law, the τ strategy and ``--max-prony``: refused before anything is written."""
+    """``--max-prony``: refused before anything is written or printed (the law and the τ
+    strategy are checked by :func:`run_fit`, whose bad input :func:`_out_folder` undoes)."""
     if args.max_prony < 1:
         raise UsageError(f"--max-prony {args.max_prony}: give a whole number >= 1 (the "
                          "largest N that --prony auto tries)")
-    resolve_model_name(args.model)
-    if args.strategy not in tau_strategies():
-        raise UsageError(
-            f"--strategy {args.strategy!r}: choose one of {', '.join(tau_strategies())}"
-        )
 
 
 @contextmanager
