@@ -198,6 +198,17 @@ def calibrate(
     Returns
     -------
     Calibration
+        Always with a finite error.
+
+    Raises
+    ------
+    CalibrationError
+        No parameter set the search tried has a finite error (the law is undefined on the
+        data; the message names a bound at fault and the ``bounds`` that reach the data).
+        Its ``checkpoint`` is removed. Interrupted before anything finite was found:
+        ``KeyboardInterrupt``, the checkpoint kept for ``resume``.
+    ValueError
+        A bad argument (one line naming it and the fix).
 
     Examples
     --------
