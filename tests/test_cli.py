@@ -676,3 +676,26 @@ def test_a_checkpoint_that_resumes_into_a_failure_says_start_fresh(tmp_path, mon
         r"this failed search and resumes only into it: start fresh with --force instead of "
         r"--resume", err[0]), err
     assert listing(out) == was
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--param", "G1=1",
+     "--rate", "-1"],
+    ["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"],
+    ["export", "missing.json", "--to", "abaqus"],
+    ["export", "garbage.json", "--to", "lsdyna"],
+])
+@pytest.mark.parametrize("before", ["absent", "file"])
+def test_simulate_and_export_bad_input_leave_their_out_file_as_it_was(argv, before, tmp_path,
+                                                                      monkeypatch, capsys):
+    """Exit 2 writes nothing to --out: no new file, an existing one untouched."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "garbage.json").write_text("{not json")
+    out = tmp_path / "dest.txt"
+    if before == "file":
+        out.write_text("kept\n")
+    was = listing(tmp_path)
+    assert cli.main(argv + ["--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vhfit: error: "), err
+    assert listing(tmp_path) == was
