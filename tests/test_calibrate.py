@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import warnings
 
 import numpy as np
@@ -592,3 +593,114 @@ def test_results_file_keeps_the_stability_range_of_the_fit(tmp_path):
     cal.save(tmp_path / "r.json")
     back = vhfit.Calibration.load(tmp_path / "r.json")
     assert back.stability.stretch_range == (0.5, 2.0) == cal.stability.stretch_range
+
+
+# ------------------------------------------------------ a fit that finds nothing finite
+def stretched(lam_max, rates=(0.1,), n=20):
+    """Uniaxial tension of a neo-Hooke solid (C10 = 0.005 MPa) to the stretch ``lam_max``."""
+    m = vhfit.ViscoHyperelastic("neo_hooke", 0)
+    eps = np.linspace(0.05, lam_max - 1.0, n)
+    return [vhfit.Curve(strain=eps, stress=m.stress(dict(C10=0.005), strain=eps, strain_rate=r,
+                                                    measure="engineering"), strain_rate=r)
+            for r in rates]
+
+
+def _i1_minus_3(lam):
+    """I1 − 3 of incompressible uniaxial tension, λ² + 2/λ − 3 (closed form)."""
+    return lam**2 + 2.0 / lam - 3.0
+
+
+@pytest.mark.parametrize("lam, kw, hi, fix", [
+    (12.0, {}, 100.0, 1000.0),  # I1 - 3 = 141 at λ = 12: past Jm's default search range
+    (5.0, dict(bounds={"Jm": (0.1, 10.0)}), 10.0, 100.0),  # I1 - 3 = 22.4 > the Jm given
+    (5.0, dict(n_prony=1, bounds={"Jm": (0.1, 10.0)}), 10.0, 100.0),  # with a Prony term
+])
+def test_gent_past_its_locking_stretch_raises_naming_the_bound_and_the_fix(tmp_path, lam, kw,
+                                                                          hi, fix):
+    """Every Jm of the bounds locks below the data's I1 − 3: no finite individual exists,
+    and the error says so in one line (which bound, and a bounds= that reaches the data)
+    instead of returning a Calibration with RMSAPE inf and placeholder constants; the
+    checkpoint of that search is not left behind to be resumed into the same failure."""
+    assert _i1_minus_3(lam) > hi  # the premise: locked everywhere in the bounds
+    ck = tmp_path / "ck.json"
+    with pytest.raises(vhfit.CalibrationError) as info:
+        calibrate(stretched(lam), hyperelastic="gent", seed=0, checkpoint=ck,
+                  checkpoint_every=0.0, **kw)
+    msg = str(info.value)
+    assert "\n" not in msg and isinstance(info.value, ValueError)
+    assert re.fullmatch(
+        r"the gent fit found no parameter set with a finite error \(\d+ evaluated, stop: no "
+        r"finite error in 50 generations\): its search bounds \(Jm <= " + f"{hi:g}"
+        + r"\) leave the gent law undefined at the data's deformation everywhere, but Jm = "
+        + f"{fix:g}" + r" is not; widen them with the bounds= keyword, e\.g\. "
+        r"bounds=\{'Jm': \(0\.1, " + f"{fix:g}" + r"\)\}", msg), msg
+    assert not ck.exists()
+    # the fix named works: a finite fit, its constants within their bounds, Jm past I1 - 3
+    cal = calibrate(stretched(lam), hyperelastic="gent", seed=0,
+                    **{**kw, "bounds": {"Jm": (0.1, fix)}})
+    assert np.isfinite(cal.rmsape) and cal.stop_reason != "no finite error in 50 generations"
+    assert _i1_minus_3(lam) < cal.params["Jm"] <= fix
+    for name, v in cal.params.items():
+        lo, hi_b = cal.bounds[name]
+        assert lo <= v and (name != "Jm" or v <= hi_b), (name, v, cal.bounds[name])
+
+
+def test_a_law_undefined_on_the_data_for_any_constant_says_so(monkeypatch):
+    """A law with only a modulus, locking at I1 − 3 = 10: no bound can help, and the
+    message says to check the data or choose another law (it names no bound)."""
+    name = "_test_locks_at_ten"
+
+    @vhfit.hyperelastic.register(name, units=("MPa",), linear_params=("mu",),
+                                 example=(0.1,), overwrite=True)
+    def locks(I1, I2, mu):
+        "W = -5 mu ln(1 - (I1 - 3)/10)"
+        return -5.0 * mu * np.log(1 - (I1 - 3) / 10.0)
+
+    try:
+        with pytest.raises(vhfit.CalibrationError, match=(
+                rf"^the {name} fit found no parameter set with a finite error \(\d+ evaluated, "
+                r"stop: nothing to search\): the \S+ law is undefined at the data's "
+                r"deformation for any of its constants; check the data's strain and units, "
+                r"or choose another law$")):
+            calibrate(stretched(12.0), hyperelastic=name, seed=0)
+    finally:
+        vhfit.hyperelastic.unregister(name)
+
+
+def test_interrupted_before_anything_finite_keeps_the_checkpoint_and_resumes_to_the_error(
+        tmp_path):
+    """Ctrl-C while every individual is still infinite: no Calibration (KeyboardInterrupt
+    again), the checkpoint kept, since the search may yet find one; resumed, it ends in
+    the error, and the checkpoint is removed."""
+    ck = tmp_path / "ck.json"
+    curves = stretched(12.0)
+
+    def stop_at_3(d):
+        if d["generation"] >= 3:
+            raise KeyboardInterrupt
+        return False
+
+    with pytest.raises(KeyboardInterrupt):
+        calibrate(curves, hyperelastic="gent", seed=0, checkpoint=ck, checkpoint_every=0.0,
+                  callback=stop_at_3)
+    assert ck.exists() and json.loads(ck.read_text())["done"] is None
+    with pytest.raises(vhfit.CalibrationError, match=r"Jm <= 100\)"):
+        calibrate(curves, hyperelastic="gent", seed=0, checkpoint=ck, checkpoint_every=0.0,
+                  resume=True)
+    assert not ck.exists()
+
+
+def test_an_individual_without_a_least_squares_solution_has_no_constants():
+    """The separable space's constants of an individual whose law is undefined on the
+    data are NaN, never the placeholder 1 it was decoded with (μ = 1.0 far outside its
+    bounds once came out of a failed fit this way)."""
+    from vhfit.calibration._bounds import search_bounds
+    from vhfit.calibration._space import Problem, SeparableSpace
+
+    curves = stretched(12.0)
+    model = vhfit.ViscoHyperelastic("gent", 0)
+    tau_b, b = search_bounds(model, curves, "free", 3, 1, "auto")
+    space = SeparableSpace(Problem(model, curves, tau_b, b, 1e-6))
+    x_locked, x_free = space.to_params(np.array([50.0])), space.to_params(np.array([500.0]))
+    assert np.isnan(x_locked[0]) and x_locked[1] == 50.0
+    assert 0 < x_free[0] < b["mu"][1] and x_free[1] == 500.0

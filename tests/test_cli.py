@@ -15,6 +15,7 @@ import importlib.util
 import io
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -563,3 +564,138 @@ def test_load_plugins_registers_the_models_of_the_entry_point_group(tmp_path, mo
     finally:
         if "_test_inproc_square" in vhfit.hyperelastic.available():
             vhfit.hyperelastic.unregister("_test_inproc_square")
+
+
+# ============================================= bad input leaves --out as it was (exit 2)
+def write_locking(folder: Path) -> Path:
+    """Uniaxial tension of a neo-Hooke solid to λ = 12 (I1 − 3 = 141): past every Jm of
+    Gent's default search range (0.1, 100), so no Gent individual is finite."""
+    eps = np.linspace(0.05, 11.0, 20)
+    s = ViscoHyperelastic("neo_hooke", 0).stress(dict(C10=0.005), strain=eps, strain_rate=0.1,
+                                                 measure="engineering")
+    path = folder / "locking.csv"
+    path.write_text("strain,stress_MPa\n" + "".join(f"{float(e)!r},{float(v)!r}\n"
+                                                    for e, v in zip(eps, s)))
+    return path
+
+
+def listing(folder: Path) -> dict[str, bytes] | None:
+    """Every file below ``folder`` with its bytes (None: no folder)."""
+    if not folder.exists():
+        return None
+    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else b"<dir>"
+            for p in sorted(folder.rglob("*"))}
+
+
+GENT_LOCKED = (r"the gent fit found no parameter set with a finite error \(\d+ evaluated, "
+               r"stop: no finite error in 50 generations\): its search bounds \(Jm <= 100\) "
+               r"leave the gent law undefined at the data's deformation everywhere, but "
+               r"Jm = 1000 is not; widen them with the bounds= keyword, e\.g\. "
+               r"bounds=\{'Jm': \(0\.1, 1000\)\} \(bounds= is a keyword of vhfit\.calibrate; "
+               r"on the command line choose another --model\)")
+
+
+@pytest.mark.parametrize("before", ["absent", "empty", "files"])
+@pytest.mark.parametrize("case, extra, pattern", [
+    ("typo", ["--model", "mooney_rivlinn"],
+     r"unknown model 'mooney_rivlinn': choose one of .*mooney_rivlin.* \(see 'vhfit models'\)"),
+    ("max-prony", ["--prony", "auto", "--max-prony", "0"],
+     r"--max-prony 0: give a whole number >= 1 \(the largest N that --prony auto tries\)"),
+    ("strategy", ["--strategy", "loose"], r"--strategy 'loose': choose one of free, .*"),
+    ("bad-file", ["--model", "neo_hooke"], r".*garbage\.csv.*"),
+    ("refused-by-calibrate", ["--g-inf-min", "1"], r"g_inf_min = 1\.0: .*"),
+    ("gent-locked", ["--model", "gent"], GENT_LOCKED),
+], ids=lambda v: v if isinstance(v, str) and " " not in v and len(v) < 25 else "")
+def test_fit_bad_input_leaves_the_out_folder_as_it_was(case, extra, pattern, before, noisy,
+                                                       tmp_path, monkeypatch, capsys):
+    """Exit 2, one line, and --out exactly as before: not created, or (with --force) its
+    files untouched — a checkpoint of another fit included — and none added."""
+    monkeypatch.chdir(tmp_path)
+    garbage = tmp_path / "garbage.csv"
+    garbage.write_text("strain,stress\n0,0\n-0.1,abc\n")
+    data = {"bad-file": garbage, "gent-locked": write_locking(tmp_path)}.get(case, noisy[0])
+    out = tmp_path / "out"
+    force = []
+    if before != "absent":
+        out.mkdir()
+        force = ["--force"]
+    if before == "files":
+        (out / "notes.txt").write_text("mine\n")
+        (out / "checkpoint.json").write_text('{"format": "another fit"}')
+    was = listing(out)
+    capsys.readouterr()
+    code = cli.main(["fit", str(data), "--rate", "0.1", "--out", str(out), "--no-plot",
+                     "--checkpoint-every", "0.001", *extra, *force])
+    err = [x for x in capsys.readouterr().err.splitlines() if x.startswith("vhfit: error")]
+    assert code == 2 and len(err) == 1, err
+    assert re.fullmatch(r"vhfit: error: " + pattern, err[0]), err[0]
+    assert listing(out) == was
+
+
+def test_max_prony_0_is_refused_before_anything_is_printed(noisy, tmp_path, monkeypatch,
+                                                           capsys):
+    """No 'N = 1..0' progress line: the flag is refused first, in one line."""
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["fit", str(noisy[0]), "--max-prony", "0", "--out", "o"]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().splitlines() == [
+        "vhfit: error: --max-prony 0: give a whole number >= 1 (the largest N that --prony "
+        "auto tries)"]
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_checkpoint_that_resumes_into_a_failure_says_start_fresh(tmp_path, monkeypatch,
+                                                                   capsys):
+    """A Gent fit cut (Ctrl-C) while every individual is still infinite keeps its
+    checkpoint (exit 1: it could have found a finite one); resumed, it ends in the bound
+    error, which says to start fresh with --force, and the folder stays as it was."""
+    monkeypatch.chdir(tmp_path)
+    data, out = write_locking(tmp_path), tmp_path / "out"
+    argv = ["fit", str(data), "--rate", "0.1", "--model", "gent", "--out", str(out),
+            "--no-plot", "--checkpoint-every", "0.001"]
+    calls = []
+
+    def signal_at_3(self):  # as if Ctrl-C came during generation 3
+        calls.append(1)
+        if len(calls) >= 3:
+            self.stopped_search = True
+            raise KeyboardInterrupt
+
+    with monkeypatch.context() as m:
+        m.setattr(cli._fit.Signals, "check", signal_at_3)
+        assert cli.main(argv) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("vhfit: error: interrupted before a result was ready; continue "
+                              "with: vhfit fit ") and err[-1].endswith(" --resume"), err
+    assert sorted(os.listdir(out)) == ["checkpoint.json"]
+    was = listing(out)
+    assert cli.main(argv + ["--resume"]) == 2
+    err = [x for x in capsys.readouterr().err.splitlines() if x.startswith("vhfit: error")]
+    assert len(err) == 1 and re.fullmatch(
+        r"vhfit: error: " + GENT_LOCKED + f"; the checkpoint in {re.escape(str(out))} holds "
+        r"this failed search and resumes only into it: start fresh with --force instead of "
+        r"--resume", err[0]), err
+    assert listing(out) == was
+
+
+@pytest.mark.parametrize("argv", [
+    ["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1,C01=0", "--param", "G1=1",
+     "--rate", "-1"],
+    ["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"],
+    ["export", "missing.json", "--to", "abaqus"],
+    ["export", "garbage.json", "--to", "lsdyna"],
+])
+@pytest.mark.parametrize("before", ["absent", "file"])
+def test_simulate_and_export_bad_input_leave_their_out_file_as_it_was(argv, before, tmp_path,
+                                                                      monkeypatch, capsys):
+    """Exit 2 writes nothing to --out: no new file, an existing one untouched."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "garbage.json").write_text("{not json")
+    out = tmp_path / "dest.txt"
+    if before == "file":
+        out.write_text("kept\n")
+    was = listing(tmp_path)
+    assert cli.main(argv + ["--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("vhfit: error: "), err
+    assert listing(tmp_path) == was

@@ -11,7 +11,7 @@ The public API::
 
 from vhfit import export, formulations, hyperelastic, spectrum, tts, viscoelastic
 from vhfit._version import __version__
-from vhfit.calibration import Calibration, CalibrationWarning, calibrate
+from vhfit.calibration import Calibration, CalibrationError, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
@@ -30,6 +30,7 @@ def __getattr__(name: str):
 __all__ = [
     "Batch",
     "Calibration",
+    "CalibrationError",
     "CalibrationWarning",
     "Curve",
     "DataError",

@@ -18,7 +18,20 @@ from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import polish as polish_fit
 
-__all__ = ["Search", "run_search", "check_de_options"]
+__all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS"]
+
+
+class CalibrationError(ValueError):
+    """The calibration found no parameter set with a finite error: no result to return.
+
+    A ``ValueError`` (the command line exits with code 2): the data, the law or the
+    bounds given cannot go together; the message says which and what to change.
+    """
+
+
+#: Generations after which a search whose every individual so far had an infinite error
+#: (the law undefined on the data everywhere it looked) gives up.
+HOPELESS = 50
 
 #: Solver keywords that calibrate sets itself, and what to do instead.
 _ARGUMENT = "use its {} argument instead"
@@ -180,6 +193,8 @@ def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
         res = solver.solve()
     except KeyboardInterrupt:
         return (track.best_x if track.best_x is not None else solver.x), "interrupted"
+    if track.hopeless:
+        return res.x, f"no finite error in {HOPELESS} generations"
     return res.x, reasons.get(res.stop_reason, res.message)
 
 
@@ -196,6 +211,7 @@ class _Tracker:
         self.best_x, self.best_f = None, np.inf
         self.saved = time.perf_counter()
         self.finish = None  # an _EarlyFinish, if a polish follows the search
+        self.hopeless = False  # stopped: no finite individual in HOPELESS generations
 
     def __call__(self, intermediate_result) -> bool:
         r = intermediate_result
@@ -211,6 +227,9 @@ class _Tracker:
             if time.perf_counter() - self.saved >= self.every:
                 _checkpoint.save(self.ckpt, self.key, self.state, self.evaluations)
                 self.saved = time.perf_counter()
+        if self.best_f == np.inf and int(r.nit) >= HOPELESS:
+            self.hopeless = True  # nothing finite anywhere it looked: give up
+            return True
         if self.finish is not None and self.finish(best, np.asarray(r.x)):
             return True
         if self.callback is None:

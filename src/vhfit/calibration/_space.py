@@ -203,7 +203,8 @@ class SeparableSpace:
         X[:, np.arange(m), amp] += 1.0
         S = prob.batch(X.reshape(P * m, -1)).reshape(P, m, -1)  # σ(B + e_k)
         # Σ_k σ(B + e_k) = (m + 1) σ(B): σ(B) needs no evaluation of its own
-        cols = (S - S.sum(axis=1, keepdims=True) / (m + 1)) * prob.scale  # (P, m, n_points)
+        with np.errstate(invalid="ignore"):  # inf - inf where the law is undefined
+            cols = (S - S.sum(axis=1, keepdims=True) / (m + 1)) * prob.scale  # (P, m, n_pts)
         lo = np.array([prob.bounds[prob.hm.param_names[k]][0] for k in amp])
         free = ~np.isfinite(lo)
         lo0 = np.where(free, 0.0, lo)
@@ -221,6 +222,8 @@ class SeparableSpace:
         with np.errstate(all="ignore"):
             mu0 = prob.hm.initial_shear_modulus(out)
         err[~(mu0 > 0)] = np.inf
+        # no least squares solution: no constants either (not decode's placeholder 1)
+        out[np.ix_(~np.isfinite(err), amp)] = np.nan
         return out, err
 
     def errors(self, Z: np.ndarray) -> np.ndarray:

@@ -7,20 +7,22 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
-from vhfit.calibration._search import run_search
+from vhfit.calibration._search import CalibrationError, run_search
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
-__all__ = ["calibrate"]
+__all__ = ["calibrate", "CalibrationError"]
 
 DEFAULT_TAU_STRATEGY = "free"
 DEFAULT_DECADES_BELOW = 3  # one decade of margin below Eq. 22: real τ_1 can sit just under it
@@ -200,6 +202,17 @@ def calibrate(
     Returns
     -------
     Calibration
+        Always with a finite error.
+
+    Raises
+    ------
+    CalibrationError
+        No parameter set the search tried has a finite error (the law is undefined on the
+        data; the message names a bound at fault and the ``bounds`` that reach the data).
+        Its ``checkpoint`` is removed. Interrupted before anything finite was found:
+        ``KeyboardInterrupt``, the checkpoint kept for ``resume``.
+    ValueError
+        A bad argument (one line naming it and the fix).
 
     Examples
     --------
@@ -314,6 +327,12 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
         max_time=max_time, t0=t0, polish=polish)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
+    if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
+        if found.stop == "interrupted":
+            raise KeyboardInterrupt  # the search may yet find one: resume the checkpoint
+        if checkpoint is not None and os.path.exists(checkpoint):
+            os.remove(checkpoint)  # resuming it would only end in the same failure
+        raise CalibrationError(no_fit_message(prob, found.nfev, found.stop))
     nfev = found.nfev
     if found.polished is not None:  # the search ended by this polish of its best member
         x, err = found.polished
@@ -328,3 +347,68 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                       popsize=popsize or space.popsize, maxiter=maxiter or space.maxiter,
                       tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
                       stability_range=[float(v) for v in stability_range]))
+
+
+def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
+    """Why the search found no parameter set with a finite error, and what to change.
+
+    Each of the law's nonlinear constants (α, λm, Jm, ...) is probed alone, the others
+    at the law's example values and no Prony modulus, over its search bounds and beyond
+    them within its physical limits: a finite stress only outside the bounds names the
+    bound as the cause, with a range that reaches it.
+    """
+    hm = prob.hm
+    head = (f"the {hm.name} fit found no parameter set with a finite error "
+            f"({nfev} evaluated, stop: {stop})")
+    inside = False
+    for k in range(hm.n_params):
+        if k in hm.linear_index:
+            continue
+        name = hm.param_names[k]
+        lo, hi = (float(v) for v in prob.bounds[name])
+        plo, phi = (float(v) for v in hm.bounds[k])
+        values = _probe_values(lo, hi, plo, phi)
+        finite = _finite_at(prob, k, values)
+        if finite[:9].any():
+            inside = True
+            continue
+        above = [v for v, f in zip(values[9:], finite[9:]) if f and v > hi]
+        below = [v for v, f in zip(values[9:], finite[9:]) if f and v < lo]
+        if above or below:
+            new = (max(below) if below else lo, min(above) if above else hi)
+            side = f"{name} <= {hi:g}" if above else f"{name} >= {lo:g}"
+            return (f"{head}: its search bounds ({side}) leave the {hm.name} law undefined "
+                    f"at the data's deformation everywhere, but {name} = "
+                    f"{new[1] if above else new[0]:g} is not; widen them with the bounds= keyword, "
+                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}}")
+    if inside:
+        return (f"{head}: some parameter sets within the bounds have a finite error but the "
+                "search did not reach them; narrow the bounds (bounds= keyword) or give a "
+                "larger popsize")
+    return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
+            "its constants; check the data's strain and units, or choose another law")
+
+
+def _probe_values(lo: float, hi: float, plo: float, phi: float) -> list[float]:
+    """9 values across [lo, hi], then up to 4 decades beyond each end within (plo, phi)."""
+    if lo > 0 and hi > lo:
+        values = list(np.geomspace(lo, hi, 9))
+        out = [hi * 10.0**j for j in range(1, 5)] + [lo / 10.0**j for j in range(1, 5)]
+    else:
+        values = list(np.linspace(lo, hi, 9))
+        span = max(hi - lo, 1.0)
+        out = [hi + span * 10.0**j for j in range(4)] + [lo - span * 10.0**j for j in range(4)]
+    return values + [v for v in out if plo < v < phi]
+
+
+def _finite_at(prob: Problem, k: int, values: list[float]) -> np.ndarray:
+    """Whether the error is finite with the law's constant ``k`` at each of ``values``
+    (the other constants at the law's example, Prony moduli 0)."""
+    hm, nh = prob.hm, prob.hm.n_params
+    X = np.zeros((len(values), prob.model.n_params))
+    X[:, :nh] = np.asarray(hm.example, dtype=np.float64)
+    X[:, k] = values
+    X[:, nh + 1::2] = 10.0 ** prob.tau_b[:, 0]
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return np.isfinite(prob.errors(X))

@@ -17,7 +17,8 @@ import os
 import shlex
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +26,13 @@ import numpy as np
 
 from vhfit import datasets, plot, tts
 from vhfit._io import atomic_write
-from vhfit.calibration import Calibration, CalibrationWarning, calibrate, default_n_prony
+from vhfit.calibration import (
+    Calibration,
+    CalibrationError,
+    CalibrationWarning,
+    calibrate,
+    default_n_prony,
+)
 from vhfit.cli import _moduli
 from vhfit.cli._cards import (
     CARD_FILES,
@@ -62,11 +69,12 @@ def cmd_fit(args) -> int:
     """``vhfit fit CURVES...``."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
+    _check_fit_flags(args)
     _check_card_flags(args)
     curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
     _check_shift(curves, args)  # temperatures without shift information: nothing written
-    out = prepare_out(args.out, "vhfit-results", force=args.force, resume=args.resume)
-    return run_fit(curves, inputs, args, out, label=None, command=args._argv)
+    with _out_folder(args, "vhfit-results") as out:
+        return run_fit(curves, inputs, args, out, label=None, command=args._argv)
 
 
 def cmd_demo(args) -> int:
@@ -74,8 +82,13 @@ def cmd_demo(args) -> int:
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
     args.model = "mooney_rivlin"
+    _check_fit_flags(args)
     _check_card_flags(args)
-    out = prepare_out(args.out, "vhfit-demo", force=args.force, resume=args.resume)
+    with _out_folder(args, "vhfit-demo") as out:
+        return _run_demo(args, out)
+
+
+def _run_demo(args, out: Path) -> int:
     path = datasets.sebs_path()
     curves = datasets.load_sebs()
     inputs = [{"path": str(path), "sha256": _sha256(path), "bundled": "vhfit.datasets.sebs"}]
@@ -94,6 +107,63 @@ def cmd_demo(args) -> int:
     if code == EXIT_OK:
         _demo_check(out)
     return code
+
+
+def _check_fit_flags(args) -> None:
+    """``--max-prony``: refused before anything is written or printed (the law and the τ
+    strategy are checked by :func:`run_fit`, whose bad input :func:`_out_folder` undoes)."""
+    if args.max_prony < 1:
+        raise UsageError(f"--max-prony {args.max_prony}: give a whole number >= 1 (the "
+                         "largest N that --prony auto tries)")
+
+
+@contextmanager
+def _out_folder(args, default: str) -> Iterator[Path]:
+    """The ``--out`` folder of a fit, left as it was when the run ends in bad input.
+
+    On exit 2 (a one-line error: bad data, a law that cannot reach the data, a flag the
+    fit refuses) the files the run added are removed, the checkpoints it changed are
+    restored and a folder it created is removed again: a rerun finds the folder as the
+    user left it. Interrupts and failed fits (exit 1) keep their checkpoints for
+    ``--resume``.
+    """
+    existed = _existing_out(args.out, default)
+    out = prepare_out(args.out, default, force=args.force, resume=args.resume)
+    existed = out.resolve() in existed
+    names = set(os.listdir(out)) if existed else set()
+    saved = {n: (out / n).read_text() for n in names
+             if n.startswith(CHECKPOINT) and (out / n).is_file()}
+    try:
+        yield out
+    except (UsageError, ValueError, OSError):  # exit 2: as it was
+        _restore(out, existed, names, saved)
+        raise
+
+
+def _existing_out(given: str | None, default: str) -> set[Path]:
+    """The folders that the ``--out`` of this run may be, among those that exist now."""
+    if given is not None:
+        cands = [Path(given)]
+    else:
+        base = Path(default)
+        cands = [base] + list(base.parent.glob(base.name + "-*"))
+    return {p.resolve() for p in cands if p.is_dir()}
+
+
+def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, str]) -> None:
+    """Undo a run's writes into ``out`` (see :func:`_out_folder`)."""
+    try:
+        for p in out.iterdir():
+            if p.name not in names and p.is_file():
+                p.unlink()
+        for n, data in saved.items():
+            p = out / n
+            if not p.is_file() or p.read_text() != data:
+                atomic_write(p, data)
+        if not existed and not any(out.iterdir()):
+            out.rmdir()
+    except OSError:  # the error being reported matters more than the cleanup
+        pass
 
 
 def _check_card_flags(args) -> None:
@@ -322,6 +392,14 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
             f"interrupted before a result was ready; continue with: {_resume_cmd(command)}"
             if any(out.glob(CHECKPOINT + "*")) else "interrupted before the search started"
         ) from None
+    except CalibrationError as exc:  # no finite fit: the data, law or bounds
+        progress.close()
+        how = (" (bounds= is a keyword of vhfit.calibrate; on the command line choose "
+               "another --model)" if "bounds=" in str(exc) else "")
+        if args.resume:
+            how += (f"; the checkpoint in {out} holds this failed search and resumes only "
+                    "into it: start fresh with --force instead of --resume")
+        raise UsageError(f"{one_line(exc)}{how}") from None
     except (ValueError, UsageError):
         progress.close()
         raise
