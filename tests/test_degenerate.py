@@ -165,8 +165,12 @@ def test_effectively_zero_constants_are_named_by_kind():
     cal = report("yeoh", [0.3, 1.86e-55, 0.0, 1.0, 1e-2], curves, uncertainty=False)
     assert degenerate(cal) and "C20 = 1.86e-55 MPa, C30 = 0 MPa below" in degenerate(cal)[0]
     assert "WARNING: " + degenerate(cal)[0] in head(cal)
-    # with intervals too, each constant is named once
-    cal = report("yeoh", [0.3, 1.86e-55, 0.0, 1.0, 1e-2], curves)
+    # with intervals too (noisy data: C20's is far wider than 1.86e-55), each constant
+    # is named once
+    noisy = ramps("yeoh", dict(C10=0.3, C20=0.0, C30=0.0, G1=1.0, tau1=1e-2), THREE,
+                  noise=0.01, seed=1)
+    cal = report("yeoh", [0.3, 1.86e-55, 0.0, 1.0, 1e-2], noisy)
+    assert cal.confidence["C20"][1] - cal.confidence["C20"][0] > 1e-6
     assert sum(m.count("C20 = ") for m in degenerate(cal)) == 1, degenerate(cal)
 
 
