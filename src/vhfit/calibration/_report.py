@@ -81,8 +81,8 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
 
 #: Two hyperelastic moduli whose estimates correlate at least this closely (|ρ|, from
 #: the Jacobian at the fit) act on the data as one term: only a combination of them is
-#: determined. 1 − 1e-6 is a correlation no well-posed fit reaches, and two Ogden terms
-#: whose α differ by less than ~1e-3 of α reach it on any stretch range (docs/reliability.md).
+#: determined, each alone ~1/sqrt(2e-6) ≈ 700 times less certain than if the two were
+#: separable (docs/reliability.md, "Degenerate fits").
 CORRELATION_TOL = 1.0 - 1e-6
 
 #: A constant below this fraction of the largest of its kind is effectively zero.
