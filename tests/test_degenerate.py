@@ -256,3 +256,28 @@ def test_load_accepts_results_without_warnings(tmp_path):
     (tmp_path / "old.json").write_text(json.dumps(res))
     back = Calibration.load(tmp_path / "old.json")
     assert back.warnings == [] and back.headlines == [] and back.params == cal.params
+
+
+def test_vhfit_fit_names_collapsed_ogden_terms_before_the_constants(tmp_path, monkeypatch,
+                                                                    capsys):
+    from vhfit import cli
+
+    monkeypatch.chdir(tmp_path)
+    m = vhfit.ViscoHyperelastic("ogden", 1)
+    files = []
+    for r in THREE:
+        s = m.stress(OGDEN1_TRUE, strain=EPS, strain_rate=r, measure="engineering")
+        path = tmp_path / f"og_{-r:g}.csv"
+        path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
+                        + "".join(f"{e:.17g},{v:.17g}\n" for e, v in zip(EPS, s)))
+        files.append(str(path))
+    assert cli.main(["fit", *files, "--model", "ogden2", "--prony", "1", "--seed", "0",
+                     "-q", "--no-plot", "--out", "res"]) == 0
+    res = json.loads((tmp_path / "res" / "results.json").read_text())
+    assert res["status"] == "complete"
+    msgs = [w for w in res["warnings"] if "cannot be told apart" in w or "effectively zero" in w]
+    assert msgs and all(w in res["headlines"] for w in msgs)
+    summary = (tmp_path / "res" / "summary.txt").read_text().splitlines()
+    table = summary.index(next(ln for ln in summary if ln.startswith("parameter")))
+    assert all(f"WARNING: {w}" in summary[:table] for w in msgs)
+    assert capsys.readouterr().out.splitlines()[: table + 1] == summary[: table + 1]
