@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import time
 import warnings
 
@@ -14,13 +15,20 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.stability import drucker
 from vhfit.viscoelastic import prony_g
 
-__all__ = ["finish", "merge_terms", "MERGE_RTOL", "confidence", "time_window_warnings",
-           "slack_warnings"]
+__all__ = ["finish", "merge_terms", "MERGE_RTOL", "confidence", "covariance",
+           "time_window_warnings", "slack_warnings", "degenerate_warnings", "CORRELATION_TOL",
+           "NEGLIGIBLE"]
 
 
-def confidence(prob: Problem, x: np.ndarray, level: float = 0.95):
-    """Intervals from the Jacobian of the weighted residuals (τ intervals via log10 τ)."""
-    model, nh = prob.model, prob.hm.n_params
+def covariance(prob: Problem, x: np.ndarray):
+    """The Jacobian's view of a fit: (z, cov, Vt, tiny, s2, dof).
+
+    ``z`` is ``x`` with log10 τ, ``cov`` the covariance of z *without* the factor s²
+    (so that correlations are defined even for an exact fit), ``Vt`` and ``tiny`` the
+    right singular vectors of J and which singular values count as zero, ``s2`` the
+    residual variance. None when J is not finite.
+    """
+    nh = prob.hm.n_params
     z = x.copy()
     z[nh + 1::2] = np.log10(x[nh + 1::2])
     n_par = z.size
@@ -34,13 +42,26 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95):
     n = r0.size
     dof = max(n - n_par, 1)
     s2 = float(r0 @ r0) / dof
-    out, unident = {}, []
     if not np.all(np.isfinite(J)):
-        return out, unident
+        return None
     U, sv, Vt = np.linalg.svd(J, full_matrices=False)
     tiny = sv <= sv.max() * 1e-10 if sv.size else np.array([], bool)
     inv = np.where(tiny, 0.0, 1.0 / np.where(tiny, 1.0, sv) ** 2)
-    cov = (Vt.T * inv) @ Vt * s2
+    return z, (Vt.T * inv) @ Vt, Vt, tiny, s2, dof
+
+
+def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
+    """Intervals from the Jacobian of the weighted residuals (τ intervals via log10 τ).
+
+    ``cov`` is :func:`covariance` of the same fit when already computed.
+    """
+    model, nh = prob.model, prob.hm.n_params
+    out, unident = {}, []
+    got = covariance(prob, x) if cov is None else cov
+    if got is None:
+        return out, unident
+    z, cov0, Vt, tiny, s2, dof = got
+    cov = cov0 * s2
     from scipy.stats import t as student_t
 
     tq = float(student_t.ppf(0.5 + level / 2, dof))
@@ -56,6 +77,117 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95):
         else:
             out[name] = (x[k] - half, x[k] + half)
     return out, unident
+
+
+#: Two hyperelastic moduli whose estimates correlate at least this closely (|ρ|, from
+#: the Jacobian at the fit) act on the data as one term: only a combination of them is
+#: determined, each alone ~1/sqrt(2e-6) ≈ 700 times less certain than if the two were
+#: separable (docs/reliability.md, "Degenerate fits").
+CORRELATION_TOL = 1.0 - 1e-6
+
+#: A constant below this fraction of the largest of its kind is effectively zero.
+NEGLIGIBLE = 1e-12
+
+
+def _partners(names, units, i: int) -> list[int]:
+    """The dimensionless constants of the same term as modulus ``names[i]`` (the α of
+    Ogden's μ: the same trailing number)."""
+    m = re.fullmatch(r"(\D+)(\d+)", names[i])
+    if m is None:
+        return []
+    return [k for k, n in enumerate(names) if units[k] == "1" and n != names[i]
+            and re.fullmatch(r"\D+" + m.group(2), n)]
+
+
+def _fewer_terms(name: str, n_moduli: int) -> str:
+    m = re.fullmatch(r"(ogden|reduced_polynomial)(\d*)", name)
+    if m and n_moduli > 1:
+        n = n_moduli - 1
+        return f"{m.group(1)}{'' if n == 1 and m.group(1) == 'ogden' else n}"
+    return "a law with fewer terms"
+
+
+def _negligible(model, x, names, units, moduli) -> tuple[list[str], set[int]]:
+    """Constants below NEGLIGIBLE of the largest of their kind, one sentence per kind."""
+    nh = model.hyperelastic.n_params
+    out, zero = [], set()
+    for idx, kind in ((moduli, "hyperelastic modulus"),
+                      (list(range(nh, x.size, 2)), "Prony modulus G_i")):
+        top = max((abs(float(x[k])) for k in idx), default=0.0)
+        tiny = [k for k in idx if len(idx) > 1 and abs(float(x[k])) < NEGLIGIBLE * top]
+        zero.update(tiny)
+        if tiny:
+            out.append(
+                ", ".join(f"{names[k]} = {x[k]:.3g} {units[k]}" for k in tiny)
+                + f" below {NEGLIGIBLE:g} of the largest {kind} ({top:.4g} MPa): effectively "
+                "zero, the term is absent from the fit; use a model without it")
+    return out, zero
+
+
+def degenerate_warnings(model, x, conf: dict, cov0=None) -> list[str]:
+    """Constants the data do not determine: terms that act as one, constants that are
+    effectively zero, intervals wider than their value (docs/reliability.md).
+
+    Parameters
+    ----------
+    model : ViscoHyperelastic
+    x : ndarray
+        The fitted parameters.
+    conf : dict
+        Name -> (low, high) 95 % interval (empty: no interval check).
+    cov0 : ndarray, optional
+        Covariance of the fit's parameters up to the factor s² (:func:`covariance`;
+        None: no correlation check).
+
+    Returns
+    -------
+    list of str
+        One sentence each: what is degenerate, what it means, what to do.
+
+    Examples
+    --------
+    >>> from vhfit.model import ViscoHyperelastic
+    >>> m = ViscoHyperelastic("yeoh", 0)
+    >>> degenerate_warnings(m, np.array([0.5, 1.86e-55, 0.01]), {})[0][:48]
+    'C20 = 1.86e-55 MPa below 1e-12 of the largest hy'
+    """
+    hm = model.hyperelastic
+    names, units = list(model.param_names), list(model.units)
+    moduli = [k for k in range(hm.n_params) if units[k] == "MPa"]
+    zero_msgs, zero = _negligible(model, x, names, units, moduli)
+    out = []
+    if cov0 is not None:
+        d = np.sqrt(np.maximum(np.diag(cov0), 0.0))
+        live = [k for k in moduli if k not in zero]
+        for a, i in enumerate(live):
+            for j in live[a + 1:]:
+                if not (d[i] > 0 and d[j] > 0):
+                    continue
+                rho = float(cov0[i, j] / (d[i] * d[j]))
+                if not abs(rho) >= CORRELATION_TOL:
+                    continue
+                pi, pj = _partners(names, units, i), _partners(names, units, j)
+                how = f"correlation of {names[i]} and {names[j]} {rho:+.9f}"
+                what = (f"{names[pi[0]]} and {names[pj[0]]} ({x[pi[0]]:.4g} vs {x[pj[0]]:.4g})"
+                        if pi and pj else f"{names[i]} and {names[j]}")
+                out.append(
+                    f"{what} cannot be told apart by the data ({how}): the two terms act as "
+                    "one, only a combination of them is determined; use "
+                    f"{_fewer_terms(hm.name, len(moduli))}, or add tests (other modes, larger "
+                    "strains) that separate them")
+    out += zero_msgs
+    # half-width of the interval (a τ's is not symmetric in s) wider than |value|; NaN
+    # and inf count as wider
+    wide = [k for k, name in enumerate(names) if name in conf and k not in zero
+            and not (conf[name][1] - conf[name][0]) / 2 <= abs(float(x[k]))]
+    if wide:
+        out.append(
+            "not determined by the data (95 % interval wider than the value): "
+            + ", ".join(f"{names[k]} = {x[k]:.4g} {units[k]} in [{conf[names[k]][0]:.3g}, "
+                        f"{conf[names[k]][1]:.3g}]" for k in wide)
+            + "; do not use these constants one by one: fit fewer terms (a smaller N, a law "
+            "with fewer constants) or add tests that exercise them")
+    return out
 
 
 def time_window_warnings(model, x, curves) -> list[str]:
@@ -211,13 +343,19 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
         )
         msgs.append(heads[-1])
     conf: dict = {}
+    cov = None
     if uncertainty:
-        conf, unident = confidence(prob, x)
+        cov = covariance(prob, x)
+        conf, unident = confidence(prob, x, cov=cov)
         if unident:
             msgs.append(
                 "the data cannot identify " + ", ".join(unident)
                 + " (flat directions of the error): treat their values as one of many fits"
             )
+    # constants the data do not determine head the summary (before the constants)
+    degenerate = degenerate_warnings(model, x, conf, None if cov is None else cov[1])
+    heads += degenerate
+    msgs += degenerate
     msgs += time_window_warnings(model, x, curves)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)

@@ -125,8 +125,9 @@ class Calibration:
     warnings : list of str
     headlines : list of str
         The warnings that change how the result may be used (a g∞ at its floor, Prony
-        terms the data cannot identify): :meth:`summary` and the solver cards' comments
-        put them first.
+        terms the data cannot identify, constants the data do not determine: terms that
+        act as one, effectively zero constants, intervals wider than their value):
+        :meth:`summary` and the solver cards' comments put them first.
     shift : WLF, Arrhenius, PolynomialShift or None
         Time–temperature shift law of tests at several temperatures: the given law, or
         the WLF law fitted to the shift factors used (docs/dma.md); None when every test
