@@ -12,7 +12,6 @@ import csv
 import glob
 import hashlib
 import io
-import json
 import os
 import shlex
 import sys
@@ -143,9 +142,7 @@ def _check_shift(curves, args) -> None:
 
 def _demo_check(out: Path) -> None:
     """Print the fitted constants next to the generating ones."""
-    with open(out / RESULTS) as f:
-        res = json.load(f)
-    p = res["params"]
+    p = Calibration.load(out / RESULTS).params
     true = datasets.SEBS_PARAMS
     rows = ["", "fitted vs generating parameters (paper Table 5):"]
     for k, v in true.items():
