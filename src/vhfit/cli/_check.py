@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 from vhfit import datasets, tts
-from vhfit.cli._cards import CARD_FILES, check_table
+from vhfit.cli._cards import CARD_FILES, check_table, solver_of
 from vhfit.cli._common import EXIT_OK, UsageError, one_line
 from vhfit.cli._fit import read_curves
 from vhfit.cli._results import load_calibration
@@ -93,7 +93,7 @@ def _cards(args, res: dict, folder: Path) -> dict:
     for key in CARD_FILES:
         if key == "json" or key not in listed:
             continue
-        out[key] = (key.split("_")[0], _read(str(folder / listed[key])))
+        out[key] = (solver_of(key), _read(str(folder / listed[key])))
     if not out:
         raise UsageError(f"{folder}: the results list no solver cards; give them with --card")
     return out

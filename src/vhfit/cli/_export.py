@@ -5,7 +5,7 @@ from __future__ import annotations
 from vhfit.cli._cards import card_options, card_shift
 from vhfit.cli._common import EXIT_OK, UsageError, emit, one_line
 from vhfit.cli._results import load_calibration
-from vhfit.export import export
+from vhfit.export import export, get_solver, solvers
 
 __all__ = ["cmd_export"]
 
@@ -13,19 +13,23 @@ __all__ = ["cmd_export"]
 def cmd_export(args) -> int:
     """``vhfit export RESULTS.json --to SOLVER``."""
     cal = load_calibration(args.results)
-    # several fits (vhfit fit --for abaqus,lsdyna): the card of a solver from its own fit
+    # several fits (vhfit fit --for A,B): the card of a solver from its own fit
     own = (cal.context.get("card_fits") or {}).get(args.to)
     fit = cal.fits.get(own, cal) if isinstance(own, str) else cal
     kw = {}
     if args.name:
         kw["name"] = args.name
+    variants = [k[len("variant_"):] for k, v in vars(args).items()
+                if k.startswith("variant_") and v]
     if args.to != "json":
-        kw.update(card_options(args))
-        if args.abaqus_explicit:
-            if args.to != "abaqus":
-                raise UsageError(f"--explicit is an Abaqus variant: drop it, or give --to abaqus "
-                                 f"(not {args.to})")
-            kw["explicit"] = True
+        rec = get_solver(args.to)
+        kw.update(card_options(args, rec.name))
+        kw.update({v: True for v in variants if v in rec.variants})
+    for v in variants:
+        if args.to == "json" or v not in get_solver(args.to).variants:
+            owners = [s for s in solvers() if v in get_solver(s).variants]
+            raise UsageError(f"--{v} is a variant of the {' or '.join(owners)} card: drop it, "
+                             f"or give --to {' or '.join(owners)} (not {args.to})")
     shift, _ = card_shift(cal)
     if shift is not None and args.to != "json":
         kw["shift"] = shift

@@ -28,7 +28,6 @@ from vhfit.calibration import Calibration, CalibrationWarning, calibrate, defaul
 from vhfit.cli import _moduli
 from vhfit.cli._cards import (
     CARD_FILES,
-    SOLVERS,
     check_targets,
     plan_fits,
     write_cards,
@@ -47,7 +46,7 @@ from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 
-__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "SOLVERS", "CARD_FILES",
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
            "DEMO_PRONY"]
 
 RESULTS = "results.json"
