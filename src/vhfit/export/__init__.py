@@ -96,13 +96,16 @@ class _Formats(Mapping):
 FORMATS: Mapping[str, str] = _Formats()
 
 JSON_FORMAT = "vhfit-material"
+#: The model's default accuracy: a JSON document says ``rtol`` only when it differs.
+_DEFAULT_RTOL = 1e-6
 
 
 def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
     """The calibrated material as JSON: vhfit parameters plus the derived solver values.
 
     ``hyperelastic``, ``formulation`` (the viscoelastic formulation the constants were
-    fitted in, :mod:`vhfit.formulations`), ``n_prony`` and ``params`` define the model
+    fitted in, :mod:`vhfit.formulations`), ``n_prony``, ``params`` and ``rtol`` (the
+    accuracy of the hereditary integral, written when not the default) define the model
     (this is what :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
     constants for reference.
 
@@ -126,6 +129,7 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "formulation": model.formulation,
         "n_prony": mat.n_prony,
         "params": params,
+        **({} if model.rtol == _DEFAULT_RTOL else {"rtol": model.rtol}),
         "units": {
             "system": "N, mm, s, MPa",
             **dict(zip(model.param_names, model.units)),

@@ -97,7 +97,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
     name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
     from the ``G1, tau1, ...`` keys), ``"formulation"`` optional (default
-    ``"hereditary"``; a results file says the formulation it was fitted in).
+    ``"hereditary"``; a results file says the formulation it was fitted in), ``"rtol"``
+    optional (the model's accuracy).
     """
     if params is None:
         if isinstance(model, ViscoHyperelastic):
@@ -112,8 +113,10 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
             spec = model.get("model", model.get("hyperelastic"))
             n_prony = model.get("n_prony")
             formulation = str(model.get("formulation", "hereditary"))
+            accuracy = {"rtol": float(model["rtol"])} if "rtol" in model else {}
         elif hasattr(model, "params") and hasattr(model, "model"):
             params, spec, n_prony, formulation = model.params, model.model, None, "hereditary"
+            accuracy = {}
         else:
             raise TypeError(
                 f"cannot export {type(model).__name__}: give (model, params), an object with "
@@ -131,7 +134,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
                 if not isinstance(params, Mapping):
                     raise TypeError("give 'n_prony' when the parameters are an array")
                 n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
-            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation)
+            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation,
+                                      **accuracy)
     if not isinstance(model, ViscoHyperelastic):
         raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
     x = model.check(params)
