@@ -780,4 +780,9 @@ MUTANTS: list[Mutant] = [
       'if getattr(args, f"{solver}_{v}", False)]', "if False]",
       "vhfit fit --NAME-VARIANT writes no variant card",
       ("tests/test_toy_solver.py", "tests/test_cli_cards.py")),
+    M("i23_test_data_never_written", "vhfit/cli/_cards.py",
+      "            if rec.test_data is None:\n", "            if True:\n",
+      "vhfit fit writes no solver test-data file for equilibrium curves",
+      ("tests/test_cli_modes.py::test_equilibrium_files_fit_without_prony_terms_and_give_"
+       "abaqus_test_data",)),
 ]

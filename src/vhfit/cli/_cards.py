@@ -17,11 +17,11 @@ from pathlib import Path
 
 from vhfit._io import atomic_write
 from vhfit.cli._common import UsageError, one_line
-from vhfit.export import export, get_solver, supported_laws, to_abaqus_test_data
+from vhfit.export import export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
 from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
 
-__all__ = ["CARD_FILES", "TEST_DATA_FILE", "Cards", "plan_fits", "check_targets",
+__all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
            "check_table"]
 
@@ -53,8 +53,6 @@ class _CardFiles(Mapping):
 
 #: Card key -> file name (read from the solver records at each use).
 CARD_FILES: Mapping[str, str] = _CardFiles()
-#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
-TEST_DATA_FILE = "abaqus_test_data.inp"
 
 
 def _solver(key: str):
@@ -227,14 +225,19 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
     atomic_write(out / CARD_FILES["json"], export(first, to="json"))
     res.files["json"] = CARD_FILES["json"]
     if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
-           for c in curves):
-        try:
-            text = to_abaqus_test_data(curves, first.model.hyperelastic.name)
-        except ValueError as exc:
-            res.errors["abaqus test data"] = one_line(exc)
-        else:
-            atomic_write(out / TEST_DATA_FILE, text)
-            res.files["abaqus test data"] = TEST_DATA_FILE
+           for c in curves):  # the solvers' test-data inputs (records with test_data)
+        for name in solver_names():
+            rec = get_solver(name)
+            if rec.test_data is None:
+                continue
+            key, file = f"{name} test data", f"{name}_test_data{rec.suffix}"
+            try:
+                text = rec.test_data(curves, first.model.hyperelastic.name)
+            except ValueError as exc:
+                res.errors[key] = one_line(exc)
+            else:
+                atomic_write(out / file, text)
+                res.files[key] = file
     res.summary = _summary(res, curves, args, fits, plan)
     return res
 

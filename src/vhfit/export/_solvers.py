@@ -62,6 +62,10 @@ class Solver:
     variants : mapping of str to (str, str)
         Writer keyword -> (label, help) of a card variant, written beside the card on
         request (``vhfit fit --NAME-KEYWORD``) to the file ``NAME_KEYWORD + suffix``.
+    test_data : callable or None
+        ``test_data(curves, law) -> str``: equilibrium curves as the solver's own
+        test-data input for its law fitting (``vhfit fit`` writes it to
+        ``NAME_test_data + suffix`` when the data hold such curves); None: none.
     """
 
     name: str
@@ -78,6 +82,7 @@ class Solver:
     density: bool = False
     bulk_modulus: bool = False
     variants: Mapping = field(default_factory=dict)
+    test_data: Callable[..., str] | None = None
 
     @property
     def card_file(self) -> str:

@@ -481,4 +481,5 @@ RECORD = Solver(
     name="abaqus", label=SOLVER, suffix=".inp", formulation="hereditary",
     write=to_abaqus, read=from_abaqus, sniff=lambda body: "*HYPERELASTIC" in body,
     laws=tuple(_CARDS), comment="**", shift=_add_trs, density=True, bulk_modulus=True,
-    variants={"explicit": ("Abaqus/Explicit", "D1 from the bulk modulus, never 0")})
+    variants={"explicit": ("Abaqus/Explicit", "D1 from the bulk modulus, never 0")},
+    test_data=to_abaqus_test_data)
