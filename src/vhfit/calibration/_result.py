@@ -447,7 +447,8 @@ class Calibration:
                              "give the results.json written by vhfit")
         try:
             return cls._from_dict(res)
-        except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+        except (KeyError, TypeError, ValueError, AttributeError, IndexError,
+                OverflowError) as exc:
             what = f"missing entry {exc}" if isinstance(exc, KeyError) else str(exc)
             raise ValueError(f"{where}: {' '.join(what.split())}; give the results.json "
                              "written by vhfit") from None
