@@ -8,13 +8,10 @@ import pytest
 
 import vhfit
 from vhfit.export import export, from_abaqus, from_ansys, from_lsdyna
-from vhfit.export.shift import (
-    SHIFT_TARGETS,
-    abaqus_trs,
-    add_shift,
-    ansys_shift,
-    lsdyna_shift_note,
-)
+from vhfit.export.abaqus import abaqus_trs
+from vhfit.export.ansys import ansys_shift
+from vhfit.export.lsdyna import lsdyna_shift_note
+from vhfit.export.shift import SHIFT_TARGETS, add_shift
 from vhfit.tts import WLF, Arrhenius
 
 MODEL = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=2)

@@ -89,11 +89,10 @@ class Formulation:
 #: The registry: name -> :class:`Formulation`.
 FORMULATIONS: dict[str, Formulation] = {}
 
-#: The formulation each solver integrates with the Prony cards vhfit writes for it:
-#: Abaqus and Ansys relax the deviatoric instantaneous stress, LS-DYNA's MAT_077_H /
-#: MAT_077_O convolve the Green strain rate (docs/theory.md §13–14).
-SOLVER_FORMULATIONS: dict[str, str] = {"abaqus": "hereditary", "ansys": "hereditary",
-                                       "lsdyna": "lsdyna"}
+#: The formulation each solver integrates with the Prony cards vhfit writes for it
+#: (docs/theory.md §13–14): filled from the solver records of :mod:`vhfit.export` as they
+#: are registered (``vhfit.export.register_solver``), never by hand.
+SOLVER_FORMULATIONS: dict[str, str] = {}
 
 
 def register_formulation(name: str) -> Callable:

@@ -131,9 +131,9 @@ class ViscoHyperelastic:
     formulation : str
         How the Prony series acts at finite strain, a name of
         :data:`vhfit.formulations.FORMULATIONS`: "hereditary" (default; the corrected
-        Eq. 19, as Abaqus and Ansys integrate it) or "lsdyna" (LS-DYNA's MAT_077_H /
-        MAT_077_O: a convolution of the Green strain rate added to the long-term
-        stress), docs/theory.md §14. The parameters mean the same in every formulation.
+        Eq. 19, as Abaqus and Ansys integrate it) or another registered one, such as a
+        solver's own (:data:`vhfit.formulations.SOLVER_FORMULATIONS`), docs/theory.md
+        §14. The parameters mean the same in every formulation.
 
     Examples
     --------

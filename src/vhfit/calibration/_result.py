@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import platform
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -11,6 +12,7 @@ from datetime import datetime, timezone
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.formulations import FORMULATIONS
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
@@ -64,6 +66,18 @@ def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
     return np.full(points, np.nan), History.equilibrium(fine, deformation=h.deformation)
 
 
+def _n_prony(res: dict) -> int:
+    """The number of Prony terms of a results entry: its ``n_prony``, which its
+    parameters must match (``G1, tau1 ... GN, tauN``)."""
+    n = res.get("n_prony", 0)
+    if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+        raise ValueError(f"n_prony = {n!r} is not a whole number >= 0")
+    found = sum(1 for k in res["params"] if re.fullmatch(r"tau\d+", str(k)))
+    if found != n:
+        raise ValueError(f"n_prony = {n} but the parameters hold {found} relaxation times")
+    return n
+
+
 def _shift_from(d) -> dict:
     """The ``shift`` fields of a Calibration from the results file's ``shift`` entry."""
     if not isinstance(d, dict):
@@ -83,6 +97,15 @@ def _shift_from(d) -> dict:
     T_ref = d.get("T_ref")
     return {"shift": law, "shift_table": table, "shift_source": d.get("source"),
             "T_ref": None if T_ref is None else float(T_ref)}
+
+
+#: The entries of a results file that :meth:`Calibration.from_dict` reads: the others are
+#: the file's context (``Calibration.context``).
+_OWN_KEYS = frozenset((
+    "hyperelastic", "formulation", "n_prony", "param_names", "units", "params", "g", "g_inf",
+    "rmsape", "per_curve_rmsape", "curve_names", "nit", "nfev", "wall_time", "stop_reason",
+    "bounds", "confidence", "stability", "order_scan", "warnings", "headlines", "options",
+    "shift", "history", "fits"))
 
 
 class CalibrationWarning(UserWarning):
@@ -163,6 +186,10 @@ class Calibration:
     shift_table: dict = field(default_factory=dict)
     shift_source: str | None = None
     T_ref: float | None = None
+    #: formulation -> fit, of a results file that holds several (:meth:`load`)
+    fits: dict = field(default_factory=dict, repr=False, compare=False)
+    #: the results file's entries that are not the fit's own (inputs, options, cards)
+    context: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def x(self) -> np.ndarray:
@@ -323,18 +350,124 @@ class Calibration:
     def load(cls, path) -> Calibration:
         """Read a results file written by :meth:`save` (or by ``vhfit fit``).
 
-        The model and constants, errors, counts, bounds, intervals, warnings and
-        history come back; the stability report is recomputed from the constants.
+        The model (law, number of terms, formulation and accuracy) and constants, errors,
+        counts, bounds, intervals, warnings, history and time–temperature shift come
+        back; the stability report is recomputed from the constants. A file that holds
+        several fits (``vhfit fit --for`` solvers of different formulations) gives each
+        in :attr:`fits`, and the file's other entries (its inputs, options and cards) in
+        :attr:`context`.
+
+        Parameters
+        ----------
+        path : path-like
+            The results file.
+
+        Returns
+        -------
+        Calibration
+
+        Raises
+        ------
+        ValueError
+            One line naming the file, for a file that is not valid JSON (e.g. truncated),
+            not a results file, written by another version of the format, or naming a
+            law or formulation this vhfit does not know.
+
+        Examples
+        --------
+        >>> import os, tempfile, vhfit
+        >>> form = [f for f in vhfit.formulations.FORMULATIONS if f != "hereditary"][0]
+        >>> m = vhfit.ViscoHyperelastic("neo_hooke", 1, formulation=form)
+        >>> cal = vhfit.Calibration(model=m, params=dict(C10=0.5, G1=3.0, tau1=0.1),
+        ...                         rmsape=1.0, per_curve_rmsape=[1.0], nit=1, nfev=1,
+        ...                         wall_time=0.0, stop_reason="converged")
+        >>> path = os.path.join(tempfile.mkdtemp(), "results.json")
+        >>> cal.save(path)
+        >>> back = vhfit.Calibration.load(path)
+        >>> back.model.formulation == form, back.params == cal.params
+        (True, True)
         """
-        with open(path, encoding="utf-8") as f:
-            res = json.load(f)
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except UnicodeDecodeError:
+            raise ValueError(f"{path}: not a text file; give the results.json written by "
+                             "vhfit") from None
+        try:
+            res = json.loads(text)
+        except ValueError as exc:
+            raise ValueError(f"{path}: not valid JSON ({exc}; truncated?); give the complete "
+                             "results.json written by vhfit") from None
         if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
             raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
                              "'params'); give the results.json written by vhfit")
-        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)),
-                                  formulation=str(res.get("formulation", "hereditary")))
-        x = model.check(res["params"])
-        lo_hi = res.get("options", {}).get("stability_range")
+        fmt = res.get("format", RESULTS_FORMAT)
+        if fmt != RESULTS_FORMAT:
+            raise ValueError(f"{path}: results format {fmt!r}, written by another version "
+                             f"of vhfit; this version reads {RESULTS_FORMAT!r}: fit again "
+                             "with this version, or read it with the version that wrote it")
+        cal = cls.from_dict(res, where=str(path))
+        fits = res.get("fits") or {}
+        if not isinstance(fits, dict):
+            raise ValueError(f"{path}: 'fits' is not a mapping of formulation to fit; give "
+                             "the results.json written by vhfit")
+        cal.fits = {cal.model.formulation: cal}
+        for form, entry in fits.items():
+            if form != cal.model.formulation:
+                cal.fits[form] = cls.from_dict(entry, where=f"{path}: the '{form}' fit")
+        cal.context = {k: v for k, v in res.items() if k not in _OWN_KEYS}
+        return cal
+
+    @classmethod
+    def from_dict(cls, res: dict, *, where: str = "results") -> Calibration:
+        """A Calibration from :meth:`to_dict` (one entry of a results file).
+
+        Parameters
+        ----------
+        res : dict
+            What :meth:`to_dict` wrote.
+        where : str
+            Names the source in error messages.
+
+        Returns
+        -------
+        Calibration
+
+        Examples
+        --------
+        >>> import vhfit
+        >>> m = vhfit.ViscoHyperelastic("yeoh", 0)
+        >>> cal = vhfit.Calibration(model=m, params=dict(C10=0.5, C20=-0.01, C30=1e-3),
+        ...                         rmsape=1.0, per_curve_rmsape=[1.0], nit=1, nfev=1,
+        ...                         wall_time=0.0, stop_reason="converged")
+        >>> Calibration.from_dict(cal.to_dict()).params == cal.params
+        True
+        """
+        if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
+            raise ValueError(f"{where}: not a vhfit fit (no 'hyperelastic' and 'params'); "
+                             "give the results.json written by vhfit")
+        try:
+            return cls._from_dict(res)
+        except (KeyError, TypeError, ValueError, AttributeError, IndexError,
+                OverflowError) as exc:
+            what = f"missing entry {exc}" if isinstance(exc, KeyError) else str(exc)
+            raise ValueError(f"{where}: {' '.join(what.split())}; give the results.json "
+                             "written by vhfit") from None
+
+    @classmethod
+    def _from_dict(cls, res: dict) -> Calibration:
+        options = dict(res.get("options") or {})
+        form = res.get("formulation", "hereditary")
+        if form not in FORMULATIONS:
+            raise ValueError(f"formulation {form!r} is not known to this vhfit (known: "
+                             f"{', '.join(FORMULATIONS)}; a plug-in may register it)")
+        params = res["params"]
+        if not isinstance(params, dict):
+            raise TypeError("'params' is not a mapping of name to value")
+        model = ViscoHyperelastic(res["hyperelastic"], _n_prony(res),
+                                  rtol=float(options.get("rtol", 1e-6)), formulation=form)
+        x = model.check(params)
+        lo_hi = options.get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],
                        tuple(lo_hi) if lo_hi else (0.2, 5.0))
         return cls(
@@ -349,7 +482,7 @@ class Calibration:
             confidence={k: tuple(v) for k, v in res.get("confidence", {}).items()},
             stability=stab, order_scan=list(res.get("order_scan", [])),
             warnings=list(res.get("warnings", [])),
-            headlines=list(res.get("headlines", [])), options=dict(res.get("options", {})),
+            headlines=list(res.get("headlines", [])), options=options,
             curve_names=list(res.get("curve_names", [])),
             **_shift_from(res.get("shift")),
         )

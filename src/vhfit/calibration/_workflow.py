@@ -185,8 +185,9 @@ def calibrate(
         paper's gelatin argument).
     formulation : str
         The viscoelastic formulation fitted (:mod:`vhfit.formulations`): "hereditary"
-        (default; Abaqus, Ansys) or "lsdyna" (LS-DYNA's MAT_077_H / MAT_077_O), so that
-        the constants reproduce the data in that solver's law (docs/theory.md §14). The
+        (default; the corrected Eq. 19) or another registered one, such as the one a
+        solver integrates (:data:`vhfit.formulations.SOLVER_FORMULATIONS`), so that the
+        constants reproduce the data in that solver's law (docs/theory.md §14). The
         result's ``model.formulation`` names it.
     shift_factors : law, dict or (temperatures, log10 a_T), optional
         Time–temperature shift of tests at several temperatures (``temperature`` of

@@ -1,7 +1,8 @@
 """The solver cards of ``vhfit fit``: which fit each solver gets, the cards, their check.
 
 ``--for`` picks the solvers; each is served by a fit in the formulation it integrates
-(:data:`vhfit.formulations.SOLVER_FORMULATIONS`), so one fit may serve several solvers
+(its record's ``formulation``, :class:`vhfit.export.Solver`; every solver, card file,
+label and variant here comes from the records), so one fit may serve several solvers
 and several fits may be run. Every written card is then parsed back and re-simulated in
 its solver's formulation on the data (:mod:`vhfit.export.check`); a card whose error
 exceeds its fit's by more than the margin gets a warning, in the card and the summary.
@@ -10,29 +11,81 @@ exceeds its fit's by more than the margin gets a warning, in the card and the su
 from __future__ import annotations
 
 import warnings
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from vhfit._io import atomic_write
 from vhfit.cli._common import UsageError, one_line
-from vhfit.export import export, supported_laws, to_abaqus_test_data
-from vhfit.export.check import (
-    MARGIN_ABSOLUTE,
-    MARGIN_RELATIVE,
-    SOLVER_FORMULATIONS,
-    check_cards,
-)
+from vhfit.export import export, get_solver, supported_laws
+from vhfit.export import solvers as solver_names
+from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
 
-__all__ = ["SOLVERS", "CARD_FILES", "TEST_DATA_FILE", "Cards", "plan_fits", "check_targets",
-           "card_options", "card_shift", "write_cards", "check_table"]
+__all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
+           "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
+           "check_table"]
 
-SOLVERS = ("abaqus", "lsdyna", "ansys")
-CARD_FILES = {"abaqus": "abaqus.inp", "lsdyna": "lsdyna.k", "ansys": "ansys.mac",
-              "json": "material.json", "abaqus_explicit": "abaqus_explicit.inp"}
-#: equilibrium curves as Abaqus test data (*UNIAXIAL/*BIAXIAL/*PLANAR TEST DATA)
-TEST_DATA_FILE = "abaqus_test_data.inp"
-_NAMES = {"abaqus": "Abaqus", "lsdyna": "LS-DYNA", "ansys": "Ansys",
-          "abaqus_explicit": "Abaqus/Explicit"}
+JSON_FILE = "material.json"
+
+
+class _CardFiles(Mapping):
+    """Card key -> file name in a results folder: each registered solver's card
+    (``NAME + suffix``), its variants (``NAME_VARIANT + suffix``) and ``json``."""
+
+    def _now(self) -> dict[str, str]:
+        out: dict[str, str] = {}
+        for s in solver_names():
+            rec = get_solver(s)
+            out[s] = rec.card_file
+            out.update({f"{s}_{v}": f"{s}_{v}{rec.suffix}" for v in rec.variants})
+        out["json"] = JSON_FILE
+        return out
+
+    def __getitem__(self, key: str) -> str:
+        return self._now()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._now())
+
+    def __len__(self) -> int:
+        return len(self._now())
+
+
+#: Card key -> file name (read from the solver records at each use).
+CARD_FILES: Mapping[str, str] = _CardFiles()
+
+
+def _solver(key: str):
+    """The record of a card key (a solver's name, or ``NAME_VARIANT``)."""
+    try:
+        return get_solver(key)
+    except ValueError:
+        pass
+    for name in solver_names():
+        rec = get_solver(name)
+        if any(key == f"{name}_{v}" for v in rec.variants):
+            return rec
+    raise ValueError(f"card {key!r}: not a registered solver's card")
+
+
+def solver_of(key: str) -> str:
+    """The solver of a card key (``"abaqus_explicit"`` -> ``"abaqus"``)."""
+    return _solver(key).name
+
+
+def label(key: str) -> str:
+    """How a card key is written in messages: the solver's label, or its variant's."""
+    rec = _solver(key)
+    variant = key[len(rec.name) + 1:] if key != rec.name else ""
+    return rec.variants[variant][0] if variant in rec.variants else rec.label
+
+
+def card_jobs(solver: str, args) -> list[tuple[str, dict]]:
+    """(card key, writer keywords) of a solver's card and of the variants asked for
+    (``--NAME-VARIANT``)."""
+    rec = get_solver(solver)
+    return [(solver, {})] + [(f"{solver}_{v}", {v: True}) for v in rec.variants
+                             if getattr(args, f"{solver}_{v}", False)]
 
 
 def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
@@ -42,24 +95,26 @@ def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
     ``formulation`` (``--formulation``) makes one fit in it serve every chosen solver;
     the card check then shows what each solver makes of it.
     """
-    chosen = [s for s in SOLVERS if s in targets] if targets else list(SOLVERS)
+    every = solver_names()
+    chosen = [s for s in every if s in targets] if targets else list(every)
     if formulation is not None:
         return {formulation: chosen}
+    own = {s: get_solver(s).formulation for s in chosen}
     plan: dict[str, list[str]] = {}
-    for s in sorted(chosen, key=lambda s: SOLVER_FORMULATIONS[s] != "hereditary"):
-        plan.setdefault("hereditary" if not targets else SOLVER_FORMULATIONS[s], []).append(s)
-    return {f: [s for s in SOLVERS if s in v] for f, v in plan.items()}
+    for s in sorted(chosen, key=lambda s: own[s] != "hereditary"):
+        plan.setdefault("hereditary" if not targets else own[s], []).append(s)
+    return {f: [s for s in every if s in v] for f, v in plan.items()}
 
 
 def check_targets(targets, law: str) -> None:
     """``--for`` solvers whose cards cannot hold the law: a usage error, before fitting."""
     for s in targets or ():
         if law not in supported_laws(s):
-            others = [o for o in SOLVERS if law in supported_laws(o)]
+            others = [o for o in solver_names() if law in supported_laws(o)]
             fix = (f"drop --for {s} (the law's cards: {', '.join(others)})" if others
                    else "no solver card holds this law")
             raise UsageError(
-                f"--for {s}: {_NAMES[s]} has no card for the hyperelastic law {law!r}; {fix}, "
+                f"--for {s}: {label(s)} has no card for the hyperelastic law {law!r}; {fix}, "
                 f"or choose a --model among {', '.join(supported_laws(s))}")
 
 
@@ -79,9 +134,11 @@ def card_shift(cal) -> tuple[object, str | None]:
                   "--shift to have WLF fitted to the sweeps' shift factors")
 
 
-def card_options(args) -> dict:
-    """The writers' keyword arguments from ``--density``, ``--poisson``, ``--bulk-modulus``."""
-    return {k: getattr(args, k, None) for k in ("density", "poisson", "bulk_modulus")}
+def card_options(args, solver: str) -> dict:
+    """The keyword arguments of ``solver``'s writer from ``--density``, ``--poisson``,
+    ``--bulk-modulus`` (those its record declares)."""
+    return get_solver(solver).options(
+        **{k: getattr(args, k, None) for k in ("density", "poisson", "bulk_modulus")})
 
 
 @dataclass
@@ -103,32 +160,30 @@ class Cards:
 
 def _source(form: str, solvers: list[str], several: bool, solver: str) -> list[str]:
     """The card comment saying which fit the constants come from."""
-    own = SOLVER_FORMULATIONS[solver.split("_")[0]]
+    rec = _solver(solver)
     serves = ", ".join(solvers)
     line = (f"Fit: vhfit formulation '{form}' (this fit serves {serves}"
             + ("; each other solver has its own fit" if several else "") + "); "
-            f"{_NAMES[solver]} integrates '{own}'")
-    if own != form:
-        line += f": see the card check; `vhfit fit --for {solver.split('_')[0]}` fits for it"
+            f"{label(solver)} integrates '{rec.formulation}'")
+    if rec.formulation != form:
+        line += f": see the card check; `vhfit fit --for {rec.name}` fits for it"
     return [line]
 
 
 def _texts(fits, plan, args) -> tuple[dict, Cards]:
     """Every card's text in memory (solver -> (text, writer kwargs, fit))."""
     out, res = {}, Cards()
-    opts = card_options(args)
     for form, solvers in plan.items():
         cal = fits.get(form)
         if cal is None:  # interrupted before this fit
             for s in solvers:
                 res.errors[s] = f"the '{form}' fit was not run (interrupted)"
             continue
-        jobs = [(s, {}) for s in solvers]
-        if "abaqus" in solvers and getattr(args, "abaqus_explicit", False):
-            jobs.append(("abaqus_explicit", {"explicit": True}))
+        jobs = [job for s in solvers for job in card_jobs(s, args)]
         shift, note = card_shift(cal)
         for solver, extra in jobs:
-            kw = dict(notes=list(cal.headlines), **opts, **extra,
+            name = _solver(solver).name
+            kw = dict(notes=list(cal.headlines), **card_options(args, name), **extra,
                       comments=_source(form, solvers, len(plan) > 1, solver))
             if shift is not None:
                 kw["shift"] = shift
@@ -137,7 +192,7 @@ def _texts(fits, plan, args) -> tuple[dict, Cards]:
             try:
                 with warnings.catch_warnings(record=True) as ws:
                     warnings.simplefilter("always")
-                    text = export(cal, to=solver.split("_")[0], **kw)
+                    text = export(cal, to=name, **kw)
             except Exception as exc:  # a solver that cannot take this model is not fatal
                 res.errors[solver] = one_line(exc)
                 continue
@@ -163,21 +218,26 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
             if check.warning():
                 res.warnings.append(check.warning())
                 kw = dict(kw, notes=[*kw["notes"], check.warning()])
-                text = export(cal, to=solver.split("_")[0], **kw)
+                text = export(cal, to=_solver(solver).name, **kw)
         atomic_write(out / CARD_FILES[solver], text)
         res.files[solver] = CARD_FILES[solver]
     first = next(iter(fits.values()))
     atomic_write(out / CARD_FILES["json"], export(first, to="json"))
     res.files["json"] = CARD_FILES["json"]
     if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
-           for c in curves):
-        try:
-            text = to_abaqus_test_data(curves, first.model.hyperelastic.name)
-        except ValueError as exc:
-            res.errors["abaqus test data"] = one_line(exc)
-        else:
-            atomic_write(out / TEST_DATA_FILE, text)
-            res.files["abaqus test data"] = TEST_DATA_FILE
+           for c in curves):  # the solvers' test-data inputs (records with test_data)
+        for name in solver_names():
+            rec = get_solver(name)
+            if rec.test_data is None:
+                continue
+            key, file = f"{name} test data", f"{name}_test_data{rec.suffix}"
+            try:
+                text = rec.test_data(curves, first.model.hyperelastic.name)
+            except ValueError as exc:
+                res.errors[key] = one_line(exc)
+            else:
+                atomic_write(out / file, text)
+                res.files[key] = file
     res.summary = _summary(res, curves, args, fits, plan)
     return res
 

@@ -8,14 +8,12 @@ import os
 from pathlib import Path
 
 from vhfit import datasets, tts
-from vhfit.cli._cards import CARD_FILES, check_table
-from vhfit.cli._common import EXIT_OK, UsageError, count_prony, load_results, one_line
-from vhfit.cli._export import _wlf
+from vhfit.cli._cards import CARD_FILES, check_table, solver_of
+from vhfit.cli._common import EXIT_OK, UsageError, one_line
 from vhfit.cli._fit import read_curves
-from vhfit.cli._plugins import resolve_model_name
+from vhfit.cli._results import load_calibration
 from vhfit.export import parse
-from vhfit.export.check import card_solver, check_card, in_formulation
-from vhfit.model import ViscoHyperelastic
+from vhfit.export.check import card_solver, check_card
 
 __all__ = ["cmd_check"]
 
@@ -24,16 +22,15 @@ _DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "tri
 
 def cmd_check(args) -> int:
     """``vhfit check RESULTS.json [--data FILE...] [--card FILE...]``."""
-    res = load_results(args.results)
+    cal = load_calibration(args.results)
+    res = cal.context
     folder = Path(args.results).resolve().parent
-    fits = _fits(res, args.results)
     cards = _cards(args, res, folder)
-    curves = _curves(args, res)
-    primary = str(res.get("formulation", "hereditary"))
+    curves = _curves(args, cal)
     card_fits = res.get("card_fits") or {}
     checks = {}
     for key, (solver, text) in cards.items():
-        fit = fits.get(card_fits.get(key, card_fits.get(solver, primary)), fits[primary])
+        fit = cal.fits.get(card_fits.get(key, card_fits.get(solver)), cal)
         try:
             checks[key] = check_card(text, curves, solver=solver, fit=fit)
         except ValueError as exc:
@@ -49,9 +46,10 @@ def cmd_check(args) -> int:
     return EXIT_OK
 
 
-def _curves(args, res: dict) -> list:
+def _curves(args, cal) -> list:
     """The data: ``--data``, else the input files the results record (the demo's bundled
     set as the demo reads it)."""
+    res = cal.context
     inputs = res.get("inputs") or []
     if not args.data and any(i.get("bundled") == "vhfit.datasets.sebs" for i in inputs):
         return datasets.load_sebs()
@@ -59,39 +57,23 @@ def _curves(args, res: dict) -> list:
     if not data:
         raise UsageError(f"{args.results}: no input files recorded; give the data with --data")
     curves, _ = read_curves(data, _data_args(args, res.get("cli_options") or {}))
-    return _at_reference(curves, res.get("shift"), args.results)
+    return _at_reference(curves, cal)
 
 
-def _at_reference(curves, shift, path) -> list:
+def _at_reference(curves, cal) -> list:
     """Tests at several temperatures shifted to T_ref as the fit shifted them: its table of
     log10 a_T (the fit's own temperatures), else its law."""
-    if not isinstance(shift, dict):
+    if cal.shift_source is None:
         return curves
-    table = dict(zip(shift.get("temperatures", []), shift.get("log_aT", [])))
-    law = _wlf(shift, path) if shift.get("law") == "wlf" else None
+    table, law = dict(cal.shift_table), cal.shift
+    law = law if getattr(law, "name", None) == "wlf" else None
     try:
         return tts.shift_to_reference(curves, shift_factors=table or law,
-                                      T_ref=shift.get("T_ref")).items
+                                      T_ref=cal.T_ref).items
     except ValueError:
         if law is None:
             raise
         return tts.shift_to_reference(curves, shift_factors=law).items
-
-
-def _fits(res: dict, path: str) -> dict:
-    """Formulation -> (model, params) of every fit in the results."""
-    entries = dict(res.get("fits") or {})
-    entries.setdefault(str(res.get("formulation", "hereditary")), res)
-    out = {}
-    for form, r in entries.items():
-        try:
-            name = resolve_model_name(r["hyperelastic"])
-            model = in_formulation(ViscoHyperelastic(name, count_prony(r["params"])), form)
-            out[form] = (model, model.as_dict(model.check(r["params"])))
-        except (KeyError, ValueError, TypeError) as exc:
-            raise UsageError(f"{path}: the '{form}' fit cannot be read ({one_line(exc)})"
-                             ) from None
-    return out
 
 
 def _cards(args, res: dict, folder: Path) -> dict:
@@ -111,7 +93,7 @@ def _cards(args, res: dict, folder: Path) -> dict:
     for key in CARD_FILES:
         if key == "json" or key not in listed:
             continue
-        out[key] = (key.split("_")[0], _read(str(folder / listed[key])))
+        out[key] = (solver_of(key), _read(str(folder / listed[key])))
     if not out:
         raise UsageError(f"{folder}: the results list no solver cards; give them with --card")
     return out

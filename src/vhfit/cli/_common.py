@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 import signal
 import sys
@@ -23,7 +22,6 @@ __all__ = [
     "Signals",
     "prepare_out",
     "emit",
-    "load_results",
     "count_prony",
 ]
 
@@ -109,23 +107,6 @@ def emit(text: str, out: str | None, *, what: str) -> None:
 
 
 # ============================================================ material input
-def load_results(path: str) -> dict:
-    """A results file written by ``vhfit fit`` (or ``demo``), as a mapping."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            res = json.load(f)
-    except OSError as exc:
-        raise UsageError(f"{path}: cannot read ({exc.strerror}); give the results.json "
-                         "written by 'vhfit fit' or 'vhfit demo'") from None
-    except ValueError as exc:
-        raise UsageError(f"{path}: not valid JSON ({exc}); give the results.json written "
-                         "by 'vhfit fit' or 'vhfit demo'") from None
-    if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
-        raise UsageError(f"{path}: not a vhfit results file (no 'hyperelastic' and 'params'); "
-                         "give the results.json written by 'vhfit fit' or 'vhfit demo'")
-    return res
-
-
 def count_prony(params: dict) -> int:
     """The number N of Prony terms in ``params`` (``G1, tau1 ... GN, tauN``, all needed)."""
     idx = set()

@@ -12,7 +12,6 @@ import csv
 import glob
 import hashlib
 import io
-import json
 import os
 import shlex
 import sys
@@ -36,7 +35,6 @@ from vhfit.calibration import (
 from vhfit.cli import _moduli
 from vhfit.cli._cards import (
     CARD_FILES,
-    SOLVERS,
     check_targets,
     plan_fits,
     write_cards,
@@ -55,7 +53,7 @@ from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 
-__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "SOLVERS", "CARD_FILES",
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
            "DEMO_PRONY"]
 
 RESULTS = "results.json"
@@ -213,9 +211,7 @@ def _check_shift(curves, args) -> None:
 
 def _demo_check(out: Path) -> None:
     """Print the fitted constants next to the generating ones."""
-    with open(out / RESULTS) as f:
-        res = json.load(f)
-    p = res["params"]
+    p = Calibration.load(out / RESULTS).params
     true = datasets.SEBS_PARAMS
     rows = ["", "fitted vs generating parameters (paper Table 5):"]
     for k, v in true.items():

@@ -15,11 +15,13 @@ from vhfit._version import __version__
 from vhfit.cli._check import cmd_check
 from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
-from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
+from vhfit.cli._fit import DEMO_PRONY, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
 from vhfit.cli._plugins import PLUGIN_GROUP
 from vhfit.cli._simulate import cmd_simulate
 from vhfit.data import MAX_POINTS
+from vhfit.export import get_solver, solvers
+from vhfit.formulations import FORMULATIONS
 from vhfit.history import DEFORMATIONS
 
 __all__ = ["build_parser", "glue_windows"]
@@ -133,19 +135,16 @@ def _shift(text: str) -> tuple[str, tuple[float, ...]]:
     return law, vals
 
 
-_SOLVER_ALIASES = {"ls-dyna": "lsdyna", "dyna": "lsdyna", "apdl": "ansys", "mapdl": "ansys"}
-
-
 def _solvers(text: str) -> list[str]:
-    """``--for abaqus,lsdyna`` -> ['abaqus', 'lsdyna']."""
+    """``--for abaqus,ansys`` -> ['abaqus', 'ansys'] (names or aliases of the solver records)."""
     out = []
     for part in text.split(","):
-        name = part.strip().lower()
-        name = _SOLVER_ALIASES.get(name, name)
-        if name not in SOLVERS:
+        try:
+            out.append(get_solver(part).name)
+        except ValueError:
             raise argparse.ArgumentTypeError(
-                f"--for {text!r}: give abaqus, lsdyna or ansys (repeat --for, or a comma list)")
-        out.append(name)
+                f"--for {text!r}: give {' or '.join(solvers())} (repeat --for, or a comma "
+                "list)") from None
     return out
 
 
@@ -176,23 +175,33 @@ def _bulk(text: str) -> float:
     return v
 
 
-def _add_card_options(p: argparse.ArgumentParser, *, explicit: str) -> None:
-    """--density, --poisson / --bulk-modulus and the Abaqus/Explicit variant."""
+def _add_card_options(p: argparse.ArgumentParser, *, fit: bool) -> None:
+    """--density, --poisson / --bulk-modulus and the solvers' card variants
+    (``--NAME-VARIANT`` for fit and demo, ``--VARIANT`` for export)."""
     p.add_argument("--density", type=_density, metavar="RHO",
                    help="mass density in tonne/mm^3 (1e-9 for 1000 kg/m^3), written as "
                         "*DENSITY, RO, MP,DENS (default: none, and the cards say so)")
     bulk = p.add_mutually_exclusive_group()
     bulk.add_argument("--poisson", type=_poisson, metavar="NU",
                       help="Poisson's ratio of the instantaneous response, -1 < NU < 0.5: "
-                           "gives the bulk modulus of LS-DYNA's PR, Abaqus D1, Ansys d1")
+                           "gives the bulk modulus of every card that takes one")
     bulk.add_argument("--bulk-modulus", type=_bulk, metavar="K",
-                      help="bulk modulus in MPa instead of --poisson (default: 1000 x the "
-                           "instantaneous shear modulus for LS-DYNA and Abaqus/Explicit; "
-                           "Abaqus/Standard and Ansys incompressible)")
-    p.add_argument(explicit, action="store_true", dest="abaqus_explicit",
-                   help="also write the Abaqus/Explicit variant (D1 from the bulk modulus, "
-                        "never 0)" if explicit == "--abaqus-explicit" else
-                   "the Abaqus/Explicit variant (D1 from the bulk modulus, never 0)")
+                      help="bulk modulus in MPa instead of --poisson (default: each card's "
+                           "own, docs/export.md: 1000 x the instantaneous shear modulus "
+                           "where the card needs one, else incompressible)")
+    for name in solvers():  # each solver record's card variants
+        for variant, (what, detail) in get_solver(name).variants.items():
+            if fit:
+                p.add_argument(f"--{name}-{variant}".replace("_", "-"), action="store_true",
+                               dest=f"{name}_{variant}",
+                               help=f"also write the {what} card ({detail})")
+    if not fit:
+        for variant in dict.fromkeys(v for n in solvers() for v in get_solver(n).variants):
+            owners = [n for n in solvers() if variant in get_solver(n).variants]
+            p.add_argument(f"--{variant}".replace("_", "-"), action="store_true",
+                           dest=f"variant_{variant}",
+                           help=f"the {variant} variant of the card (--to "
+                                f"{' or '.join(owners)})")
 
 
 def glue_windows(argv: list[str]) -> list[str]:
@@ -339,18 +348,20 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     p.add_argument("--checkpoint-every", type=_positive(float, "--checkpoint-every"),
                    default=5.0, metavar="SECONDS",
                    help="seconds between checkpoints for --resume (default 5)")
+    every = solvers()
+    own = "; ".join(f"{n}: {get_solver(n).formulation}" for n in every)
     p.add_argument("--for", type=_solvers, action="append", dest="targets",
                    metavar="SOLVER[,SOLVER]",
-                   help="fit for these solvers (abaqus, lsdyna, ansys; repeatable): each "
+                   help=f"fit for these solvers ({', '.join(every)}; repeatable): each "
                         "solver's card comes from a fit in the formulation it integrates "
-                        "(abaqus, ansys: hereditary; lsdyna: lsdyna), and only their cards "
-                        "are written (default: one hereditary fit, every card)")
+                        f"({own}), and only their cards are written (default: one "
+                        "hereditary fit, every card)")
     p.add_argument("--formulation", metavar="NAME",
-                   help="fit in this viscoelastic formulation (hereditary, lsdyna, "
-                        "lsdyna_deviatoric or a registered one) for every card written, "
-                        "instead of each solver's own (--for); the card check shows the "
-                        "error each solver will make of it")
-    _add_card_options(p, explicit="--abaqus-explicit")
+                   help=f"fit in this viscoelastic formulation ({', '.join(FORMULATIONS)} "
+                        "or a registered one) for every card written, instead of each "
+                        "solver's own (--for); the card check shows the error each solver "
+                        "will make of it")
+    _add_card_options(p, fit=True)
     p.add_argument("--no-plot", action="store_true", help="do not draw plots")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
@@ -387,10 +398,10 @@ def _add_export(sub, common: argparse.ArgumentParser) -> None:
                        description="Write the material card of a results file for an FE "
                                    "solver.")
     p.add_argument("results", metavar="RESULTS.json")
-    p.add_argument("--to", required=True, choices=SOLVERS + ("json",),
-                   help="abaqus, lsdyna, ansys or json")
+    p.add_argument("--to", required=True, choices=(*solvers(), "json"),
+                   help=f"{', '.join(solvers())} or json")
     p.add_argument("--name", help="material name in the card")
-    _add_card_options(p, explicit="--explicit")
+    _add_card_options(p, fit=False)
     p.add_argument("--out", metavar="FILE", help="output file (default: standard output)")
     p.set_defaults(func=cmd_export)
 

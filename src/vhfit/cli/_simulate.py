@@ -9,8 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, load_results, one_line
+from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, one_line
 from vhfit.cli._plugins import resolve_model_name
+from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
@@ -23,16 +24,18 @@ def cmd_simulate(args) -> int:
     if args.results is None and args.model is None:
         raise UsageError("simulate needs a material: --results RESULTS.json, or --model NAME "
                          "with --param NAME=VALUE for each constant")
-    name, params, source = _material(args)
-    n_prony = count_prony(params)
+    model, params, source = _material(args)
+    n_prony = model.n_prony
     try:
-        model = ViscoHyperelastic(name, n_prony)
         x = model.check(params)
     except ValueError as exc:
         raise UsageError(f"parameters: {one_line(exc)}") from None
     loads = _loads(args)
     buf = io.StringIO()
-    buf.write(f"# vhfit simulate: {name} + {n_prony} Prony term(s), from {source}\n")
+    form = ("" if model.formulation == "hereditary"
+            else f", '{model.formulation}' formulation")
+    buf.write(f"# vhfit simulate: {model.hyperelastic.name} + {n_prony} Prony term(s){form}, "
+              f"from {source}\n")
     buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
     dfm = getattr(args, "deformation", "uniaxial")
     if dfm == "uniaxial":
@@ -57,20 +60,29 @@ def cmd_simulate(args) -> int:
     return EXIT_OK
 
 
-def _material(args) -> tuple[str, dict[str, float], str]:
-    """Model name, constants and where they came from (--results, then --param on top)."""
-    params: dict[str, float] = {}
-    if args.results is not None:
-        res = load_results(args.results)
-        name = args.model or res["hyperelastic"]
-        params = dict(res["params"])
-        source = f"results {args.results}"
-    else:
-        name = args.model
-        source = "command line"
+def _material(args) -> tuple[ViscoHyperelastic, dict[str, float], str]:
+    """The model, its constants and where they came from: a results file's own model
+    (law, terms, formulation, accuracy), or ``--model``; ``--param`` on top."""
+    given: dict[str, float] = {}
     for item in args.param or []:
-        params.update(parse_params(item))
-    return resolve_model_name(name), params, source
+        given.update(parse_params(item))
+    if args.results is None:
+        params = given
+        name, form, rtol, source = args.model, "hereditary", None, "command line"
+    else:
+        cal = load_calibration(args.results)
+        params = {**cal.params, **given}
+        if args.model is None and set(params) == set(cal.params):
+            return cal.model, params, f"results {args.results}"
+        name = args.model or cal.model.hyperelastic.name
+        form, rtol = cal.model.formulation, cal.model.rtol
+        source = f"results {args.results}"
+    kw = {"formulation": form} if rtol is None else {"formulation": form, "rtol": rtol}
+    try:
+        model = ViscoHyperelastic(resolve_model_name(name), count_prony(params), **kw)
+    except ValueError as exc:
+        raise UsageError(f"parameters: {one_line(exc)}") from None
+    return model, params, source
 
 
 def _loads(args) -> list[tuple[str, float, History]]:

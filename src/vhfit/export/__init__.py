@@ -14,20 +14,34 @@ fields and converts them back with the documented conventions; the round trip
 reproduces the calibrated stresses (tests/test_export.py). Conventions and sources:
 docs/export.md.
 
+Each solver is one record (:class:`Solver`: names, card file, formulation, writer,
+reader, recognition, laws, shift, density and bulk-modulus fields, variants) in a
+registry (:func:`register_solver`); the built-in solver modules register their own, and
+everything here, the card check and the command line read from the records.
+
 Units: the model's own consistent set — N, mm, s, MPa; density in tonne/mm³.
 """
 
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Iterator, Mapping
 
-from vhfit.export import abaqus as _abaqus
-from vhfit.export import ansys as _ansys
-from vhfit.export import lsdyna as _lsdyna
-from vhfit.export._common import SUPPORT, Material, generator, resolve
+from vhfit.export._common import Material, generator, resolve
+from vhfit.export._solvers import (
+    Solver,
+    card_body,
+    get_solver,
+    records,
+    register_solver,
+    solvers,
+    unregister_solver,
+)
+from vhfit.export.abaqus import RECORD as _ABAQUS
 from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
+from vhfit.export.ansys import RECORD as _ANSYS
 from vhfit.export.ansys import from_ansys, to_ansys
+from vhfit.export.lsdyna import RECORD as _LSDYNA
 from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
 from vhfit.export.shift import add_shift
 from vhfit.model import ViscoHyperelastic
@@ -46,24 +60,52 @@ __all__ = [
     "from_json",
     "supported_laws",
     "FORMATS",
+    "Solver",
+    "register_solver",
+    "unregister_solver",
+    "get_solver",
+    "solvers",
 ]
 
-#: Export target -> usual file suffix.
-FORMATS: dict[str, str] = {
-    "abaqus": ".inp",
-    "lsdyna": ".k",
-    "ansys": ".mac",
-    "json": ".json",
-}
+
+# the built-in solvers, in the order their cards are listed
+for _record in (_ABAQUS, _LSDYNA, _ANSYS):
+    register_solver(_record)
+
+
+class _Formats(Mapping):
+    """Export target -> usual file suffix: every registered solver, and ``json``."""
+
+    def _now(self) -> dict[str, str]:
+        return {**{r.name: r.suffix for r in records()}, "json": ".json"}
+
+    def __getitem__(self, key: str) -> str:
+        return self._now()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._now())
+
+    def __len__(self) -> int:
+        return len(self._now())
+
+    def __repr__(self) -> str:
+        return repr(self._now())
+
+
+#: Export target -> usual file suffix (read from the solver records at each use).
+FORMATS: Mapping[str, str] = _Formats()
 
 JSON_FORMAT = "vhfit-material"
+#: The model's default accuracy: a JSON document says ``rtol`` only when it differs.
+_DEFAULT_RTOL = 1e-6
 
 
 def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
     """The calibrated material as JSON: vhfit parameters plus the derived solver values.
 
     ``hyperelastic``, ``formulation`` (the viscoelastic formulation the constants were
-    fitted in, :mod:`vhfit.formulations`), ``n_prony`` and ``params`` define the model
+    fitted in, :mod:`vhfit.formulations`), ``n_prony``, ``params`` and ``rtol`` (the
+    accuracy of the hereditary integral, written when not the default) define the model
     (this is what :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
     constants for reference.
 
@@ -87,6 +129,7 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "formulation": model.formulation,
         "n_prony": mat.n_prony,
         "params": params,
+        **({} if model.rtol == _DEFAULT_RTOL else {"rtol": model.rtol}),
         "units": {
             "system": "N, mm, s, MPa",
             **dict(zip(model.param_names, model.units)),
@@ -127,34 +170,23 @@ def from_json(text: str) -> tuple[ViscoHyperelastic, dict]:
     return resolve(doc)
 
 
-_WRITERS: dict[str, Callable[..., str]] = {
-    "abaqus": to_abaqus,
-    "lsdyna": to_lsdyna,
-    "ansys": to_ansys,
-    "json": to_json,
-}
-_READERS: dict[str, Callable[[str], tuple[ViscoHyperelastic, dict]]] = {
-    "abaqus": from_abaqus,
-    "lsdyna": from_lsdyna,
-    "ansys": from_ansys,
-    "json": from_json,
-}
-_ALIASES = {"ls-dyna": "lsdyna", "dyna": "lsdyna", "apdl": "ansys", "mapdl": "ansys"}
-
-
 def _target(to: str) -> str:
+    """The registered solver ``to`` names (or an alias of), or ``"json"``."""
     key = str(to).strip().lower()
-    key = _ALIASES.get(key, key)
-    if key not in _WRITERS:
-        raise ValueError(f"unknown export target {to!r}; choose one of {', '.join(_WRITERS)}")
-    return key
+    if key == "json":
+        return key
+    try:
+        return get_solver(key).name
+    except ValueError:
+        raise ValueError(f"unknown export target {to!r}; choose one of "
+                         f"{', '.join(FORMATS)}") from None
 
 
 def supported_laws(solver: str) -> tuple[str, ...]:
     """The built-in hyperelastic laws whose cards ``solver`` holds.
 
-    LS-DYNA's MAT_077_H also needs polynomial3's C21, C12, C03 (and the C40.. of
-    reduced polynomials) to be zero: that is checked on the constants when writing.
+    A solver's writer may refuse some constants of a law it holds (a card with fewer
+    fields than the law has constants, unless the others are zero) when writing.
 
     Examples
     --------
@@ -164,9 +196,9 @@ def supported_laws(solver: str) -> tuple[str, ...]:
     """
     key = _target(solver)
     if key == "json":
-        raise ValueError("every registered law has a JSON form: give abaqus, lsdyna or ansys")
-    module = {"abaqus": _abaqus, "lsdyna": _lsdyna, "ansys": _ansys}[key]
-    return SUPPORT[module.SOLVER]
+        raise ValueError("every registered law has a JSON form: give one of "
+                         f"{', '.join(solvers())}")
+    return tuple(get_solver(key).laws)
 
 
 def export(model, params=None, *, to: str = "abaqus", **options) -> str:
@@ -179,11 +211,12 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
         or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``.
     params : dict or array_like, optional
         The calibrated parameters (omit when ``model`` is results-like).
-    to : {"abaqus", "lsdyna", "ansys", "json"}
-        Target format.
+    to : str
+        Target format: a registered solver (:func:`solvers`; ``"abaqus"``, ...) or one
+        of its aliases, or ``"json"``.
     **options
-        Passed to the writer (``name``, ``density``, ``moduli`` for Abaqus,
-        ``poisson``, ``long_format`` for LS-DYNA, ...); ``shift=`` a WLF law
+        Passed to the writer (``name``, ``density``, ``poisson``, ``moduli`` for
+        Abaqus, ...); ``shift=`` a WLF law
         (:class:`vhfit.tts.WLF`) adds the temperature shift (:mod:`vhfit.export.shift`).
 
     Returns
@@ -203,9 +236,10 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
     True
     """
     shift = options.pop("shift", None)
-    text = _WRITERS[_target(to)](model, params, **options)
-    return text if shift is None else add_shift(text, shift, _target(to),
-                                                mat=options.get("mat", 1))
+    key = _target(to)
+    write = to_json if key == "json" else get_solver(key).write
+    text = write(*resolve(model, params), **options)
+    return text if shift is None else add_shift(text, shift, key, mat=options.get("mat", 1))
 
 
 def parse(text: str, fmt: str | None = None) -> tuple[ViscoHyperelastic, dict]:
@@ -218,17 +252,12 @@ def parse(text: str, fmt: str | None = None) -> tuple[ViscoHyperelastic, dict]:
     {'C10': 0.5}
     """
     if fmt is not None:
-        return _READERS[_target(fmt)](text)
-    body = "\n".join(
-        ln for ln in text.splitlines()
-        if ln.strip() and not ln.lstrip().startswith(("**", "$", "!"))
-    ).upper()
+        key = _target(fmt)
+        return from_json(text) if key == "json" else get_solver(key).read(text)
+    body = card_body(text)
     if body.lstrip().startswith("{"):
         return from_json(text)
-    if "*MAT_" in body:
-        return from_lsdyna(text)
-    if "*HYPERELASTIC" in body:
-        return from_abaqus(text)
-    if "TB," in body.replace(" ", ""):
-        return from_ansys(text)
-    raise ValueError("cannot tell the card format: give fmt='abaqus'|'lsdyna'|'ansys'|'json'")
+    for rec in records():
+        if rec.sniff(body):
+            return rec.read(text)
+    raise ValueError(f"cannot tell the card format: give fmt= one of {', '.join(FORMATS)}")

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vhfit import hyperelastic as _hyper
+from vhfit.export._solvers import records
 from vhfit.model import ViscoHyperelastic
 
 __all__ = [
@@ -35,7 +36,6 @@ __all__ = [
     "BULK_RATIO",
     "check_compressibility",
     "no_density_note",
-    "SUPPORT",
     "SAME_LAW",
 ]
 
@@ -46,10 +46,6 @@ UNITS = "N, mm, s, MPa (stress and moduli), tonne/mm^3 (density)"
 #: as a multiple of the instantaneous shear modulus: the range of unfilled elastomers
 #: (K0/μ0 of 1000 to 10000 in the Abaqus Analysis User's Guide, "Compressibility").
 BULK_RATIO = 1000.0
-
-#: Solver name -> the built-in laws its cards hold; each writer module adds its own entry
-#: when it is imported, so that a refusal can name the solvers that do have the law.
-SUPPORT: dict[str, tuple[str, ...]] = {}
 
 #: Laws with the same energy under two names (Abaqus NEO HOOKE = REDUCED POLYNOMIAL, N=1)
 SAME_LAW = {"neo_hooke": "reduced_polynomial1", "yeoh": "reduced_polynomial3"}
@@ -101,7 +97,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
     name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
     from the ``G1, tau1, ...`` keys), ``"formulation"`` optional (default
-    ``"hereditary"``; a results file of a fit for LS-DYNA says ``"lsdyna"``).
+    ``"hereditary"``; a results file says the formulation it was fitted in), ``"rtol"``
+    optional (the model's accuracy).
     """
     if params is None:
         if isinstance(model, ViscoHyperelastic):
@@ -116,8 +113,10 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
             spec = model.get("model", model.get("hyperelastic"))
             n_prony = model.get("n_prony")
             formulation = str(model.get("formulation", "hereditary"))
+            accuracy = {"rtol": float(model["rtol"])} if "rtol" in model else {}
         elif hasattr(model, "params") and hasattr(model, "model"):
             params, spec, n_prony, formulation = model.params, model.model, None, "hereditary"
+            accuracy = {}
         else:
             raise TypeError(
                 f"cannot export {type(model).__name__}: give (model, params), an object with "
@@ -135,7 +134,8 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
                 if not isinstance(params, Mapping):
                     raise TypeError("give 'n_prony' when the parameters are an array")
                 n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
-            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation)
+            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation,
+                                      **accuracy)
     if not isinstance(model, ViscoHyperelastic):
         raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
     x = model.check(params)
@@ -209,7 +209,7 @@ class Material:
         μ_inst = μ0 / g∞: the bulk response does not relax (k_i = 0), so ν describes the
         material at the rates where the Prony terms are active. Abaqus's D1 and Ansys's
         d1 are 2/K; LS-DYNA's PR is the ratio that gives this K
-        (:func:`vhfit.export.lsdyna.lsdyna_pr`).
+        (each card writes K in its solver's own terms).
         """
         check_compressibility(poisson, bulk_modulus)
         if bulk_modulus is not None:
@@ -316,7 +316,7 @@ def unsupported(solver: str, model: str, supported: Sequence[str], why: str = ""
     the models this solver supports.
     """
     extra = f" ({why})" if why else ""
-    others = [s for s, laws in SUPPORT.items() if s != solver and model in laws]
+    others = [r.label for r in records() if r.label != solver and model in r.laws]
     where = (f"export it to {' or '.join(others)} instead" if others
              else "no solver card vhfit writes holds it")
     return ValueError(

@@ -26,7 +26,6 @@ import numpy as np
 
 from vhfit.export._common import (
     BULK_RATIO,
-    SUPPORT,
     Material,
     check_compressibility,
     free_number,
@@ -38,9 +37,11 @@ from vhfit.export._common import (
     resolve,
     unsupported,
 )
+from vhfit.export._solvers import Solver
+from vhfit.export.shift import wlf_constants, wlf_number
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data"]
+__all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data", "abaqus_trs"]
 
 SOLVER = "Abaqus"
 
@@ -69,7 +70,6 @@ _CARDS = {
     # data line mu, lambda_m, a, beta, D
     "van_der_waals": ("VAN DER WAALS", ("mu", "lambda_m", "a", "beta"), 1),
 }
-SUPPORT[SOLVER] = tuple(_CARDS)
 
 _MODULI = {"long_term": "LONG TERM", "instantaneous": "INSTANTANEOUS"}
 
@@ -446,3 +446,40 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
         if kw in blocks:
             lines += [kw] + blocks[kw]
     return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------- shift, record
+def abaqus_trs(law) -> list[str]:
+    """Abaqus ``*TRS, DEFINITION=WLF`` lines for a WLF law.
+
+    Abaqus Keywords Reference, ``*TRS``: ``DEFINITION=WLF`` (the default), one data line
+    "reference temperature, C1, C2"; it must follow ``*VISCOELASTIC`` in the material.
+    Abaqus writes the WLF law with reduced time dτ/dt = 1/A, log10 A = −C1 (θ − θ0)/
+    (C2 + θ − θ0): the same C1, C2 as vhfit's.
+
+    Examples
+    --------
+    >>> from vhfit.tts import WLF
+    >>> abaqus_trs(WLF(C1=17.44, C2=51.6, T_ref=20.0))
+    ['*TRS, DEFINITION=WLF', '20.0, 17.44, 51.6']
+    """
+    T_ref, c1, c2 = wlf_constants(law)
+    return ["*TRS, DEFINITION=WLF", f"{wlf_number(T_ref)}, {wlf_number(c1)}, {wlf_number(c2)}"]
+
+
+def _add_trs(card: str, law, mat: int = 1) -> str:
+    """``*TRS`` after the material's ``*VISCOELASTIC`` lines (the card's end)."""
+    lines = card.rstrip("\n").split("\n")
+    if not any(ln.strip().upper().startswith("*VISCOELASTIC") for ln in lines):
+        raise ValueError("shift=: the card has no *VISCOELASTIC (no Prony terms): a "
+                         "temperature shift needs n_prony >= 1")
+    return "\n".join(lines + abaqus_trs(law)) + "\n"
+
+
+#: The solver record (registered by vhfit.export).
+RECORD = Solver(
+    name="abaqus", label=SOLVER, suffix=".inp", formulation="hereditary",
+    write=to_abaqus, read=from_abaqus, sniff=lambda body: "*HYPERELASTIC" in body,
+    laws=tuple(_CARDS), comment="**", shift=_add_trs, density=True, bulk_modulus=True,
+    variants={"explicit": ("Abaqus/Explicit", "D1 from the bulk modulus, never 0")},
+    test_data=to_abaqus_test_data)

@@ -23,7 +23,6 @@ import warnings
 from collections.abc import Sequence
 
 from vhfit.export._common import (
-    SUPPORT,
     Material,
     check_compressibility,
     free_number,
@@ -34,9 +33,11 @@ from vhfit.export._common import (
     resolve,
     unsupported,
 )
+from vhfit.export._solvers import Solver
+from vhfit.export.shift import wlf_constants, wlf_number
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_ansys", "from_ansys"]
+__all__ = ["to_ansys", "from_ansys", "ansys_shift"]
 
 SOLVER = "Ansys"
 
@@ -59,7 +60,6 @@ _CARDS = {
     "arruda_boyce": ("BOYCE", None, ("mu", "lambda_m"), 1),  # mu, lambda_L, d
     "gent": ("GENT", None, ("mu", "Jm"), 1),  # mu, Jm, d
 }
-SUPPORT[SOLVER] = tuple(_CARDS)
 
 
 def _to_ansys_constants(kind: str, c: dict[str, float]) -> list[float]:
@@ -313,3 +313,40 @@ def from_ansys(text: str, *, mat: int | None = None) -> tuple[ViscoHyperelastic,
                       stacklevel=2)
     m = Material.from_card(kind, constants, g, tau, instantaneous=True, solver=SOLVER)
     return m.to_params()
+
+
+# ------------------------------------------------------------------- shift, record
+def ansys_shift(law, mat: int = 1) -> list[str]:
+    """Ansys ``TB,SHIFT`` (TBOPT = WLF) commands for a WLF law.
+
+    Ansys Mechanical APDL, ``TB,SHIFT,MAT,,,WLF`` with ``TBDATA,1,Tr,C1,C2`` (constants
+    1 to 3: reference temperature, C1, C2), beside ``TB,PRONY``.
+
+    Examples
+    --------
+    >>> from vhfit.tts import WLF
+    >>> ansys_shift(WLF(C1=17.44, C2=51.6, T_ref=20.0))
+    ['TB,SHIFT,1,,,WLF', 'TBDATA,1,20.0,17.44,51.6']
+    """
+    T_ref, c1, c2 = wlf_constants(law)
+    if not (isinstance(mat, int) and mat >= 1):
+        raise ValueError(f"mat = {mat!r}: give a material number >= 1")
+    return [f"TB,SHIFT,{mat},,,WLF",
+            f"TBDATA,1,{wlf_number(T_ref)},{wlf_number(c1)},{wlf_number(c2)}"]
+
+
+def _add_tb_shift(card: str, law, mat: int = 1) -> str:
+    """``TB,SHIFT`` after the material's commands (``TB,PRONY`` needed)."""
+    lines = card.rstrip("\n").split("\n")
+    if not any(ln.strip().upper().replace(" ", "").startswith("TB,PRONY") for ln in lines):
+        raise ValueError("shift=: the commands have no TB,PRONY (no Prony terms): a "
+                         "temperature shift needs n_prony >= 1")
+    return "\n".join(lines + ansys_shift(law, mat)) + "\n"
+
+
+#: The solver record (registered by vhfit.export).
+RECORD = Solver(
+    name="ansys", label=SOLVER, suffix=".mac", formulation="hereditary",
+    write=to_ansys, read=from_ansys, sniff=lambda body: "TB," in body.replace(" ", ""),
+    laws=tuple(_CARDS), comment="!", aliases=("apdl", "mapdl"), shift=_add_tb_shift,
+    density=True, bulk_modulus=True)

@@ -4,17 +4,15 @@ A round trip (card -> parser -> the same stresses) proves that a card carries vh
 numbers; it cannot show that the solver, integrating its own viscoelastic law with
 those numbers, reproduces the test data. The card check does that: each card is parsed
 back (:func:`vhfit.export.parse`), re-simulated in the formulation its solver
-integrates (:data:`vhfit.formulations.SOLVER_FORMULATIONS`: Abaqus and Ansys relax the
-deviatoric instantaneous stress, ``"hereditary"``; LS-DYNA's MAT_077 adds a Prony
-convolution of the Green strain rate to the long-term stress, ``"lsdyna"``;
-docs/theory.md §14) along every test history, and scored with RMSAPE (paper Eq. 20) on
-the objective points of the data. The fit's own error is scored the same way, so the two
-are comparable.
+integrates (its record's ``formulation``, :class:`vhfit.export.Solver`, collected in
+:data:`vhfit.formulations.SOLVER_FORMULATIONS`; docs/theory.md §14) along every test
+history, and scored with RMSAPE (paper Eq. 20) on the objective points of the data.
+The fit's own error is scored the same way, so the two are comparable.
 
 A card whose solver error exceeds the fit's by more than the margin
 (:func:`allowed_rmsape`: 5 % relative plus 0.01 percentage point) gets a warning that
-names the remedy: a fit in that solver's formulation (``vhfit fit --for lsdyna``,
-``calibrate(..., formulation="lsdyna")``).
+names the remedy: a fit in that solver's formulation (``vhfit fit --for SOLVER``,
+``calibrate(..., formulation=...)``).
 
 Examples
 --------
@@ -39,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vhfit.export import parse
+from vhfit.export._solvers import card_body, records, solver_of
 from vhfit.formulations import SOLVER_FORMULATIONS
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
@@ -62,8 +61,6 @@ MARGIN_RELATIVE = 0.05
 #: ... in percentage points: room for the card's printed digits on a near-exact fit.
 MARGIN_ABSOLUTE = 0.01
 
-_NAMES = {"abaqus": "Abaqus", "lsdyna": "LS-DYNA", "ansys": "Ansys"}
-
 
 def allowed_rmsape(fit_rmsape: float) -> float:
     """The largest card RMSAPE that passes against a fit's RMSAPE (percent).
@@ -77,22 +74,19 @@ def allowed_rmsape(fit_rmsape: float) -> float:
 
 
 def solver_formulation(solver: str) -> str:
-    """The formulation the solver integrates (``"abaqus_explicit"`` counts as Abaqus).
+    """The formulation the solver integrates, from its record (a card variant such as
+    ``"abaqus_explicit"`` counts as its solver).
 
     Examples
     --------
-    >>> solver_formulation("lsdyna"), solver_formulation("abaqus_explicit")
-    ('lsdyna', 'hereditary')
+    >>> solver_formulation("ansys"), solver_formulation("abaqus_explicit")
+    ('hereditary', 'hereditary')
     """
-    key = _solver_key(solver)
-    if key not in SOLVER_FORMULATIONS:
-        raise ValueError(f"solver {solver!r}: choose one of {', '.join(SOLVER_FORMULATIONS)}")
-    return SOLVER_FORMULATIONS[key]
+    return solver_of(solver).formulation
 
 
 def _solver_key(solver: str) -> str:
-    key = str(solver).strip().lower().replace("-", "")
-    return "abaqus" if key.startswith("abaqus") else key
+    return solver_of(solver).name
 
 
 def _formulation_of(model) -> str:
@@ -133,7 +127,7 @@ class CardCheck:
     Attributes
     ----------
     solver : str
-        ``"abaqus"``, ``"lsdyna"``, ``"ansys"`` (or ``"abaqus_explicit"``).
+        A registered solver's name (or a card variant's, ``"abaqus_explicit"``).
     formulation : str
         The formulation the card was re-simulated in (its solver's).
     rmsape : float
@@ -170,7 +164,7 @@ class CardCheck:
         """The headline warning of a card that fails the check, with its remedy; else None."""
         if not self.exceeds:
             return None
-        name = _NAMES.get(_solver_key(self.solver), self.solver)
+        name = solver_of(self.solver).label
         head = (f"{name} card: {name} will show RMSAPE {self.rmsape:.4g} % on the data, the fit "
                 f"{self.fit_rmsape:.4g} % (allowed {self.allowed:.4g} %)")
         if self.fit_formulation != self.formulation:
@@ -179,7 +173,7 @@ class CardCheck:
                     f"`vhfit fit --for {_solver_key(self.solver)}` (Python: calibrate(..., "
                     f"formulation='{self.formulation}'))")
         return (f"{head}: the card's numbers do not reproduce the fit (rounded fields?); write "
-                "it in full precision (LS-DYNA long format)")
+                "it in full precision (the writer's long format, if it has one)")
 
     def to_dict(self) -> dict:
         """The ``card_check`` entry of a results file."""
@@ -201,11 +195,11 @@ def card_stress(text: str, curves: Sequence, *, solver: str | None = None
     Parameters
     ----------
     text : str
-        The card (Abaqus, LS-DYNA or Ansys; the format is guessed when ``solver`` is None).
+        The card of a registered solver (the format is guessed when ``solver`` is None).
     curves : sequence of Curve
         The test data: their histories and objective points.
     solver : str, optional
-        ``"abaqus"``, ``"lsdyna"`` or ``"ansys"``.
+        A registered solver's name.
 
     Returns
     -------
@@ -228,19 +222,16 @@ def card_solver(text: str) -> str:
 
     Examples
     --------
-    >>> card_solver("*MAT_HYPERELASTIC_RUBBER"), card_solver("TB,HYPER,1,,,NEO")
-    ('lsdyna', 'ansys')
+    >>> card_solver("*HYPERELASTIC, NEO HOOKE"), card_solver("TB,HYPER,1,,,NEO")
+    ('abaqus', 'ansys')
     """
-    body = "\n".join(ln for ln in text.splitlines()
-                     if not ln.lstrip().startswith(("**", "$", "!"))).upper()
-    if "*MAT_" in body:
-        return "lsdyna"
-    if "*HYPERELASTIC" in body:
-        return "abaqus"
-    if "TB," in body.replace(" ", ""):
-        return "ansys"
-    raise ValueError("not an Abaqus, LS-DYNA or Ansys material card (no *HYPERELASTIC, "
-                     "*MAT_ or TB, command)")
+    body = card_body(text)
+    for rec in records():
+        if rec.sniff(body):
+            return rec.name
+    labels = [r.label for r in records()]
+    raise ValueError(f"not an {', '.join(labels[:-1])} or {labels[-1]} material card (none "
+                     "of their keywords found)")
 
 
 def check_card(text: str, curves: Sequence, *, solver: str | None = None,
@@ -288,7 +279,8 @@ def check_cards(cards: Mapping[str, str], curves: Sequence, *, fits=None) -> dic
     Parameters
     ----------
     cards : mapping of str to str
-        Solver (``"abaqus"``, ``"lsdyna"``, ``"ansys"``, ``"abaqus_explicit"``) -> card text.
+        Card key (a registered solver's name, or a variant's: ``"abaqus_explicit"``) ->
+        card text.
     curves : sequence of Curve
         The data.
     fits : Calibration, or mapping of solver to Calibration, optional

@@ -38,7 +38,6 @@ import numpy as np
 from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
     BULK_RATIO,
-    SUPPORT,
     Material,
     check_compressibility,
     fixed_number,
@@ -48,9 +47,11 @@ from vhfit.export._common import (
     resolve,
     unsupported,
 )
+from vhfit.export._solvers import Solver
+from vhfit.export.shift import wlf_constants
 from vhfit.model import ViscoHyperelastic
 
-__all__ = ["to_lsdyna", "from_lsdyna", "lsdyna_pr", "lsdyna_bulk_modulus"]
+__all__ = ["to_lsdyna", "from_lsdyna", "lsdyna_pr", "lsdyna_bulk_modulus", "lsdyna_shift_note"]
 
 SOLVER = "LS-DYNA"
 
@@ -59,7 +60,6 @@ _POLY_MODELS = ("neo_hooke", "mooney_rivlin", "yeoh", "polynomial2", "polynomial
                 *(f"reduced_polynomial{n}" for n in range(1, 7)))
 _OGDEN_MODELS = ("ogden", "ogden2", "ogden3", "ogden4", "ogden5", "ogden6")
 SUPPORTED = (*_POLY_MODELS, *_OGDEN_MODELS)
-SUPPORT[SOLVER] = SUPPORTED
 #: Why the other built-in laws have no LS-DYNA card here
 _WHY = {
     "arruda_boyce": "MAT_127 takes the number of chain links N = lambda_m^2 as a whole "
@@ -471,3 +471,42 @@ def _read(cards, head, ogden: bool, hint: str | None):
         G.append(3.0 * gi)
         tau.append(1.0 / beta)
     return Material.params_from_moduli(kind, constants, G, tau, solver=SOLVER)
+
+
+# ------------------------------------------------------------------- shift, record
+def lsdyna_shift_note(law) -> list[str]:
+    """LS-DYNA comment lines: the card has no shift; the law to apply by hand.
+
+    ``*MAT_HYPERELASTIC_RUBBER`` and ``*MAT_OGDEN_RUBBER`` have no temperature shift; the
+    comment lines give the law, so that an analysis away from T_ref can scale
+    BETAI = 1/τ_i by 1/a_T itself.
+
+    Examples
+    --------
+    >>> from vhfit.tts import WLF
+    >>> print(lsdyna_shift_note(WLF(C1=17.44, C2=51.6, T_ref=20.0))[0])
+    $ NOTE: no time-temperature shift written: this card has no shift field.
+    """
+    T_ref, c1, c2 = wlf_constants(law)
+    return [
+        "$ NOTE: no time-temperature shift written: this card has no shift field.",
+        f"$   The Prony terms are at T_ref = {T_ref:g}; at temperature T use",
+        f"$   BETAI(T) = BETAI / a_T, log10 a_T = -{c1:g} (T - {T_ref:g}) / ({c2:g} + T - "
+        f"{T_ref:g}) (WLF)",
+    ]
+
+
+def _add_shift_note(card: str, law, mat: int = 1) -> str:
+    """The note of :func:`lsdyna_shift_note` before ``*END``."""
+    lines = card.rstrip("\n").split("\n")
+    upper = [ln.strip().upper() for ln in lines]
+    end = upper.index("*END") if "*END" in upper else len(lines)
+    return "\n".join(lines[:end] + lsdyna_shift_note(law) + lines[end:]) + "\n"
+
+
+#: The solver record (registered by vhfit.export).
+RECORD = Solver(
+    name="lsdyna", label=SOLVER, suffix=".k", formulation="lsdyna",
+    write=to_lsdyna, read=from_lsdyna, sniff=lambda body: "*MAT_" in body,
+    laws=SUPPORTED, comment="$", aliases=("ls-dyna", "dyna"), shift=_add_shift_note,
+    density=True, bulk_modulus=True)
