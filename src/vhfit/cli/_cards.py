@@ -22,6 +22,7 @@ from vhfit.export.check import (
     SOLVER_FORMULATIONS,
     check_cards,
 )
+from vhfit.modes import get_deformation
 
 __all__ = ["SOLVERS", "CARD_FILES", "TEST_DATA_FILE", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "write_cards", "check_table"]
@@ -169,7 +170,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
     first = next(iter(fits.values()))
     atomic_write(out / CARD_FILES["json"], export(first, to="json"))
     res.files["json"] = CARD_FILES["json"]
-    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
+    if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
            for c in curves):
         try:
             text = to_abaqus_test_data(curves, first.model.hyperelastic.name)
