@@ -267,8 +267,8 @@ def registered_deformations() -> tuple[str, ...]:
 
     Examples
     --------
-    >>> registered_deformations()[:3]
-    ('uniaxial', 'equibiaxial', 'planar')
+    >>> registered_deformations()[0], "planar" in registered_deformations()
+    ('uniaxial', True)
     """
     return tuple(_REGISTRY)
 
@@ -283,7 +283,7 @@ def get_deformation(name) -> Deformation:
     >>> get_deformation("shear")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: deformation = 'shear' is unknown: choose one of uniaxial, equibiaxial, ...
+    ValueError: deformation = 'shear' is unknown: choose one of uniaxial, ...
     """
     if isinstance(name, Deformation):
         return name
