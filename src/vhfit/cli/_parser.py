@@ -17,7 +17,7 @@ from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
 from vhfit.cli._fit import DEMO_PRONY, SOLVERS, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
-from vhfit.cli._plugins import PLUGIN_GROUP
+from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
 from vhfit.cli._simulate import cmd_simulate
 from vhfit.data import MAX_POINTS
 from vhfit.modes import deformation_named, get_deformation, registered_deformations
@@ -60,6 +60,9 @@ def _ramp_points(text: str) -> int:
 
 def _deformation(text: str) -> str:
     name = deformation_named(text)  # a registered test, by its name or an alias
+    if name is None:  # perhaps a plug-in's test
+        load_plugins()
+        name = deformation_named(text)
     if name is None:
         raise argparse.ArgumentTypeError(
             f"--deformation {text!r}: use one of {', '.join(registered_deformations())}")
