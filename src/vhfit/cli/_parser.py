@@ -69,6 +69,16 @@ def _deformation(text: str) -> str:
     return name
 
 
+def _one_stretch_tests() -> str:
+    """Help of simulate's --deformation: the tests it can drive, and their strains."""
+    tests = [get_deformation(n) for n in registered_deformations()]
+    tests = [t for t in tests if not t.second_stretch]
+    own = "".join(f"; {t.name}: {t.strain_label}" for t in tests
+                  if t.strain_label != tests[0].strain_label)
+    return (f"the test: {', '.join(t.name for t in tests)} (default uniaxial; strain = "
+            f"{tests[0].strain_label}{own}); a test with a second stretch needs the Python API")
+
+
 def _prony(text: str) -> int | str:
     if text.lower() == "auto":
         return "auto"
@@ -377,11 +387,7 @@ def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")
     p.add_argument("--deformation", type=_deformation, default="uniaxial", metavar="MODE",
-                   help="the test: " + ", ".join(
-                       f"{n} ({get_deformation(n).strain_label})"
-                       for n in registered_deformations()
-                       if not get_deformation(n).second_stretch)
-                        + "; default uniaxial; a test with a second stretch needs the Python API")
+                   help=_one_stretch_tests())
     p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
                    help="stress measure (default engineering)")
     p.add_argument("--out", metavar="FILE.csv", help="output CSV (default: standard output)")
