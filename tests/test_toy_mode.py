@@ -73,6 +73,27 @@ def test_a_name_or_alias_cannot_be_taken_twice():
     assert "another_toy" not in modes.registered_deformations()
 
 
+def test_a_record_that_loads_its_stress_free_direction_is_refused():
+    with pytest.raises(ValueError, match="stress_free is another direction"):
+        @modes.register_deformation("bad_toy")
+        class Bad(modes.Deformation):
+            measured = ("σ11", "σ22")
+            stress_free = 2
+    assert "bad_toy" not in modes.registered_deformations()
+
+
+def test_aliases_are_compared_without_the_words_that_say_nothing():
+    @modes.register_deformation("noisy_toy", aliases=("Noisy Tension Test",))
+    class Noisy(modes.Deformation):
+        def stretches(self, x1, x2=None):
+            return x1, x1**-0.5, x1**-0.5
+    try:
+        assert modes.deformation_named("noisy") == "noisy_toy"
+        assert modes.deformation_named("noisy compression") == "noisy_toy"
+    finally:
+        modes.unregister_deformation("noisy_toy")
+
+
 def test_the_toys_equilibrium_stress_is_the_closed_form():
     lam = np.array([0.5, 0.8, 1.0, 1.5, 2.5])
     got = modes.long_term_stress(vhfit.hyperelastic.get("neo_hooke"), [0.3], TOY, lam)

@@ -189,11 +189,18 @@ class Deformation:
 _REGISTRY: dict[str, Deformation] = {}
 
 
+#: Words that say nothing about the kinematics ("uniaxial tension test" is uniaxial).
+NOISE_WORDS = frozenset({"tension", "tensile", "compression", "compressive", "test", "tests",
+                         "loading", "mode"})
+
+
 def _key(text) -> str | None:
-    """Lower case, words joined by ``_``: how names and aliases are compared."""
+    """Lower case, words joined by ``_``, without :data:`NOISE_WORDS`: how names and
+    aliases are compared."""
     if not isinstance(text, str):
         return None
-    return "_".join(t for t in re.split(r"[\s_\-/]+", text.strip().lower()) if t)
+    words = re.split(r"[\s_\-/]+", text.strip().lower())
+    return "_".join(t for t in words if t and t not in NOISE_WORDS)
 
 
 def register_deformation(name: str, *, aliases=(), overwrite: bool = False) -> Callable:
@@ -241,12 +248,15 @@ def register_deformation(name: str, *, aliases=(), overwrite: bool = False) -> C
                              "overwrite=True to replace it")
         obj = cls()
         obj.name = name
-        obj.aliases = tuple(_key(a) for a in aliases)
-        if not 1 <= obj.directions <= 2 or obj.stress_free not in (1, 2, 3):
+        obj.aliases = tuple(_key(a) for a in (*cls.aliases, *aliases))
+        if not 1 <= obj.directions <= 2 or obj.stress_free not in (1, 2, 3) \
+                or obj.stress_free <= obj.directions:
             raise ValueError(f"deformation {name!r}: measured gives one or two components "
-                             "and stress_free is 1, 2 or 3")
-        taken = {a: n for n, d in _REGISTRY.items() if n != name for a in (n, *d.aliases)}
-        clash = [a for a in (name, *obj.aliases) if a in taken]
+                             "(loaded directions 1 and 2) and stress_free is another "
+                             "direction, 2 or 3")
+        taken = {a: n for n, d in _REGISTRY.items() if n != name
+                 for a in (_key(n), *d.aliases)}
+        clash = [a for a in (_key(name), *obj.aliases) if a in taken]
         if clash:
             raise ValueError(f"deformation {name!r}: {clash[0]!r} already names "
                              f"{taken[clash[0]]!r}")
@@ -294,11 +304,6 @@ def get_deformation(name) -> Deformation:
                          f"{', '.join(_REGISTRY)}") from None
 
 
-#: Words that say nothing about the kinematics ("uniaxial tension test" is uniaxial).
-NOISE_WORDS = frozenset({"tension", "tensile", "compression", "compressive", "test", "tests",
-                         "loading", "mode"})
-
-
 def deformation_named(text) -> str | None:
     """The registered deformation a lab's label names, or None.
 
@@ -313,11 +318,10 @@ def deformation_named(text) -> str | None:
     True
     """
     key = _key(text)
-    if key is None:
+    if not key:
         return None
-    key = "_".join(t for t in key.split("_") if t not in NOISE_WORDS)
     for name, rec in _REGISTRY.items():
-        if key == name or key in rec.aliases:
+        if key == _key(name) or key in rec.aliases:
             return name
     return None
 
