@@ -20,7 +20,6 @@ import numpy as np
 from vhfit.data._attributes import _CurveAttributes
 from vhfit.data._errors import DataError, _norm_measure, _Subset, _Where
 from vhfit.data._histories import _build_history, _Path
-from vhfit.data._measures import engineering_to_true, true_to_engineering
 from vhfit.data._modes import (
     _check_deformation,
     _check_mode_signs,
@@ -494,13 +493,16 @@ class Curve(_CurveAttributes):
         m = _norm_measure(measure, self._where)
         if m == self._measure:
             return self
-        if get_deformation(self._deformation).shear:  # σ12 = P12: the measures coincide
-            return self._derive(_measure=m)
-        conv = engineering_to_true if m == "true" else true_to_engineering
-        attrs = {"_stress": _frozen(conv(self._stress, self._strain)), "_measure": m}
-        if self._stress2 is not None:  # direction 2 divides by λ2 (= λ1 without strain2)
-            e2 = self._strain if self._strain2 is None else self._strain2
-            attrs["_stress2"] = _frozen(conv(self._stress2, e2))
+        # nominal = true / λ_a, λ_a the loaded stretch of the test's record (1 in shear)
+        test = get_deformation(self._deformation)
+        x1 = 1.0 + self._strain
+        x2 = None if self._strain2 is None else 1.0 + self._strain2
+        attrs: dict[str, Any] = {"_measure": m}
+        for key, d in (("_stress", 1), ("_stress2", 2)):
+            s = getattr(self, key)
+            if s is not None:
+                lam = test.loaded_stretch(x1, x2, d)
+                attrs[key] = _frozen(s * lam if m == "true" else s / lam)
         return self._derive(**attrs)
 
     def replace(self, *, name: str | None = None, weight: float | None = None) -> Curve:
