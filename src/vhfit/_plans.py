@@ -1,13 +1,13 @@
 """Evaluation plans of :class:`vhfit.model.Batch` for tests other than uniaxial.
 
-:class:`GeneralPlan` lays out the histories of equibiaxial, planar, biaxial and
-simple-shear tests with a rate or a time for :func:`vhfit._kernels.overstress_general`:
-one kernel curve per history and loaded direction, its samples (the nodes of the
-history's grid and the inner Gauss–Lobatto points of each step) and its weights c_k(t)
-at the nodes (docs/theory.md §13). :class:`EquilibriumPlan` evaluates the long-term
-law at the samples of equilibrium histories of any test. Both write into the batch's
-(P, n_points) arrays at their histories' positions and return which parameter sets
-gave finite values.
+:class:`GeneralPlan` lays out the histories with a rate or a time of every test but the
+paper's uniaxial one (and of that one under a formulation without its kernel) for
+:func:`vhfit._kernels.overstress_general`: one kernel curve per history and loaded
+direction, its samples (the nodes of the history's grid and the inner Gauss–Lobatto
+points of each step) and its weights c_k(t) at the nodes (docs/theory.md §13).
+:class:`EquilibriumPlan` evaluates the long-term law at the samples of equilibrium
+histories of any test. Both write into the batch's (P, n_points) arrays at their
+histories' positions and return which parameter sets gave finite values.
 """
 
 from __future__ import annotations
@@ -32,20 +32,24 @@ def _groups(keys: list, parts: list[np.ndarray]) -> dict:
     return {k: np.concatenate(v) for k, v in out.items()}
 
 
+def _x2(deformation: str, x2):
+    """The second stretch of a test that prescribes one, else None."""
+    return x2 if modes.get_deformation(deformation).second_stretch else None
+
+
 def _long_term_coefficients(key, x1, x2):
     """:func:`vhfit.modes.long_term_coefficients` of a (deformation, direction) group
     (None for uniaxial, whose stress is the law's own)."""
     deformation, d = key
-    if deformation == "uniaxial":
+    if modes.get_deformation(deformation).uniaxial:
         return None
-    return modes.long_term_coefficients(deformation, x1,
-                                        x2 if deformation == "biaxial" else None, d)
+    return modes.long_term_coefficients(deformation, x1, _x2(deformation, x2), d)
 
 
 def on_uniaxial_kernel(formulation, hist) -> bool:
     """Whether ``hist`` runs the dedicated uniaxial kernel under ``formulation``."""
-    return (formulation.uniaxial_kernel and hist.deformation == "uniaxial"
-            and not hist.is_equilibrium and not hist.is_linear)
+    return (formulation.uniaxial_kernel and not hist.is_linear and not hist.is_equilibrium
+            and modes.get_deformation(hist.deformation).uniaxial)
 
 
 class GeneralPlan:
@@ -95,7 +99,7 @@ class GeneralPlan:
         # the kinematic part of the factors (of invariant laws, hereditary), once per plan
         self.coefficients = {
             (deformation, d): formulation.prepare(
-                deformation, self.x1[idx], self.x2[idx] if deformation == "biaxial" else None, d)
+                deformation, self.x1[idx], _x2(deformation, self.x2[idx]), d)
             for (deformation, d), idx in self.sample_groups.items()
         }
         if formulation.kinematic:  # the same factors for every parameter set: once
@@ -120,14 +124,14 @@ class GeneralPlan:
                 ((deformation, d),) = self.sample_groups
                 f0, f1 = form.factors(
                     hm, hyper, E_inf, deformation, self.x1,
-                    self.x2 if deformation == "biaxial" else None, d,
+                    _x2(deformation, self.x2), d,
                     self.coefficients[deformation, d])
                 f0, f1 = (np.broadcast_to(f, (rows, self.x1.size)) for f in (f0, f1))
             else:
                 f0 = np.empty((rows, self.x1.size))
                 f1 = np.empty((rows, self.x1.size))
                 for (deformation, d), idx in self.sample_groups.items():
-                    x2 = self.x2[idx] if deformation == "biaxial" else None
+                    x2 = _x2(deformation, self.x2[idx])
                     f0[:, idx], f1[:, idx] = form.factors(
                         hm, hyper, E_inf, deformation, self.x1[idx], x2, d,
                         self.coefficients[deformation, d])
@@ -144,7 +148,7 @@ class GeneralPlan:
         with np.errstate(all="ignore"):
             for key, sidx in self.out_groups.items():
                 deformation, d = key
-                x2 = self.x2[sidx] if deformation == "biaxial" else None
+                x2 = _x2(deformation, self.x2[sidx])
                 s = modes.long_term_stress(hm, hyper, deformation, self.x1[sidx], x2, d,
                                            self.out_coefficients[key])
                 s = s * scale
@@ -212,8 +216,7 @@ class EquilibriumPlan:
         scale = np.reshape(scale, (-1, 1)) if np.ndim(scale) else scale
         with np.errstate(all="ignore"):
             for (deformation, d), (x1, x2, pos) in self.groups.items():
-                s = modes.long_term_stress(hm, hyper, deformation, x1,
-                                           x2 if deformation == "biaxial" else None, d,
+                s = modes.long_term_stress(hm, hyper, deformation, x1, _x2(deformation, x2), d,
                                            self.coefficients[deformation, d])
                 s = np.broadcast_to(s * scale, (hyper.shape[0], pos.size))
                 out[:, pos] = s

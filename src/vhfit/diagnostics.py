@@ -54,6 +54,7 @@ import numpy as np
 from vhfit import hyperelastic as _hyper
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
+from vhfit.modes import get_deformation
 
 __all__ = ["RatePair", "rate_pairs", "rate_ratio_bounds", "rate_sensitivity"]
 
@@ -293,7 +294,7 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
         r = getattr(c, "strain_rate", None)
         if r is None or not np.isfinite(r) or r == 0 or not getattr(c, "is_constant_rate", True):
             continue
-        if getattr(c, "deformation", "uniaxial") != "uniaxial":
+        if not get_deformation(getattr(c, "deformation", "uniaxial")).uniaxial:
             continue
         cs.append((abs(float(r)), i, c))
     cs.sort(key=lambda t: t[0])

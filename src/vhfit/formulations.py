@@ -172,23 +172,9 @@ class Hereditary(Formulation):
 
 
 def _green_factors(deformation, x1, x2, direction, deviatoric):
-    """(2/3) Ê of the loaded and the stress-free direction (Ê = E or dev E), per unit G_i.
-
-    Principal axes: E_k = (λ_k² − 1)/2, and dev E_k = (λ_k² − I1/3)/2. Simple shear
-    (E = (FᵀF − I)/2 with F = I + γ e1⊗e2): E12 = γ/2, E22 = γ²/2 and tr E = γ²/2; the
-    weights (1, γ) then give σ12 = S12 + γ S22 (docs/theory.md §14).
-    """
-    x1 = np.asarray(x1, dtype=np.float64)
-    if deformation == "simple_shear":
-        e22 = 0.5 * x1 * x1
-        if deviatoric:
-            e22 = e22 - e22 / 3.0
-        return x1 / 3.0, (2.0 / 3.0) * e22
-    lam = modes.principal_stretches(deformation, x1, x2)
-    a = lam[direction - 1] ** 2
-    c = lam[2] ** 2
-    shift = (lam[0] ** 2 + lam[1] ** 2 + c) / 3.0 if deviatoric else 1.0
-    return (a - shift) / 3.0, (c - shift) / 3.0
+    """(2/3) Ê of the loaded and the stress-free direction (Ê = E or dev E), per unit G_i:
+    :meth:`vhfit.modes.Deformation.green_factors` of the test (docs/theory.md §14)."""
+    return modes.get_deformation(deformation).green_factors(x1, x2, direction, deviatoric)
 
 
 @register_formulation("lsdyna")

@@ -4,10 +4,11 @@ A :class:`History` is a piecewise-linear stretch path through breakpoints
 ``(time[k], stretch[k])`` plus the times at which the stress is wanted. A constant
 engineering strain rate ramp, ``λ(t) = 1 + r t``, is the two-breakpoint case; a
 measured loading-unloading, ramp-hold or Hopkinson-bar history is the general case.
-The test is named by ``deformation`` (:data:`DEFORMATIONS`): a general biaxial test
-also prescribes λ2(t) (``stretch2``); in simple shear the path is the amount of shear
-γ(t) instead of λ(t). An equilibrium history (:meth:`History.equilibrium`) is a set of
-fully relaxed states with no time at all.
+The test is named by ``deformation``, a registered :class:`vhfit.modes.Deformation`
+whose record says how its path is built: a test with a second prescribed stretch
+(general biaxial) also takes λ2(t) (``stretch2``); a test driven by shear follows the
+amount of shear γ(t) instead of λ(t). An equilibrium history
+(:meth:`History.equilibrium`) is a set of fully relaxed states with no time at all.
 
 Engineering strain ε = λ − 1 (γ in simple shear); compression is negative (strain,
 rate and stress). The material is at rest before t = 0: :func:`from_rest` starts a
@@ -21,7 +22,13 @@ from typing import ClassVar
 
 import numpy as np
 
-from vhfit.modes import DEFORMATIONS, TWO_DIRECTIONS, check_deformation, principal_stretches
+from vhfit.modes import (
+    DEFORMATIONS,
+    check_deformation,
+    get_deformation,
+    with_second_stretch,
+    with_two_directions,
+)
 
 __all__ = ["History", "from_rest", "DEFORMATIONS"]
 
@@ -88,17 +95,17 @@ def from_rest(t, strain) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _path2(deformation: str, strain2, n: int | None):
-    """The second stretch path (biaxial) from ``strain2``, or None; one-line errors."""
-    if deformation != "biaxial":
+    """The second stretch path (a test with a second prescribed stretch) from ``strain2``,
+    or None; one-line errors."""
+    if not get_deformation(deformation).second_stretch:
         if strain2 is not None:
-            raise ValueError(
-                f"strain2 is only for deformation='biaxial', not {deformation!r}: drop it"
-            )
+            only = " or ".join(f"deformation={n!r}" for n in with_second_stretch())
+            raise ValueError(f"strain2 is only for {only}, not {deformation!r}: drop it")
         return None
     if strain2 is None:
         raise ValueError(
-            "deformation='biaxial' needs strain2 (λ2 − 1 at each sample): give the second "
-            "stretch path"
+            f"deformation={deformation!r} needs strain2 (λ2 − 1 at each sample): give the "
+            "second stretch path"
         )
     e2 = _as_1d("strain2", strain2)
     if n is not None and e2.size != n:
@@ -119,11 +126,11 @@ def _check_stretch(name: str, lam: np.ndarray) -> None:
 
 def _loading(deformation: str, eps: np.ndarray) -> np.ndarray:
     """The path variable of ``stretch``: λ = 1 + ε, or γ itself in simple shear."""
-    if deformation == "simple_shear":
-        return eps.copy()
-    lam = 1.0 + eps
-    _check_stretch("strain", lam)
-    return lam
+    test = get_deformation(deformation)
+    x = test.path(eps)
+    if not test.shear:
+        _check_stretch("strain", x)
+    return x
 
 
 @dataclass(frozen=True, eq=False)
@@ -141,12 +148,13 @@ class History:
     out_time : ndarray, shape (n,)
         Times (any order, within ``[0, time[-1]]``) at which the stress is evaluated.
     deformation : str
-        The test, one of :data:`DEFORMATIONS` (default "uniaxial").
+        The test, a registered deformation (default "uniaxial").
     stretch2 : ndarray, shape (k,), optional
-        λ2 at each breakpoint; "biaxial" only, where it is required.
+        λ2 at each breakpoint; for a test with a second prescribed stretch only, where
+        it is required.
     out_direction : ndarray of int, shape (n,), optional
-        Loaded direction of each output: 1, or 2 for the second loaded direction of
-        "biaxial" and "equibiaxial"; default all 1.
+        Loaded direction of each output: 1, or 2 for the second loaded direction of a
+        test that has one; default all 1.
     is_equilibrium : bool
         Fully relaxed states: the long-term law alone at every sample, no history.
 
@@ -170,8 +178,11 @@ class History:
 
     def __post_init__(self):
         check_deformation(self.deformation)
-        if (self.stretch2 is None) != (self.deformation != "biaxial"):
-            raise ValueError("stretch2 is required for deformation='biaxial' and only there")
+        if (self.stretch2 is None) == self._test.second_stretch:
+            raise ValueError(f"stretch2 is required for deformation={self.deformation!r}"
+                             if self.stretch2 is None else
+                             f"stretch2 is only for a test with a second prescribed stretch, "
+                             f"not deformation={self.deformation!r}")
         if self.out_direction is None:
             d = np.ones(np.shape(self.out_time), dtype=np.int64)
         else:
@@ -182,10 +193,10 @@ class History:
                     f"got {self.out_direction!r}"
                 )
             d = d.astype(np.int64)
-            if (d == 2).any() and self.deformation not in TWO_DIRECTIONS:
+            if (d == 2).any() and self._test.directions < 2:
                 raise ValueError(
                     f"out_direction 2 needs a second loaded direction: {self.deformation!r} "
-                    f"has none (only {' and '.join(TWO_DIRECTIONS)} do)"
+                    f"has none (only {' and '.join(with_two_directions())} do)"
                 )
         object.__setattr__(self, "out_direction", d)
 
@@ -203,10 +214,10 @@ class History:
         strain_rate : float
             Engineering strain rate r in 1/s, non-zero (negative in compression).
         deformation : str
-            The test, one of :data:`DEFORMATIONS`.
+            The test, a registered deformation (:data:`DEFORMATIONS` and plug-ins).
         strain2 : array_like, optional
-            λ2 − 1 at each strain ("biaxial" only, required there); proportional to
-            ``strain`` (λ2 also at a constant rate).
+            λ2 − 1 at each strain (a test with a second prescribed stretch only,
+            required there); proportional to ``strain`` (λ2 also at a constant rate).
 
         Examples
         --------
@@ -238,14 +249,15 @@ class History:
                 "a constant-rate ramp from 0 only reaches strains of the rate's sign "
                 "(compression: negative strain and rate)"
             )
-        if deformation != "simple_shear" and (eps <= -1.0).any():
+        test = get_deformation(deformation)
+        if not test.shear and (eps <= -1.0).any():
             i = int(np.flatnonzero(eps <= -1.0)[0])
             raise ValueError(
                 f"strain[{i}] = {eps[i]:g} gives a non-positive stretch 1 + strain: "
                 "engineering strain must be > -1"
             )
         t_end = float(t.max())
-        x0 = 0.0 if deformation == "simple_shear" else 1.0
+        x0 = test.rest
         kw = dict(deformation=deformation)
         if lam2 is not None:
             kw["stretch2"] = _ramp2(lam2, t, t_end)
@@ -272,9 +284,9 @@ class History:
         out_time : array_like, optional
             Times where the stress is wanted; default: the sample times.
         deformation : str
-            The test, one of :data:`DEFORMATIONS`.
+            The test, a registered deformation (:data:`DEFORMATIONS` and plug-ins).
         strain2 : array_like, shape (k,), optional
-            λ2 − 1 at each sample ("biaxial" only, required there).
+            λ2 − 1 at each sample (a test with a second prescribed stretch only, required there).
 
         Examples
         --------
@@ -319,13 +331,13 @@ class History:
         strain : array_like, shape (n,)
             Engineering strain λ1 − 1 (γ in simple shear) of each sample.
         deformation : str
-            The test, one of :data:`DEFORMATIONS`.
+            The test, a registered deformation (:data:`DEFORMATIONS` and plug-ins).
         strain2 : array_like, shape (n,), optional
-            λ2 − 1 of each sample ("biaxial" only, required there).
+            λ2 − 1 of each sample (a test with a second prescribed stretch only, required there).
 
         Examples
         --------
-        >>> h = History.equilibrium([0.5, 0.1, 0.3], deformation="equibiaxial")
+        >>> h = History.equilibrium([0.5, 0.1, 0.3], deformation="planar")
         >>> h.is_equilibrium, h.out_strain
         (True, array([0.5, 0.1, 0.3]))
         """
@@ -372,9 +384,7 @@ class History:
     @property
     def out_strain(self) -> np.ndarray:
         """Engineering strain λ1 − 1 (γ in simple shear) at the output times."""
-        if self.deformation == "simple_shear":
-            return self.out_stretch
-        return self.out_stretch - 1.0
+        return self._test.strain(self.out_stretch)
 
     @property
     def out_loaded_stretch(self) -> np.ndarray:
@@ -382,34 +392,23 @@ class History:
 
         The nominal stress is the true stress divided by it.
         """
-        if self.deformation == "simple_shear":
-            return np.ones(self.out_time.size)
-        lam = principal_stretches(self.deformation, self.out_stretch,
-                                  self.stretch2_at(self.out_time))
-        return np.where(self.out_direction == 2, lam[1], lam[0])
+        test = self._test
+        x1, x2 = self.out_stretch, self.stretch2_at(self.out_time)
+        second = test.loaded_stretch(x1, x2, 2) if test.directions == 2 else 0.0
+        return np.where(self.out_direction == 2, second, test.loaded_stretch(x1, x2, 1))
+
+    @property
+    def _test(self):
+        """The record of the deformation (:class:`vhfit.modes.Deformation`)."""
+        return get_deformation(self.deformation)
 
     # ------------------------------------------------------------ internal grid
     def _piece_steps(self, k: int, dlog: float) -> np.ndarray:
-        """Inner and end node times of piece k (a hold: its end alone)."""
-        tb = self.time
-        a, b = tb[k], tb[k + 1]
-        if self.deformation == "simple_shear":
-            # steps of at most dlog in γ, uniform in t (γ is linear in t)
-            m = max(1, int(np.ceil(abs(self.stretch[k + 1] - self.stretch[k]) / dlog)))
-            return a + np.linspace(0.0, 1.0, m + 1)[1:] * (b - a)
-        if self.deformation == "biaxial":
-            # λ1 and λ2 are both linear in t: the union of the nodes uniform in ln λ1 and
-            # in ln λ2 at dlog/2 bounds both steps by dlog/2, so ln λ3 = −ln λ1 − ln λ2
-            # changes by at most dlog
-            tt = [_log_uniform(a, b, self.stretch[k], self.stretch[k + 1], 0.5 * dlog),
-                  _log_uniform(a, b, self.stretch2[k], self.stretch2[k + 1], 0.5 * dlog)]
-            return np.unique(np.concatenate([x for x in tt if x.size] or [np.array([b])]))
-        # every principal stretch is a power of λ1: uniform in ln λ1 (λ is linear in t
-        # along the piece), at most dlog in the fastest of them (ln λ3 = −2 ln λ in
-        # equibiaxial)
-        power = 2.0 if self.deformation == "equibiaxial" else 1.0
-        tt = _log_uniform(a, b, self.stretch[k], self.stretch[k + 1], dlog / power)
-        return tt if tt.size else np.array([b])
+        """Inner and end node times of piece k (a hold: its end alone), as the test's
+        record lays them out (:meth:`vhfit.modes.Deformation.steps`)."""
+        s2 = None if self.stretch2 is None else self.stretch2[k:k + 2]
+        return self._test.steps(self.time[k], self.time[k + 1], self.stretch[k:k + 2], s2,
+                                dlog)
 
     def grid(self, dlog: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Integration grid: node times, node stretches, and output node indices.
@@ -447,19 +446,6 @@ class History:
         t_nodes = np.unique(np.concatenate([base, out]))
         idx = np.searchsorted(t_nodes, out)
         return t_nodes, self.stretch_at(t_nodes), idx
-
-
-def _log_uniform(a: float, b: float, l0: float, l1: float, dlog: float) -> np.ndarray:
-    """Times after ``a`` up to ``b`` uniform in ln λ, λ linear in t from l0 to l1, with
-    steps of at most dlog; empty if λ does not change."""
-    dl = abs(np.log(l1 / l0))
-    if dl == 0:
-        return np.zeros(0)
-    m = max(1, int(np.ceil(dl / dlog)))
-    lam = l0 * np.exp(np.log(l1 / l0) * np.linspace(0.0, 1.0, m + 1)[1:])
-    tt = a + (lam - l0) / (l1 - l0) * (b - a)
-    tt[-1] = b
-    return tt
 
 
 def _ramp2(lam2: np.ndarray, t: np.ndarray, t_end: float) -> np.ndarray:

@@ -23,7 +23,7 @@ from vhfit._linear import LinearLoad, LinearPlan
 from vhfit._plans import EquilibriumPlan, GeneralPlan, on_uniaxial_kernel
 from vhfit.formulations import get_formulation
 from vhfit.history import History
-from vhfit.modes import check_deformation, check_direction
+from vhfit.modes import check_deformation, check_direction, get_deformation
 from vhfit.viscoelastic import check_prony, prony_g
 
 __all__ = ["ViscoHyperelastic", "Batch"]
@@ -79,8 +79,8 @@ def _history_from(deformation, direction, *, strain, strain_rate, time, stretch,
     if strain2 is not None and stretch2 is not None:
         raise ValueError("give strain2 or stretch2 (= 1 + strain2), not both")
     if stretch is not None:
-        if deformation == "simple_shear":
-            raise ValueError("simple_shear is driven by the amount of shear: give strain=γ, "
+        if get_deformation(deformation).shear:
+            raise ValueError(f"{deformation} is driven by the amount of shear: give strain=γ, "
                              "not stretch")
         strain = _strain_of("stretch", stretch)
     if stretch2 is not None:
@@ -315,12 +315,12 @@ class ViscoHyperelastic:
         stretch : array_like, optional
             λ1 instead of ``strain`` (= λ1 − 1); not for simple shear.
         strain2, stretch2 : array_like, optional
-            λ2 − 1 or λ2 at each strain: "biaxial" only, required there.
+            λ2 − 1 or λ2 at each strain: tests with a second prescribed stretch only.
         deformation : str
-            "uniaxial" (default), "equibiaxial", "planar", "biaxial" or "simple_shear"
-            (docs/theory.md §13).
+            A registered test (:func:`vhfit.modes.registered_deformations`; default
+            "uniaxial", docs/theory.md §13).
         direction : {1, 2}
-            The loaded direction whose stress is returned (2: equibiaxial, biaxial).
+            The loaded direction whose stress is returned (2: tests with two).
 
         Returns
         -------

@@ -1,6 +1,9 @@
-"""Kinematics and long-term stresses of every homogeneous incompressible test (docs/theory.md §13).
+"""Every homogeneous incompressible test as a record, and its kinematics (docs/theory.md §13).
 
-A test is named by its ``deformation``:
+A test is a :class:`Deformation` record, registered by name (``@register_deformation``)
+like the hyperelastic laws and the viscoelastic formulations; a curve, a history or a
+model names it by its ``deformation`` string, and every other module asks the record
+(:func:`get_deformation`) instead of testing the name. The built-in tests:
 
 * ``"uniaxial"``     λ1 = λ, λ2 = λ3 = λ^(−1/2)
 * ``"equibiaxial"``  λ1 = λ2 = λ, λ3 = λ^(−2)
@@ -23,46 +26,183 @@ from __future__ import annotations
 
 import numpy as np
 
-from vhfit._derivatives import invariant_gradient, outside_domain, stretch_gradient
+from vhfit._deformation import (  # the record and its registry, re-exported
+    NOISE_WORDS,  # noqa: F401
+    Deformation,
+    check_deformation,
+    check_direction,
+    deformation_named,
+    get_deformation,
+    log_uniform,
+    register_deformation,
+    registered_deformations,
+    unregister_deformation,
+    with_second_stretch,  # noqa: F401
+    with_two_directions,  # noqa: F401
+)
+from vhfit._derivatives import invariant_gradient
+from vhfit._kirchhoff import (
+    constant_columns,
+    kirchhoff_stress,
+    shear_kirchhoff,
+    shear_kirchhoff_stress,
+)
 from vhfit.hyperelastic import Hyperelastic
 
-__all__ = ["DEFORMATIONS", "principal_stretches", "kirchhoff_stress", "shear_kirchhoff_stress",
+__all__ = ["Deformation", "register_deformation", "get_deformation", "unregister_deformation",
+           "registered_deformations", "deformation_named", "DEFORMATIONS",
+           "principal_stretches", "kirchhoff_stress", "shear_kirchhoff_stress",
            "long_term_stress"]
 
-#: Names of the homogeneous tests.
-DEFORMATIONS = ("uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear")
-#: Tests with a second loaded direction (``direction=2``).
-TWO_DIRECTIONS = ("equibiaxial", "biaxial")
+
+# ------------------------------------------------------------ the built-in tests
+@register_deformation("uniaxial", aliases=("ut", "uc"))
+class Uniaxial(Deformation):
+    """The paper's test: λ1 = λ, λ2 = λ3 = λ^(−1/2)."""
+
+    description = "uniaxial tension or compression: λ, λ^(−1/2), λ^(−1/2)"
+    uniaxial = True
+    drucker = True
+    abaqus_test_data = "*UNIAXIAL TEST DATA"
+
+    def stretches(self, x1, x2=None):
+        return x1, x1**-0.5, x1**-0.5
 
 
-def check_deformation(deformation) -> str:
-    """The deformation name, or a one-line error listing the valid ones."""
-    if not isinstance(deformation, str) or deformation not in DEFORMATIONS:
-        raise ValueError(
-            f"deformation = {deformation!r} is unknown: choose one of {', '.join(DEFORMATIONS)}"
-        )
-    return deformation
+@register_deformation("equibiaxial", aliases=("equi_biaxial", "eb", "et", "ebt",
+                                              "balanced_biaxial"))
+class Equibiaxial(Deformation):
+    """Equibiaxial tension of a sheet: λ1 = λ2 = λ, λ3 = λ^(−2)."""
+
+    description = "equibiaxial: λ, λ, λ^(−2)"
+    measured = ("σ11", "σ22")
+    step_power = 2.0  # ln λ3 = −2 ln λ
+    signed = True
+    drucker = True
+    abaqus_test_data = "*BIAXIAL TEST DATA"  # Abaqus' biaxial test is the equibiaxial one
+
+    def stretches(self, x1, x2=None):
+        return x1, x1, x1**-2.0
 
 
-def check_direction(deformation: str, direction) -> int:
-    """1, or 2 for a test with a second loaded direction; else a one-line error."""
-    if isinstance(direction, bool) or direction not in (1, 2):
-        raise ValueError(f"direction = {direction!r} must be 1 or 2")
-    if direction == 2 and deformation not in TWO_DIRECTIONS:
-        raise ValueError(
-            f"direction = 2 needs a second loaded direction: {deformation!r} has none "
-            f"(only {' and '.join(TWO_DIRECTIONS)} do); use direction = 1"
-        )
-    return int(direction)
+@register_deformation("planar", aliases=("pure_shear", "ps", "pt"))
+class Planar(Deformation):
+    """Planar tension (pure shear): λ1 = λ, λ2 = 1 held, λ3 = 1/λ."""
+
+    description = "planar (pure shear): λ, 1, 1/λ"
+    signed = True
+    drucker = True
+    abaqus_test_data = "*PLANAR TEST DATA"
+
+    def stretches(self, x1, x2=None):
+        return x1, np.ones_like(x1), 1.0 / x1
 
 
+@register_deformation("biaxial", aliases=("general_biaxial",))
+class Biaxial(Deformation):
+    """General biaxial test: λ1 and λ2 both prescribed, λ3 = 1/(λ1 λ2)."""
+
+    description = "general biaxial: λ1, λ2, 1/(λ1 λ2)"
+    second_stretch = True
+    measured = ("σ11", "σ22")
+
+    def stretches(self, x1, x2=None):
+        x2 = np.asarray(x2, dtype=np.float64)
+        return x1, x2, 1.0 / (x1 * x2)
+
+    def steps(self, a, b, x1, x2, dlog):
+        """λ1 and λ2 are both linear in t: the union of the nodes uniform in ln λ1 and in
+        ln λ2 at dlog/2 bounds both steps by dlog/2, so ln λ3 = −ln λ1 − ln λ2 changes by
+        at most dlog."""
+        tt = [log_uniform(a, b, x1[0], x1[1], 0.5 * dlog),
+              log_uniform(a, b, x2[0], x2[1], 0.5 * dlog)]
+        return np.unique(np.concatenate([x for x in tt if x.size] or [np.array([b])]))
+
+
+@register_deformation("simple_shear", aliases=("shear", "ss"))
+class SimpleShear(Deformation):
+    """Simple shear F = I + γ e1⊗e2, out of plane stress-free; measures σ12 = P12.
+
+    Not in principal axes: the kinematic methods are its own (docs/theory.md §13).
+    """
+
+    description = "simple shear: F = I + γ e1⊗e2"
+    shear = True
+    measured = ("σ12",)
+    signed = True
+    rest = 0.0
+    strain_label = "amount of shear γ"
+    stress_label = "shear stress σ12 (MPa)"
+
+    def stretches(self, x1, x2=None):
+        a = np.arcsinh(0.5 * x1)  # ln λ, exact for either sign of γ (no cancellation)
+        return np.exp(a), np.exp(-a), np.ones_like(x1)
+
+    def loaded_stretch(self, x1, x2=None, direction=1):
+        return np.ones_like(np.asarray(x1, dtype=np.float64))
+
+    def path(self, strain):
+        return strain.copy()
+
+    def strain(self, path):
+        return path
+
+    def steps(self, a, b, x1, x2, dlog):
+        """Steps of at most dlog in γ, uniform in t (γ is linear in t)."""
+        m = max(1, int(np.ceil(abs(x1[1] - x1[0]) / dlog)))
+        return a + np.linspace(0.0, 1.0, m + 1)[1:] * (b - a)
+
+    def long_term_coefficients(self, x1, x2=None, direction=1):
+        """σ12 = 2γ (W1 + W2), I1 = I2 = 3 + γ²."""
+        x1 = np.asarray(x1, dtype=np.float64)
+        inv = 3.0 + x1 * x1
+        return inv, inv, 2.0 * x1, 2.0 * x1
+
+    def stretch_law_stress(self, model, cols, x1, x2=None, direction=1):
+        return shear_kirchhoff(model, cols, x1)[3]
+
+    def weights(self, x1, x2=None, direction=1):
+        """c = (1, γ)."""
+        x1 = np.asarray(x1, dtype=np.float64)
+        return np.stack([np.ones_like(x1), x1])
+
+    def invariant_coefficients(self, x1, x2=None, direction=1):
+        """S = dev τ, I1 = I2 = 3 + γ²: S12 = 2γ (W1 + W2), S22 = −(2/3) γ² (W1 + 2 W2)."""
+        x1 = np.asarray(x1, dtype=np.float64)
+        g2 = x1 * x1
+        inv = 3.0 + g2
+        coef = np.stack([x1 + x1 * g2 / 3.0, x1 + 2.0 * x1 * g2 / 3.0, -g2 / 3.0,
+                         -2.0 * g2 / 3.0])
+        return inv, inv, coef
+
+    def kirchhoff_factors(self, model, cols, E, x1, x2=None, direction=1):
+        """f = ((S12 − γ S22), S22)/E∞ with S = dev τ."""
+        t11, t22, t33, t12 = shear_kirchhoff(model, cols, x1)
+        s22 = (2.0 * t22 - t11 - t33) / 3.0
+        return (t12 - x1 * s22) / E, s22 / E
+
+    def green_factors(self, x1, x2=None, direction=1, deviatoric=False):
+        """E = (FᵀF − I)/2: E12 = γ/2, E22 = γ²/2 and tr E = γ²/2; the weights (1, γ)
+        then give σ12 = S12 + γ S22 (docs/theory.md §14)."""
+        x1 = np.asarray(x1, dtype=np.float64)
+        e22 = 0.5 * x1 * x1
+        if deviatoric:
+            e22 = e22 - e22 / 3.0
+        return x1 / 3.0, (2.0 / 3.0) * e22
+
+
+#: Names of the built-in tests (:func:`registered_deformations` adds the plug-ins').
+DEFORMATIONS = registered_deformations()
+
+
+# ------------------------------------------------------------------- stresses
 def principal_stretches(deformation: str, x1, x2=None):
     """Principal stretches (λ1, λ2, λ3) of a test, λ1 λ2 λ3 = 1.
 
     Parameters
     ----------
     deformation : str
-        One of :data:`DEFORMATIONS`.
+        A registered test (:func:`registered_deformations`).
     x1 : array_like
         The stretch λ1, or the amount of shear γ in simple shear.
     x2 : array_like, optional
@@ -80,116 +220,17 @@ def principal_stretches(deformation: str, x1, x2=None):
     >>> [round(float(v), 12) for v in principal_stretches("simple_shear", 1.5)]
     [2.0, 0.5, 1.0]
     """
-    x1 = np.asarray(x1, dtype=np.float64)
-    one = np.ones_like(x1)
-    if deformation == "uniaxial":
-        return x1, x1**-0.5, x1**-0.5
-    if deformation == "equibiaxial":
-        return x1, x1, x1**-2.0
-    if deformation == "planar":
-        return x1, one, 1.0 / x1
-    if deformation == "biaxial":
-        x2 = np.asarray(x2, dtype=np.float64)
-        return x1, x2, 1.0 / (x1 * x2)
-    if deformation == "simple_shear":
-        a = np.arcsinh(0.5 * x1)  # ln λ, exact for either sign of γ (no cancellation)
-        return np.exp(a), np.exp(-a), one
-    check_deformation(deformation)
-    raise AssertionError  # pragma: no cover
-
-
-def constant_columns(model: Hyperelastic, params) -> list[np.ndarray]:
-    """The law's constants (..., n_params) as columns (..., 1) that broadcast over stretches."""
-    p = np.asarray(params, dtype=np.float64)
-    if p.ndim == 0 or p.shape[-1] != model.n_params:
-        raise ValueError(
-            f"params: model {model.name!r} takes {model.n_params} constants "
-            f"{list(model.param_names)}, got shape {p.shape}"
-        )
-    return [p[..., k, None] for k in range(model.n_params)]
-
-
-def _kirchhoff(model: Hyperelastic, cols, l1, l2, l3):
-    if model.kind == "invariant":
-        a = (l1 * l1, l2 * l2, l3 * l3)
-        I1 = a[0] + a[1] + a[2]
-        I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
-        W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
-        return tuple(2.0 * W1 * ak + 2.0 * W2 * (I1 * ak - ak * ak) for ak in a)
-    if model.derivatives is not None:  # closed form (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3)
-        return tuple(model.derivatives(l1, l2, l3, *cols))
-    bad = outside_domain(model.energy, l1, l2, l3, *cols)
-    return tuple(np.where(bad, np.nan, t) for t in stretch_gradient(model.energy, l1, l2, l3, cols))
-
-
-def kirchhoff_stress(model: Hyperelastic, params, l1, l2, l3):
-    """Principal Kirchhoff stresses (τ1, τ2, τ3) of the long-term law, up to one pressure.
-
-    τ_k = λ_k ∂W/∂λ_k; for W(I1, I2), τ_k = 2 W1 λ_k² + 2 W2 (I1 λ_k² − λ_k⁴).
-    Only differences τ_a − τ_b, and the deviator, are meaningful. NaN where the energy
-    is undefined.
-
-    Examples
-    --------
-    >>> from vhfit import hyperelastic
-    >>> nh = hyperelastic.get("neo_hooke")               # τ_k = 2 C10 λ_k²
-    >>> [float(t[0]) for t in kirchhoff_stress(nh, [0.5], 2.0, 1.0, 0.5)]
-    [4.0, 1.0, 0.25]
-    """
-    cols = constant_columns(model, params)
-    return _kirchhoff(model, cols, *(np.asarray(v, dtype=np.float64) for v in (l1, l2, l3)))
-
-
-def _shear(model: Hyperelastic, cols, gamma):
-    g = np.asarray(gamma, dtype=np.float64)
-    if model.kind == "invariant":
-        I = 3.0 + g * g  # I1 = I2 in simple shear
-        W1, W2 = invariant_gradient(model.energy, model.derivatives, I, I, cols)
-        A = 2.0 * (W1 + I * W2)
-        b11 = 1.0 + g * g
-        return (A * b11 - 2.0 * W2 * (b11 * b11 + g * g), A - 2.0 * W2 * b11, A - 2.0 * W2,
-                2.0 * g * (W1 + W2))
-    # principal values rotated into the (1, 2) frame: the eigenvector of B for λ² is
-    # (1, 1/λ), so cos²θ = λ²/(1 + λ²) and sin²θ = 1/(1 + λ²), no division by γ
-    la, lb, one = principal_stretches("simple_shear", g)
-    ta, tb, t3 = _kirchhoff(model, cols, la, lb, one)
-    q = 1.0 / (1.0 + la * la)
-    return ((la * la * ta + tb) * q, (ta + la * la * tb) * q, t3, (ta - tb) * la * q)
-
-
-def shear_kirchhoff_stress(model: Hyperelastic, params, gamma):
-    """Kirchhoff stress (τ11, τ22, τ33, τ12) of the long-term law in simple shear.
-
-    F = I + γ e1⊗e2; τ11, τ22, τ33 share one undetermined pressure (σ33 = 0 fixes it:
-    the measured normal stresses are τ11 − τ33 and τ22 − τ33); τ12 = σ12.
-
-    Examples
-    --------
-    >>> from vhfit import hyperelastic
-    >>> mr = hyperelastic.get("mooney_rivlin")           # σ12 = 2 (C10 + C01) γ
-    >>> float(shear_kirchhoff_stress(mr, [0.3, 0.1], 0.5)[3][0])
-    0.4
-    """
-    return _shear(model, constant_columns(model, params), gamma)
+    return get_deformation(deformation)._stretches(x1, x2)
 
 
 def long_term_coefficients(deformation: str, x1, x2=None, direction: int = 1):
     """(I1, I2, p, q) with σ = W1 p + W2 q for an invariant law W(I1, I2).
 
-    σ_a = τ_a − τ_c = (λ_a² − λ_c²) (2 W1 + 2 W2 λ_b²), b the third direction;
-    simple shear: σ12 = 2γ (W1 + W2). The kinematic part of :func:`long_term_stress`,
-    computed once per history.
+    The kinematic part of :func:`long_term_stress`, computed once per history
+    (:meth:`Deformation.long_term_coefficients` of the test).
     """
-    x1 = np.asarray(x1, dtype=np.float64)
-    if deformation == "simple_shear":
-        inv = 3.0 + x1 * x1
-        return inv, inv, 2.0 * x1, 2.0 * x1
-    a = [lk * lk for lk in principal_stretches(deformation, x1, x2)]
-    I1 = a[0] + a[1] + a[2]
-    I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
-    k = direction - 1
-    p = 2.0 * (a[k] - a[2])
-    return I1, I2, p, p * a[1 - k]
+    return get_deformation(deformation).long_term_coefficients(
+        np.asarray(x1, dtype=np.float64), x2, direction)
 
 
 def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
@@ -201,11 +242,11 @@ def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
     model : Hyperelastic
     params : array_like, (n_params,) or (..., n_params)
     deformation : str
-        One of :data:`DEFORMATIONS`.
+        A registered test (:func:`registered_deformations`).
     x1, x2 : array_like
         λ1 (γ in simple shear) and, for biaxial, λ2.
     direction : {1, 2}
-        The loaded direction a (2: equibiaxial or biaxial only).
+        The loaded direction a (2: tests with two loaded directions only).
     coefficients : tuple, optional
         :func:`long_term_coefficients` of the same arguments, if already computed
         (invariant laws, not uniaxial).
@@ -224,26 +265,17 @@ def long_term_stress(model: Hyperelastic, params, deformation: str, x1, x2=None,
     """
     check_deformation(deformation)
     check_direction(deformation, direction)
+    test = get_deformation(deformation)
     cols = constant_columns(model, params)
     x1 = np.asarray(x1, dtype=np.float64)
-    if deformation == "uniaxial":
+    if test.uniaxial:
         return model.stress(x1, params)
     if model.kind == "invariant":
         I1, I2, p, q = (coefficients if coefficients is not None
-                        else long_term_coefficients(deformation, x1, x2, direction))
+                        else test.long_term_coefficients(x1, x2, direction))
         W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         return W1 * p + W2 * q + 0.0 * cols[0]
-    if deformation == "simple_shear":
-        return _shear(model, cols, x1)[3] + 0.0 * cols[0]
-    tau = _kirchhoff(model, cols, *principal_stretches(deformation, x1, x2))
-    return tau[direction - 1] - tau[2] + 0.0 * cols[0]
-
-
-def loaded_stretch(deformation: str, x1, x2=None, direction: int = 1) -> np.ndarray:
-    """λ_a of the loaded direction (nominal = true / λ_a); 1 in simple shear."""
-    if deformation == "simple_shear":
-        return np.ones_like(np.asarray(x1, dtype=np.float64))
-    return np.asarray(principal_stretches(deformation, x1, x2)[direction - 1], dtype=np.float64)
+    return test.stretch_law_stress(model, cols, x1, x2, direction) + 0.0 * cols[0]
 
 
 def hereditary_weights(deformation: str, x1, x2=None, direction: int = 1) -> np.ndarray:
@@ -251,38 +283,18 @@ def hereditary_weights(deformation: str, x1, x2=None, direction: int = 1) -> np.
 
     Principal axes: c = (λ_a², −λ_c²); simple shear: c = (1, γ) (docs/theory.md §13).
     """
-    x1 = np.asarray(x1, dtype=np.float64)
-    if deformation == "simple_shear":
-        return np.stack([np.ones_like(x1), x1])
-    lam = principal_stretches(deformation, x1, x2)
-    return np.stack([lam[direction - 1] ** 2, -(lam[2] ** 2)])
+    return get_deformation(deformation).weights(np.asarray(x1, dtype=np.float64), x2,
+                                                direction)
 
 
 def invariant_coefficients(deformation: str, x1, x2=None, direction: int = 1):
     """(I1, I2, coef) with f_k = (2/E∞)(W1 coef[2k] + W2 coef[2k + 1]) for W(I1, I2).
 
     The kinematic part of :func:`hereditary_factors` for an invariant law, computed
-    once per history. Principal axes, with a_k = λ_k², b_k = I1 a_k − a_k² and bars for
-    means over k: f_a = (2 W1 (a_a − ā) + 2 W2 (b_a − b̄)) / (E∞ a_a), likewise f_c.
-    Simple shear (S = dev τ, I1 = I2 = 3 + γ²): S12 = 2γ (W1 + W2) and
-    S22 = −(2/3) γ² (W1 + 2 W2).
+    once per history (:meth:`Deformation.invariant_coefficients` of the test).
     """
-    x1 = np.asarray(x1, dtype=np.float64)
-    if deformation == "simple_shear":
-        g2 = x1 * x1
-        inv = 3.0 + g2
-        coef = np.stack([x1 + x1 * g2 / 3.0, x1 + 2.0 * x1 * g2 / 3.0, -g2 / 3.0,
-                         -2.0 * g2 / 3.0])
-        return inv, inv, coef
-    a = [lk * lk for lk in principal_stretches(deformation, x1, x2)]
-    I1 = a[0] + a[1] + a[2]
-    I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
-    b = [I1 * ak - ak * ak for ak in a]
-    a_bar, b_bar = I1 / 3.0, (b[0] + b[1] + b[2]) / 3.0
-    k = direction - 1
-    coef = np.stack([(a[k] - a_bar) / a[k], (b[k] - b_bar) / a[k],
-                     (a[2] - a_bar) / a[2], (b[2] - b_bar) / a[2]])
-    return I1, I2, coef
+    return get_deformation(deformation).invariant_coefficients(
+        np.asarray(x1, dtype=np.float64), x2, direction)
 
 
 def hereditary_factors(model: Hyperelastic, params, E_inf, deformation: str, x1, x2=None,
@@ -294,26 +306,18 @@ def hereditary_factors(model: Hyperelastic, params, E_inf, deformation: str, x1,
     energy is undefined. ``coefficients``: :func:`invariant_coefficients` of the same
     arguments, if already computed (invariant laws only).
     """
+    test = get_deformation(deformation)
     cols = constant_columns(model, params)
     x1 = np.asarray(x1, dtype=np.float64)
     E = np.asarray(E_inf, dtype=np.float64)[..., None]
     if model.kind == "invariant":
         I1, I2, c = (coefficients if coefficients is not None
-                     else invariant_coefficients(deformation, x1, x2, direction))
+                     else test.invariant_coefficients(x1, x2, direction))
         W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         W1, W2 = 2.0 * W1 / E, 2.0 * W2 / E  # (P, 1) for constant derivatives: cheap
         f0, f1 = W1 * c[0] + W2 * c[1], W1 * c[2] + W2 * c[3]
-    elif deformation == "simple_shear":
-        t11, t22, t33, t12 = _shear(model, cols, x1)
-        s22 = (2.0 * t22 - t11 - t33) / 3.0
-        f0, f1 = (t12 - x1 * s22) / E, s22 / E
     else:
-        lam = principal_stretches(deformation, x1, x2)
-        tau = _kirchhoff(model, cols, *lam)
-        mean = (tau[0] + tau[1] + tau[2]) / 3.0
-        a = direction - 1
-        f0 = (tau[a] - mean) / (E * lam[a] ** 2)
-        f1 = (tau[2] - mean) / (E * lam[2] ** 2)
+        f0, f1 = test.kirchhoff_factors(model, cols, E, x1, x2, direction)
     shape = np.broadcast_shapes(np.shape(f0), np.shape(f1), E.shape[:-1] + x1.shape)
     return tuple(f if np.shape(f) == shape else np.broadcast_to(f, shape).copy()
                  for f in (f0, f1))

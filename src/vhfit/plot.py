@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from vhfit.data import is_moduli
+from vhfit.modes import get_deformation
 from vhfit.spectrum import design_matrix
 
 __all__ = [
@@ -139,6 +140,15 @@ def _data_points(curve) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(eps, dtype=np.float64), np.asarray(sig, dtype=np.float64)
 
 
+def _strain_label(curves) -> str:
+    """The x label of stress-strain panels: what the curves' records call their strain."""
+    tests = {get_deformation(getattr(c, "deformation", "uniaxial")) for c in curves}
+    own = sorted(f"{t.name}: {t.strain_label}" for t in tests if t.shear)
+    if own and all(t.shear for t in tests):
+        return "; ".join(sorted({t.strain_label for t in tests}))
+    return "; ".join(["engineering strain (compression < 0)", *own])
+
+
 def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: str | None = None):
     """Data against the calibrated model, one colour per curve, panels by magnitude.
 
@@ -191,7 +201,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
             ax.plot(f["fine_strain"], f["fine_model"], "-", lw=1.5, color=colours[i])
         ax.plot([], [], "o", ms=4, mfc="none", color="0.4", label="markers: data")
         ax.plot([], [], "-", color="0.4", label="lines: model")
-        ax.set_xlabel("engineering strain (compression < 0)")
+        ax.set_xlabel(_strain_label([curves[i] for i in group]))
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         ax.axhline(0, color="0.6", lw=0.6)

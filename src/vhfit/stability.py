@@ -1,13 +1,11 @@
-"""Drucker stability of a hyperelastic law in the three homogeneous test modes.
+"""Drucker stability of a hyperelastic law in the one-stretch homogeneous test modes.
 
 For an incompressible material Drucker's condition dτ : dε > 0 (Kirchhoff stress,
-logarithmic strain) reduces, in each of the modes used to check hyperelastic fits
-(uniaxial, equibiaxial and planar tension/compression), to a positive tangent of the
-mode's loaded principal stress difference against ln λ:
-
-* uniaxial    λ1 = λ,  λ2 = λ3 = λ^(-1/2):  d(σ1 − σ3)/d ln λ > 0
-* equibiaxial λ1 = λ2 = λ, λ3 = λ^(-2):     d(σ1 − σ3)/d ln λ > 0
-* planar      λ1 = λ,  λ2 = 1, λ3 = 1/λ:   d(σ1 − σ3)/d ln λ > 0 (dε2 = 0)
+logarithmic strain) reduces, in each of the modes used to check hyperelastic fits (the
+registered tests whose record says ``drucker``: uniaxial and the sheet tests, in tension
+and compression), to a positive tangent of the mode's loaded principal stress difference
+against ln λ1: d(σ1 − σ3)/d ln λ1 > 0, with the principal stretches of the test's record
+(:meth:`vhfit.modes.Deformation.stretches`).
 
 Scaling all moduli by a positive factor does not change stability, so the long-term
 and instantaneous (= long-term / g∞) laws of a Prony model are stable together.
@@ -21,11 +19,18 @@ import numpy as np
 
 from vhfit._derivatives import invariant_gradient, stretch_gradient
 from vhfit.hyperelastic import Hyperelastic
-from vhfit.modes import constant_columns, principal_stretches
+from vhfit.modes import constant_columns, get_deformation, registered_deformations
 
 __all__ = ["drucker", "StabilityReport"]
 
-MODES = ("uniaxial", "equibiaxial", "planar")
+
+def modes_checked() -> tuple[str, ...]:
+    """The registered tests whose tangent is checked (``Deformation.drucker``)."""
+    return tuple(n for n in registered_deformations() if get_deformation(n).drucker)
+
+
+#: The tests checked when vhfit is imported (the built-in ones; plug-ins add theirs).
+MODES = modes_checked()
 
 
 def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
@@ -75,17 +80,16 @@ class StabilityReport:
 
         Examples
         --------
-        >>> StabilityReport(True, (0.2, 5.0), {}).describe()
-        'Drucker-stable in uniaxial, equibiaxial and planar modes for 0.2 <= λ <= 5'
+        >>> StabilityReport(True, (0.2, 5.0), {}).describe()  # doctest: +ELLIPSIS
+        'Drucker-stable in uniaxial, ... modes for 0.2 <= λ <= 5'
         >>> StabilityReport(False, (0.2, 5.0), {"uniaxial": [(0.2, 0.498)]}).describe()
         'Drucker-UNSTABLE in uniaxial: 0.2 <= λ <= 0.498'
         """
         lo, hi = self.stretch_range
         if self.stable:
-            return (
-                "Drucker-stable in uniaxial, equibiaxial and planar modes for "
-                f"{lo:g} <= λ <= {hi:g}"
-            )
+            names = modes_checked()
+            listed = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
+            return f"Drucker-stable in {listed} modes for {lo:g} <= λ <= {hi:g}"
         parts = [
             f"{mode}: " + ", ".join(f"{a:.3g} <= λ <= {b:.3g}" for a, b in iv)
             for mode, iv in self.unstable.items()
@@ -125,10 +129,11 @@ def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400)
     lam = np.exp(np.linspace(np.log(lo), np.log(hi), n))
     d = 1e-4
     unstable: dict[str, list[tuple[float, float]]] = {}
-    for mode in MODES:
+    for mode in modes_checked():
+        stretches = get_deformation(mode).stretches
         with np.errstate(all="ignore"):
-            up = principal_difference(model, params, *principal_stretches(mode, lam * np.exp(d)))
-            dn = principal_difference(model, params, *principal_stretches(mode, lam * np.exp(-d)))
+            up = principal_difference(model, params, *stretches(lam * np.exp(d), None))
+            dn = principal_difference(model, params, *stretches(lam * np.exp(-d), None))
         tangent = np.reshape((up - dn) / (2 * d), -1)
         bad = ~(tangent > 0)
         if bad.any():

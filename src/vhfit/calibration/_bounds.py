@@ -7,7 +7,7 @@ import numpy as np
 
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
-from vhfit.modes import long_term_stress
+from vhfit.modes import get_deformation, long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
 
@@ -76,6 +76,11 @@ def _long_term_true(hm, params, h) -> np.ndarray:
     return s
 
 
+def _is_uniaxial(c) -> bool:
+    """Whether a curve is of the paper's test, whose long-term stress is the law's own."""
+    return get_deformation(getattr(c, "deformation", "uniaxial")).uniaxial
+
+
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
     """Upper search limits (docs/theory.md §11): one term alone reaches every target stress.
 
@@ -91,8 +96,8 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     moduli = np.concatenate([np.abs(c.target_stress) for c in curves if is_moduli(c)]
                             + [np.zeros(0)])
     curves_ss = [c for c in curves if not is_moduli(c)]
-    uni = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") == "uniaxial"]
-    other = [c for c in curves_ss if getattr(c, "deformation", "uniaxial") != "uniaxial"]
+    uni = [c for c in curves_ss if _is_uniaxial(c)]
+    other = [c for c in curves_ss if not _is_uniaxial(c)]
     lam = np.concatenate([c.history.out_stretch for c in uni] + [np.zeros(0)])
     y = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in uni]
                        + [np.zeros(0)])

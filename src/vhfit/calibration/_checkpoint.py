@@ -13,6 +13,7 @@ import json
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.modes import get_deformation
 
 __all__ = ["fit_key", "save", "load", "FORMAT"]
 
@@ -29,7 +30,8 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
         if hist.is_linear:  # a sweep's frequencies or a relaxation test's times
             h.update(repr(("linear", hist.kind)).encode())
             h.update(np.ascontiguousarray(hist.x, dtype=np.float64).tobytes())
-        elif hist.deformation != "uniaxial" or hist.is_equilibrium or form != "hereditary":
+        elif (not get_deformation(hist.deformation).uniaxial or hist.is_equilibrium
+              or form != "hereditary"):
             h.update(repr((hist.deformation, hist.is_equilibrium)).encode())
             for a in (hist.time, hist.stretch, hist.stretch2, hist.out_time,
                       hist.out_direction):

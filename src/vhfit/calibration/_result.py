@@ -55,11 +55,12 @@ def _curve_info(c) -> dict:
 
 def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
     """A fine grid along a history: uniform in time, or for an equilibrium curve uniform
-    in its strain (time NaN; a biaxial equilibrium curve keeps its own samples)."""
+    in its strain (time NaN; an equilibrium curve with a second prescribed stretch keeps
+    its own samples)."""
     if not h.is_equilibrium:
         t = np.linspace(0.0, h.duration, points)
         return t, h.with_outputs(t)
-    if h.deformation == "biaxial":
+    if h.stretch2 is not None:  # a second prescribed stretch: no one-strain fine grid
         return np.full(h.out_time.size, np.nan), h.with_outputs(h.out_time)
     e = h.out_strain
     fine = np.linspace(float(e.min()), float(e.max()), points)

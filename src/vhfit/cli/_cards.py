@@ -20,6 +20,7 @@ from vhfit.cli._common import UsageError, one_line
 from vhfit.export import export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
 from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
+from vhfit.modes import get_deformation
 
 __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
@@ -224,7 +225,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
     first = next(iter(fits.values()))
     atomic_write(out / CARD_FILES["json"], export(first, to="json"))
     res.files["json"] = CARD_FILES["json"]
-    if any(c.is_equilibrium and c.deformation in ("uniaxial", "equibiaxial", "planar")
+    if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
            for c in curves):  # the solvers' test-data inputs (records with test_data)
         for name in solver_names():
             rec = get_solver(name)

@@ -52,6 +52,7 @@ from vhfit.cli._common import (
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
+from vhfit.modes import get_deformation
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
            "DEMO_PRONY"]
@@ -545,11 +546,14 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
               "kind=fine: model on a fine time grid (stress_data empty)\n")
     buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
     # other tests than the paper's add two columns: the test, and the loaded direction
-    modes = any(getattr(c, "deformation", "uniaxial") != "uniaxial" for c in curves)
+    tests = {get_deformation(getattr(c, "deformation", "uniaxial")) for c in curves}
+    modes = not all(t.uniaxial for t in tests)
     if modes:
+        strains = "".join(f"; {t.name}: strain = {t.strain_label}"
+                          for t in sorted(tests, key=lambda t: t.name) if t.shear)
         buf.write("# deformation: the test; direction: 1, or 2 for the second stress of a "
-                  "biaxial/equibiaxial curve; equilibrium curves: time = sample number, "
-                  "strain_rate empty; simple shear: strain = amount of shear γ\n")
+                  "test with two loaded directions; equilibrium curves: time = sample number, "
+                  f"strain_rate empty{strains}\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
                 "stress_model"] + (["deformation", "direction"] if modes else []))

@@ -17,12 +17,12 @@ from vhfit.cli._common import UsageError
 from vhfit.cli._export import cmd_export
 from vhfit.cli._fit import DEMO_PRONY, cmd_demo, cmd_fit
 from vhfit.cli._models import cmd_models
-from vhfit.cli._plugins import PLUGIN_GROUP
+from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
 from vhfit.cli._simulate import cmd_simulate
 from vhfit.data import MAX_POINTS
 from vhfit.export import get_solver, solvers
 from vhfit.formulations import FORMULATIONS
-from vhfit.history import DEFORMATIONS
+from vhfit.modes import deformation_named, get_deformation, registered_deformations
 
 __all__ = ["build_parser", "glue_windows"]
 
@@ -61,12 +61,24 @@ def _ramp_points(text: str) -> int:
 
 
 def _deformation(text: str) -> str:
-    name = text.strip().lower().replace("-", "_").replace(" ", "_")
-    name = {"pure_shear": "planar", "shear": "simple_shear"}.get(name, name)
-    if name not in DEFORMATIONS:
+    name = deformation_named(text)  # a registered test, by its name or an alias
+    if name is None:  # perhaps a plug-in's test
+        load_plugins()
+        name = deformation_named(text)
+    if name is None:
         raise argparse.ArgumentTypeError(
-            f"--deformation {text!r}: use one of {', '.join(DEFORMATIONS)}")
+            f"--deformation {text!r}: use one of {', '.join(registered_deformations())}")
     return name
+
+
+def _one_stretch_tests() -> str:
+    """Help of simulate's --deformation: the tests it can drive, and their strains."""
+    tests = [get_deformation(n) for n in registered_deformations()]
+    tests = [t for t in tests if not t.second_stretch]
+    own = "".join(f"; {t.name}: {t.strain_label}" for t in tests
+                  if t.strain_label != tests[0].strain_label)
+    return (f"the test: {', '.join(t.name for t in tests)} (default uniaxial; strain = "
+            f"{tests[0].strain_label}{own}); a test with a second stretch needs the Python API")
 
 
 def _prony(text: str) -> int | str:
@@ -262,7 +274,8 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--measure", choices=("engineering", "true"),
                    help="stress measure when the file does not say (default engineering)")
     p.add_argument("--deformation", type=_deformation, action="append", metavar="MODE",
-                   help="the test of files that do not say: " + ", ".join(DEFORMATIONS)
+                   help="the test of files that do not say: "
+                        + ", ".join(registered_deformations())
                         + " (once for all files, or once per file; default: what the "
                           "file's columns say, else uniaxial)")
     p.add_argument("--points", type=_points, default=None, metavar="N|all",
@@ -385,8 +398,7 @@ def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")
     p.add_argument("--deformation", type=_deformation, default="uniaxial", metavar="MODE",
-                   help="the test: uniaxial (default), equibiaxial, planar or simple_shear "
-                        "(strain = the amount of shear γ); biaxial needs the Python API")
+                   help=_one_stretch_tests())
     p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
                    help="stress measure (default engineering)")
     p.add_argument("--out", metavar="FILE.csv", help="output CSV (default: standard output)")

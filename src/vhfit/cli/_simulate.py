@@ -15,6 +15,7 @@ from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
+from vhfit.modes import get_deformation
 
 __all__ = ["cmd_simulate", "parse_params"]
 
@@ -38,11 +39,12 @@ def cmd_simulate(args) -> int:
               f"from {source}\n")
     buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
     dfm = getattr(args, "deformation", "uniaxial")
-    if dfm == "uniaxial":
+    test = get_deformation(dfm)
+    if test.uniaxial:
         buf.write(f"# stress measure: {args.measure} (MPa); strain: engineering; time: s\n")
-    elif dfm == "simple_shear":
-        buf.write("# deformation: simple_shear; strain: amount of shear γ; stress: shear "
-                  "stress σ12 (MPa); time: s\n")
+    elif test.shear:
+        buf.write(f"# deformation: {dfm}; strain: {test.strain_label}; stress: "
+                  f"{test.stress_label}; time: s\n")
     else:
         buf.write(f"# deformation: {dfm}; stress measure: {args.measure} (MPa) in the loaded "
                   "direction; strain: engineering λ1 − 1; time: s\n")
@@ -89,11 +91,11 @@ def _loads(args) -> list[tuple[str, float, History]]:
     """(label, rate or NaN, history) of each --rate ramp and --history file."""
     loads: list[tuple[str, float, History]] = []
     dfm = getattr(args, "deformation", "uniaxial")
-    if dfm == "biaxial":
-        raise UsageError("--deformation biaxial needs a second stretch path, which simulate "
+    if get_deformation(dfm).second_stretch:
+        raise UsageError(f"--deformation {dfm} needs a second stretch path, which simulate "
                          "does not take: use the Python API (ViscoHyperelastic.stress with "
-                         "stretch2=), or equibiaxial/planar")
-    kw = {} if dfm == "uniaxial" else {"deformation": dfm}
+                         "stretch2=), or a test with one stretch")
+    kw = {"deformation": dfm}
     if not args.rate and not args.history:
         raise UsageError("give the loading: --rate R (repeatable, 1/s) with --strain-max, "
                          "or --history FILE.csv (time, strain columns)")

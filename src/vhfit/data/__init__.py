@@ -1,7 +1,7 @@
 """Test data: measured stress–strain curves, their readers, and the objective points.
 
-A :class:`Curve` holds one test as measured — uniaxial (the paper's), equibiaxial,
-planar, general biaxial or simple shear; strain (or stretch) and stress, and either a
+A :class:`Curve` holds one test as measured — uniaxial (the paper's) or any other
+registered homogeneous test (:mod:`vhfit.modes`); strain (or stretch) and stress, and either a
 nominal constant strain rate, the time of every sample, or neither (an equilibrium
 curve, fully relaxed states) — plus the *objective points*
 where the model is compared with it: by default its own samples (bin means of

@@ -66,8 +66,8 @@ class _CurveAttributes:
 
     @property
     def deformation(self) -> str:
-        """The test: ``"uniaxial"``, ``"equibiaxial"``, ``"planar"``, ``"biaxial"`` or
-        ``"simple_shear"``."""
+        """The test: the name of a registered deformation (``"uniaxial"``, the paper's,
+        or another, :func:`vhfit.modes.get_deformation` gives its record)."""
         return self._deformation
 
     @property
@@ -78,7 +78,7 @@ class _CurveAttributes:
     @property
     def stress2(self) -> np.ndarray | None:
         """Stress in the second loaded direction of each sample, in :attr:`measure`
-        (MPa), when it was measured (biaxial or equibiaxial; None otherwise)."""
+        (MPa), when it was measured (a test with two loaded directions; None otherwise)."""
         return self._stress2
 
     @property

@@ -20,7 +20,6 @@ import numpy as np
 from vhfit.data._attributes import _CurveAttributes
 from vhfit.data._errors import DataError, _norm_measure, _Subset, _Where
 from vhfit.data._histories import _build_history, _Path
-from vhfit.data._measures import engineering_to_true, true_to_engineering
 from vhfit.data._modes import (
     _check_deformation,
     _check_mode_signs,
@@ -53,6 +52,7 @@ from vhfit.data._samples import (
 from vhfit.data._specs import _curve_specs
 from vhfit.data._table import _Table, _table_from_data
 from vhfit.history import History
+from vhfit.modes import get_deformation
 
 #: A measured strain path is simplified (breakpoints dropped) only where that moves it by
 #: less than this fraction of its strain range; turning points are always kept.
@@ -99,15 +99,16 @@ class Curve(_CurveAttributes):
         stresses averaged).
     stretch : array_like, optional
         Stretch λ1 of each sample, instead of ``strain`` (not in simple shear).
-    deformation : {"uniaxial", "equibiaxial", "planar", "biaxial", "simple_shear"}
-        The test (docs/modes.md): uniaxial (default, the paper's), equibiaxial (λ1 = λ2),
-        planar or pure shear (λ2 = 1), general biaxial (λ1 and λ2 both prescribed) or
-        simple shear. Lab names such as ``"pure shear"`` or ``"equibiaxial tension"``
-        are understood.
+    deformation : str
+        The test, a registered :class:`vhfit.modes.Deformation` (docs/modes.md):
+        ``"uniaxial"`` (default, the paper's) or another homogeneous test. Lab names
+        such as ``"pure shear"`` or ``"uniaxial tension"`` are understood.
     strain2, stretch2 : array_like, optional
-        λ2 − 1 or λ2 of each sample: required for ``"biaxial"``, refused otherwise.
+        λ2 − 1 or λ2 of each sample: required for a test with a second prescribed
+        stretch (general biaxial), refused otherwise.
     stress2 : array_like, optional
-        Stress in direction 2 of each sample ("biaxial" or "equibiaxial"), same measure:
+        Stress in direction 2 of each sample (a test with two loaded directions), same
+        measure:
         both stresses are then compared, the points of ``stress2`` after those of
         ``stress`` (:attr:`target_direction`).
     measure : {"engineering", "true"}
@@ -157,7 +158,7 @@ class Curve(_CurveAttributes):
     DataError
         Fewer than 2 samples, NaN/inf, strain going back and forth at constant rate,
         time running backwards, conflicting duplicate samples, signs contradicting the
-        declared mode (or, in equibiaxial, planar and simple shear, a stress whose sign
+        declared mode (or, in the tests of a known stress sign, a stress whose sign
         contradicts the strain), stretch ≤ 0, an unknown deformation, a biaxial curve
         without its second stretch, a simple-shear curve given stretches.
 
@@ -214,10 +215,10 @@ class Curve(_CurveAttributes):
     Every homogeneous test, at a rate, along a time history, or at equilibrium:
 
     >>> lam = np.linspace(1.0, 2.0, 6)
-    >>> eb = Curve(stretch=lam, stress=0.3 * (lam - lam**-5), deformation="equibiaxial")
-    >>> eb.name, eb.deformation, eb.mode, eb.n_points
-    ('equibiaxial (equilibrium)', 'equibiaxial', 'tension', 6)
-    >>> eb.is_equilibrium, eb.history.is_equilibrium, eb.strain_rate
+    >>> ps = Curve(stretch=lam, stress=0.3 * (lam - lam**-3), deformation="pure shear")
+    >>> ps.name, ps.deformation, ps.mode, ps.n_points
+    ('planar (equilibrium)', 'planar', 'tension', 6)
+    >>> ps.is_equilibrium, ps.history.is_equilibrium, ps.strain_rate
     (True, True, None)
 
     A long record is compared at bin means of its samples:
@@ -255,7 +256,8 @@ class Curve(_CurveAttributes):
         src = None if source is None else str(source)
         where = _Where(_default_name(name, strain_rate), src, rows)
         deformation = _check_deformation(deformation, where)
-        if name is None and (deformation != "uniaxial" or (strain_rate is None and time is None)):
+        test = get_deformation(deformation)
+        if name is None and (not test.uniaxial or (strain_rate is None and time is None)):
             where = _Where(_mode_name(deformation, strain_rate, time), src, rows)
         strain = _driving_strain(strain, stretch, deformation, where)
         if stress is None:
@@ -491,13 +493,16 @@ class Curve(_CurveAttributes):
         m = _norm_measure(measure, self._where)
         if m == self._measure:
             return self
-        if self._deformation == "simple_shear":  # σ12 = P12: the measures coincide
-            return self._derive(_measure=m)
-        conv = engineering_to_true if m == "true" else true_to_engineering
-        attrs = {"_stress": _frozen(conv(self._stress, self._strain)), "_measure": m}
-        if self._stress2 is not None:  # direction 2 divides by λ2 (= λ1 if equibiaxial)
-            e2 = self._strain if self._strain2 is None else self._strain2
-            attrs["_stress2"] = _frozen(conv(self._stress2, e2))
+        # nominal = true / λ_a, λ_a the loaded stretch of the test's record (1 in shear)
+        test = get_deformation(self._deformation)
+        x1 = 1.0 + self._strain
+        x2 = None if self._strain2 is None else 1.0 + self._strain2
+        attrs: dict[str, Any] = {"_measure": m}
+        for key, d in (("_stress", 1), ("_stress2", 2)):
+            s = getattr(self, key)
+            if s is not None:
+                lam = test.loaded_stretch(x1, x2, d)
+                attrs[key] = _frozen(s * lam if m == "true" else s / lam)
         return self._derive(**attrs)
 
     def replace(self, *, name: str | None = None, weight: float | None = None) -> Curve:
@@ -534,9 +539,10 @@ class Curve(_CurveAttributes):
         win = f", window {' '.join(self._window_desc)}" if self._window_desc else ""
         extra = "" if self._time is None else ", time history"
         mode = self._mode
-        if self._deformation == "simple_shear":
+        test = get_deformation(self._deformation)
+        if test.shear:
             mode = {"tension": "γ > 0", "compression": "γ < 0"}.get(mode, "γ of both signs")
-        test = "" if self._deformation == "uniaxial" else f"{self._deformation} "
+        test = "" if test.uniaxial else f"{self._deformation} "
         return (
             f"Curve({self._name!r}: {test}{mode}, {self._measure} stress, {rate}{extra}, "
             f"{self._strain.size} samples, {self.n_points} points by {self._by}{win})"
@@ -548,20 +554,21 @@ def _signed_samples(eps, sig, t, e2, s2, rate, mode, compression_positive, defor
                     where):
     """The samples with the signs of their loading mode, checked (``Curve`` steps 3-4):
     (strain, stress, strain2, stress2, mode, rate, sign tolerance)."""
+    test = get_deformation(deformation)
     tol = _sign_tolerance(eps if e2 is None else np.concatenate([eps, e2]), where)
     declared = mode is not None or compression_positive
     eps, sig, mode = _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep,
-                                     where, guess=deformation == "uniaxial")
+                                     where, guess=test.uniaxial)
     if compression_positive:
         e2 = None if e2 is None else -e2
         s2 = None if s2 is None else -s2
     rate = _rate_with_sign(rate, mode, compression_positive, where)
     _check_one_sign_at_constant_rate(eps, t, mode, tol, keep, where, rate is None and t is None)
-    if deformation == "uniaxial":
+    if test.uniaxial:
         sig = _stress_with_sign(sig, mode, declared, keep, where)
     else:
         _check_mode_signs(eps, sig, deformation, mode, keep, where)
-    _check_kinematics(eps, t, rate, keep, where, shear=deformation == "simple_shear")
+    _check_kinematics(eps, t, rate, keep, where, shear=test.shear)
     return eps, sig, e2, s2, mode, rate, tol
 
 

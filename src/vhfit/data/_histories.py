@@ -29,7 +29,7 @@ class _Path:
     rate: float | None  # constant-rate ramp; None for time paths and equilibrium
     time: np.ndarray | None  # sample times (None: constant rate or equilibrium)
     strain: np.ndarray  # λ1 − 1 (γ in simple shear) of the samples
-    strain2: np.ndarray | None  # λ2 − 1 of the samples ("biaxial")
+    strain2: np.ndarray | None  # λ2 − 1 of the samples (a second prescribed stretch)
     e_obj: np.ndarray  # driving strain at the objective points (one direction)
     e2_obj: np.ndarray | None
     t_obj: np.ndarray  # their times (sample numbers at equilibrium)
@@ -48,7 +48,7 @@ def _build_history(p: _Path, path_rtol: float, max_breakpoints: int, where: _Whe
 
 
 def _history(p: _Path, path_rtol: float, max_breakpoints: int, where: _Where) -> History:
-    kw = {} if p.deformation == "uniaxial" else {"deformation": p.deformation}
+    kw = {"deformation": p.deformation}
     if p.strain2 is not None:
         kw["strain2"] = p.e2_obj if p.time is None else None
     if p.time is None and p.rate is None:

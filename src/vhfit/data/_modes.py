@@ -1,47 +1,53 @@
 """The deformation of a curve: its name, its driving paths and the signs its data must have.
 
-``Curve(deformation=...)`` takes one of :data:`vhfit.history.DEFORMATIONS`
-(docs/modes.md): the uniaxial test of the paper, equibiaxial and planar (pure shear)
-tension of a sheet, a general biaxial test (λ1 and λ2 both prescribed, one or both
-nominal stresses measured) and simple shear (amount of shear γ, shear stress). These
-functions read the mode's arguments at the front door — a stretch where an amount of
+``Curve(deformation=...)`` takes a registered test (docs/modes.md): its record
+(:class:`vhfit.modes.Deformation`) says whether it prescribes a second stretch, is
+driven by an amount of shear, has a second loaded direction and a stress of known
+sign, and what labs call it. These functions read the mode's arguments at the front
+door — a stretch where an amount of
 shear is meant, a missing or stray second stretch, a stress whose sign contradicts the
 mode — with one-line messages that name the curve and the fix.
 """
 
 from __future__ import annotations
 
-import re
 from typing import Any
 
 import numpy as np
 
 from vhfit.data._errors import DataError, _Where
-from vhfit.history import DEFORMATIONS
-from vhfit.modes import TWO_DIRECTIONS
-
-# Names labs write, as tokens: words that say nothing about the kinematics ("tension",
-# "test") are dropped before the lookup, so "uniaxial_tension_compression" is uniaxial.
-_ALIASES = {
-    "uniaxial": "uniaxial", "ut": "uniaxial", "uc": "uniaxial",
-    "equibiaxial": "equibiaxial", "equi_biaxial": "equibiaxial", "eb": "equibiaxial",
-    "et": "equibiaxial", "ebt": "equibiaxial", "balanced_biaxial": "equibiaxial",
-    "planar": "planar", "pure_shear": "planar", "ps": "planar", "pt": "planar",
-    "biaxial": "biaxial", "general_biaxial": "biaxial",
-    "simple_shear": "simple_shear", "shear": "simple_shear", "ss": "simple_shear",
-}
-_NOISE_WORDS = {"tension", "tensile", "compression", "compressive", "test", "tests",
-                "loading", "mode"}
-# modes whose measured stress has the sign of the driving strain for any sensible law
-_SIGNED = ("equibiaxial", "planar", "simple_shear")
+from vhfit.modes import (
+    deformation_named,
+    get_deformation,
+    registered_deformations,
+    with_second_stretch,
+    with_two_directions,
+)
 
 
 def _deformation_name(text: Any) -> str | None:
-    """The deformation a label names (``"pure shear"`` -> ``"planar"``), or None."""
-    if not isinstance(text, str):
-        return None
-    toks = [t for t in re.split(r"[\s_\-/]+", text.strip().lower()) if t]
-    return _ALIASES.get("_".join(t for t in toks if t not in _NOISE_WORDS))
+    """The deformation a label names (``"pure shear"`` -> ``"planar"``), or None: the
+    names and aliases of the records (:func:`vhfit.modes.deformation_named`)."""
+    return deformation_named(text)
+
+
+def _implied_deformation(*, second: bool, shear: bool) -> str:
+    """The test a table's columns imply when nothing names it: the first registered one
+    with a second prescribed stretch (a second stretch column) or driven by shear (an
+    amount-of-shear column) as they say, uniaxial when they say neither."""
+    return next(n for n in registered_deformations()
+                if (get_deformation(n).second_stretch, get_deformation(n).shear)
+                == (second, shear))
+
+
+def _is_shear(name: str | None) -> bool:
+    """Whether a (known) test is driven by an amount of shear."""
+    return name is not None and get_deformation(name).shear
+
+
+def _known() -> str:
+    """The registered tests, quoted, for error messages."""
+    return ", ".join(map(repr, registered_deformations()))
 
 
 def _check_deformation(deformation: Any, where: _Where) -> str:
@@ -50,16 +56,17 @@ def _check_deformation(deformation: Any, where: _Where) -> str:
     if name is None:
         raise DataError(
             f"{where()}: deformation={deformation!r} is not a test vhfit knows: use one of "
-            f"{', '.join(map(repr, DEFORMATIONS))}"
+            f"{_known()}"
         )
     return name
 
 
 def _driving_strain(strain: Any, stretch: Any, deformation: str, where: _Where) -> Any:
     """``strain`` (λ − 1, or γ in simple shear) from ``strain=`` or ``stretch=``."""
-    if deformation == "simple_shear" and stretch is not None:
+    if get_deformation(deformation).shear and stretch is not None:
         raise DataError(
-            f"{where()}: simple shear is driven by the amount of shear γ, not a stretch: "
+            f"{where()}: {deformation.replace('_', ' ')} is driven by the amount of shear γ, "
+            "not a stretch: "
             "give strain=γ (a column 'gamma' or 'shear_strain'), not stretch="
         )
     if strain is not None and stretch is not None:
@@ -92,12 +99,14 @@ def _second_path(
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """(λ2 − 1, nominal stress in direction 2) of each sample, or None where they do not
     apply; errors for a missing, doubled or stray second path."""
-    if deformation == "biaxial":
+    test = get_deformation(deformation)
+    if test.second_stretch:
         if strain2 is None and stretch2 is None:
+            tied = [n for n in with_two_directions() if n not in with_second_stretch()]
             raise DataError(
-                f"{where()}: a biaxial curve needs its second stretch at each sample: give "
-                "stretch2= (λ2) or strain2= (λ2 − 1), or use deformation='equibiaxial' if "
-                "λ2 = λ1"
+                f"{where()}: a {deformation} curve needs its second stretch at each sample: "
+                "give stretch2= (λ2) or strain2= (λ2 − 1)"
+                + "".join(f", or use deformation={n!r} if λ2 = λ1" for n in tied[:1])
             )
         if strain2 is not None and stretch2 is not None:
             raise DataError(f"{where()}: both strain2= and stretch2= given: give one of them")
@@ -111,17 +120,18 @@ def _second_path(
     else:
         for what, v in (("strain2", strain2), ("stretch2", stretch2)):
             if v is not None:
+                only = " or ".join(f"deformation={n!r}" for n in with_second_stretch())
                 raise DataError(
-                    f"{where()}: {what}= is only for deformation='biaxial' (this curve is "
-                    f"{deformation!r}): drop it, or say deformation='biaxial'"
+                    f"{where()}: {what}= is only for {only} (this curve is "
+                    f"{deformation!r}): drop it, or say {only}"
                 )
         e2 = None
     s2 = None
     if stress2 is not None:
-        if deformation not in TWO_DIRECTIONS:
+        if test.directions < 2:
             raise DataError(
                 f"{where()}: stress2= is the stress in the second loaded direction, which "
-                f"only {' and '.join(map(repr, TWO_DIRECTIONS))} tests have: drop it, or "
+                f"only {' and '.join(map(repr, with_two_directions()))} tests have: drop it, or "
                 "correct deformation="
             )
         s2 = where.array("stress2", stress2, n)
@@ -132,19 +142,20 @@ def _check_mode_signs(
     eps: np.ndarray, sig: np.ndarray, deformation: str, mode: str, keep: np.ndarray,
     where: _Where,
 ) -> None:
-    """Equibiaxial, planar and simple shear: the stress has the sign of the strain.
+    """Tests whose record says ``signed``: the stress has the sign of the strain.
 
     Stretching a sheet (λ > 1) pulls on it, and a shear γ > 0 needs a shear stress > 0,
     whatever the law; a contradiction at the largest |stress| is a mistaken column
     (a thickness stretch 1/λ², a stress of the wrong sign), never silently mended.
     """
-    if deformation not in _SIGNED or mode == "mixed":
+    test = get_deformation(deformation)
+    if not test.signed or mode == "mixed":
         return
     k = int(np.argmax(np.abs(sig)))
     sgn = 1.0 if mode == "tension" else -1.0
     if sig[k] * sgn >= 0:
         return
-    if deformation == "simple_shear":
+    if test.shear:
         fix = "γ and the shear stress have the same sign: negate one of them"
     else:
         fix = ("a sheet stretched to λ > 1 is in tension, and at λ < 1 in compression: give "

@@ -28,10 +28,9 @@ from vhfit.data._columns import (
     _unit_factor,
 )
 from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _Where
-from vhfit.data._modes import _deformation_name
+from vhfit.data._modes import _deformation_name, _implied_deformation, _is_shear, _known
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _Table
-from vhfit.history import DEFORMATIONS
 
 _META_KEYS = {
     "strain_rate": "rate", "rate": "rate", "nominal_strain_rate": "rate",
@@ -115,7 +114,7 @@ def _table_options(
     meta = dict(table.meta)
     known = {_META_KEYS[k]: v for k, v in meta.items() if k in _META_KEYS}
     if ("mode" in known and _norm_key(known["mode"]) not in _MODES
-            and _deformation_name(known["mode"])):  # '# mode: equibiaxial' names the test
+            and _deformation_name(known["mode"])):  # '# mode: <a test>' names the test
         known.setdefault("deformation", known.pop("mode"))
     units = dict(units or {})
     for k, v in meta.items():
@@ -172,7 +171,7 @@ def _check_deformation_column(table: _Table, plan: _Plan) -> None:
         k = bad[0]
         raise DataError(
             f"{table.source}, {table.label(k)}, column {col.header!r}: {texts[k]!r} is not a "
-            f"test vhfit knows: use one of {', '.join(map(repr, DEFORMATIONS))}"
+            f"test vhfit knows: use one of {_known()}"
         )
 
 
@@ -363,9 +362,8 @@ def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str)
         return dfm
     if opts.deformation is not None:
         return opts.deformation
-    if plan.deform2 is not None:
-        return "biaxial"
-    return "simple_shear" if plan.deform.kind == "shear" else "uniaxial"
+    return _implied_deformation(second=plan.deform2 is not None,
+                                shear=plan.deform.kind == "shear")
 
 
 def _group_rate(
@@ -392,7 +390,7 @@ def _group_samples(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, Any, dict[str, np.ndarray]]:
     """Engineering strain (γ in simple shear), stress (MPa), time (s), row labels of rows
     ``r``, and the second strain and stress of a biaxial test (``strain2``, ``stress2``)."""
-    shear = _deformation_name(deformation) == "simple_shear"
+    shear = _is_shear(_deformation_name(deformation))
     if shear and plan.deform.role == "stretch" and plan.deform.kind != "or_shear":
         raise DataError(
             f"{_Where(cname, table.source, None)()}, column {plan.deform.header!r}: holds "

@@ -40,6 +40,7 @@ from vhfit.export._common import (
 from vhfit.export._solvers import Solver
 from vhfit.export.shift import wlf_constants, wlf_number
 from vhfit.model import ViscoHyperelastic
+from vhfit.modes import get_deformation, registered_deformations
 
 __all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data", "abaqus_trs"]
 
@@ -358,12 +359,15 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
 
 
 # --------------------------------------------------------------------- test data
-#: vhfit deformation -> Abaqus test-data keyword (nominal stress, nominal strain lines)
-_TEST_DATA = {
-    "uniaxial": "*UNIAXIAL TEST DATA",
-    "equibiaxial": "*BIAXIAL TEST DATA",  # Abaqus' biaxial test is the equibiaxial one
-    "planar": "*PLANAR TEST DATA",
-}
+def _or(names: list[str]) -> str:
+    return " or ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
+
+
+def _test_data() -> dict[str, str]:
+    """Registered deformation -> its Abaqus test-data keyword (``abaqus_test_data`` of
+    its record; nominal stress, nominal strain lines), for the tests that have one."""
+    tests = (get_deformation(n) for n in registered_deformations())
+    return {t.name: t.abaqus_test_data for t in tests if t.abaqus_test_data}
 
 
 def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
@@ -371,11 +375,11 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     """Abaqus ``*HYPERELASTIC, ..., TEST DATA INPUT`` block of the equilibrium curves.
 
     Abaqus fits its own constants of the same law to these data (nominal stress,
-    nominal strain per line; ``*UNIAXIAL``, ``*BIAXIAL`` — equibiaxial — and ``*PLANAR
-    TEST DATA``), so its evaluation of the law can be compared with vhfit's fit. Only
-    equilibrium (rate-free) curves are written: rate curves are not a hyperelastic
-    response. General biaxial and simple-shear curves have no such keyword in Abaqus
-    and are left out with a comment.
+    nominal strain per line; the keyword of each test is its record's
+    ``abaqus_test_data``, e.g. ``*UNIAXIAL TEST DATA``), so its evaluation of the law can
+    be compared with vhfit's fit. Only equilibrium (rate-free) curves are written: rate
+    curves are not a hyperelastic response. Tests without such a keyword in Abaqus
+    (general biaxial, simple shear) are left out with a comment.
 
     Parameters
     ----------
@@ -412,12 +416,13 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     if law not in _CARDS:
         raise unsupported(SOLVER, law, list(_CARDS))
     _check_name(name)
+    keywords = _test_data()
     blocks: dict[str, list[str]] = {}
     skipped = []
     for c in curves:
         if not c.is_equilibrium:
             continue
-        kw = _TEST_DATA.get(c.deformation)
+        kw = keywords.get(c.deformation)
         if kw is None:
             skipped.append(f"{c.name!r} ({c.deformation})")
             continue
@@ -430,7 +435,7 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
             f"{free_number(p)}, {free_number(float(f'{e:.12g}'))}" for p, e in zip(P, lam - 1.0))
     if not blocks:
         raise ValueError(
-            "no equilibrium uniaxial, equibiaxial or planar curve to write as Abaqus test "
+            f"no equilibrium {_or(list(keywords))} curve to write as Abaqus test "
             "data: give curves with neither strain_rate nor time"
         )
     lines = [
@@ -442,7 +447,7 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     if skipped:
         lines.append("** Not written (no Abaqus test-data keyword): " + ", ".join(skipped))
     lines += [f"*MATERIAL, NAME={name}", f"*HYPERELASTIC, {_CARDS[law][0]}, TEST DATA INPUT"]
-    for kw in _TEST_DATA.values():
+    for kw in dict.fromkeys(keywords.values()):
         if kw in blocks:
             lines += [kw] + blocks[kw]
     return "\n".join(lines) + "\n"

@@ -1,13 +1,13 @@
 """The Ogden sums λk ∂W/∂λk = Σ_p (2μp/αp) λk^αp for whole populations, in one pass.
 
-A calibration evaluates them for every parameter set (P of them) at every sample of
-the kernel's grid (m of them), for three stretches. Written with numpy the powers need
-one exp per term, stretch, set and sample and a P × m temporary per operation; here
-one compiled loop writes the sums directly, and the kinematics of the homogeneous
-tests save most of the exps: they tie the stretches together (uniaxial
-λ2 = λ3 = λ1^(−1/2), equibiaxial λ2 = λ1, planar λ2 = 1, simple shear λ3 = 1, and
-always λ1 λ2 λ3 = 1), so λ2^α and λ3^α follow from λ1^α by a square root or a
-division. :func:`stretch_plan` finds those relations on the m stretches once per call.
+A calibration evaluates them for every parameter set (P of them) at every sample of the
+kernel's grid (m of them), for three stretches. Written with numpy the powers need one
+exp per term, stretch, set and sample and a P × m temporary per operation; here one
+compiled loop writes the sums directly, and the kinematics of the homogeneous tests save
+most of the exps: they tie the stretches together (λ2 = λ3 = λ1^(−1/2), λ2 = λ1, λ2 = 1
+or λ3 = 1 in the built-in tests, and always λ1 λ2 λ3 = 1), so λ2^α and λ3^α follow from
+λ1^α by a square root or a division. :func:`stretch_plan` finds those relations on the m
+stretches once per call.
 """
 
 from __future__ import annotations
@@ -51,15 +51,15 @@ def stretch_plan(l1, l2, l3) -> tuple[list[int], list[np.ndarray]]:
     if not resid <= 1e-13 * (1.0 + scale):
         return rules, logs
     if rules[1] == SAME0:
-        rules[2] = INCOMPRESSIBLE  # equibiaxial: λ3 = λ^−2
+        rules[2] = INCOMPRESSIBLE  # λ2 = λ1: λ3 = λ^−2
     elif rules[1] == ONE:
-        rules[2] = INV  # planar: λ3 = 1/λ
+        rules[2] = INV  # λ2 = 1: λ3 = 1/λ
     elif rules[2] == ONE:
-        rules[1] = INV  # simple shear: λ2 = 1/λ1
+        rules[1] = INV  # λ3 = 1: λ2 = 1/λ1
     elif rules[2] == SAME1:
-        rules[1] = RSQRT  # uniaxial: λ2 = λ3 = λ1^(−1/2)
+        rules[1] = RSQRT  # λ2 = λ3 = λ1^(−1/2)
     elif rules[1] == EXP and rules[2] == EXP:
-        rules[2] = INCOMPRESSIBLE  # biaxial: λ2 its own exp
+        rules[2] = INCOMPRESSIBLE  # λ2 its own exp: λ3 = 1/(λ1 λ2)
     return rules, logs
 
 

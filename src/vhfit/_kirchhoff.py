@@ -1,0 +1,90 @@
+"""The long-term Kirchhoff stress of a hyperelastic law in principal axes and in simple shear.
+
+The part of the homogeneous tests (:mod:`vhfit.modes`) that evaluates the law: every
+function takes the law's constants as an array (..., n_params), leading axes parameter
+sets, and gives results of shape (..., m) for m stretches.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vhfit._derivatives import invariant_gradient, outside_domain, stretch_gradient
+from vhfit.hyperelastic import Hyperelastic
+
+
+def constant_columns(model: Hyperelastic, params) -> list[np.ndarray]:
+    """The law's constants (..., n_params) as columns (..., 1) that broadcast over stretches."""
+    p = np.asarray(params, dtype=np.float64)
+    if p.ndim == 0 or p.shape[-1] != model.n_params:
+        raise ValueError(
+            f"params: model {model.name!r} takes {model.n_params} constants "
+            f"{list(model.param_names)}, got shape {p.shape}"
+        )
+    return [p[..., k, None] for k in range(model.n_params)]
+
+
+def principal_kirchhoff(model: Hyperelastic, cols, l1, l2, l3):
+    if model.kind == "invariant":
+        a = (l1 * l1, l2 * l2, l3 * l3)
+        I1 = a[0] + a[1] + a[2]
+        I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
+        W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
+        return tuple(2.0 * W1 * ak + 2.0 * W2 * (I1 * ak - ak * ak) for ak in a)
+    if model.derivatives is not None:  # closed form (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3)
+        return tuple(model.derivatives(l1, l2, l3, *cols))
+    bad = outside_domain(model.energy, l1, l2, l3, *cols)
+    return tuple(np.where(bad, np.nan, t) for t in stretch_gradient(model.energy, l1, l2, l3, cols))
+
+
+def kirchhoff_stress(model: Hyperelastic, params, l1, l2, l3):
+    """Principal Kirchhoff stresses (τ1, τ2, τ3) of the long-term law, up to one pressure.
+
+    τ_k = λ_k ∂W/∂λ_k; for W(I1, I2), τ_k = 2 W1 λ_k² + 2 W2 (I1 λ_k² − λ_k⁴).
+    Only differences τ_a − τ_b, and the deviator, are meaningful. NaN where the energy
+    is undefined.
+
+    Examples
+    --------
+    >>> from vhfit import hyperelastic
+    >>> nh = hyperelastic.get("neo_hooke")               # τ_k = 2 C10 λ_k²
+    >>> [float(t[0]) for t in kirchhoff_stress(nh, [0.5], 2.0, 1.0, 0.5)]
+    [4.0, 1.0, 0.25]
+    """
+    cols = constant_columns(model, params)
+    lam = (np.asarray(v, dtype=np.float64) for v in (l1, l2, l3))
+    return principal_kirchhoff(model, cols, *lam)
+
+
+def shear_kirchhoff(model: Hyperelastic, cols, gamma):
+    g = np.asarray(gamma, dtype=np.float64)
+    if model.kind == "invariant":
+        I = 3.0 + g * g  # I1 = I2 in simple shear
+        W1, W2 = invariant_gradient(model.energy, model.derivatives, I, I, cols)
+        A = 2.0 * (W1 + I * W2)
+        b11 = 1.0 + g * g
+        return (A * b11 - 2.0 * W2 * (b11 * b11 + g * g), A - 2.0 * W2 * b11, A - 2.0 * W2,
+                2.0 * g * (W1 + W2))
+    # principal values rotated into the (1, 2) frame: the eigenvector of B for λ² is
+    # (1, 1/λ), so cos²θ = λ²/(1 + λ²) and sin²θ = 1/(1 + λ²), no division by γ
+    a = np.arcsinh(0.5 * g)  # ln λ, exact for either sign of γ (no cancellation)
+    la, lb, one = np.exp(a), np.exp(-a), np.ones_like(g)
+    ta, tb, t3 = principal_kirchhoff(model, cols, la, lb, one)
+    q = 1.0 / (1.0 + la * la)
+    return ((la * la * ta + tb) * q, (ta + la * la * tb) * q, t3, (ta - tb) * la * q)
+
+
+def shear_kirchhoff_stress(model: Hyperelastic, params, gamma):
+    """Kirchhoff stress (τ11, τ22, τ33, τ12) of the long-term law in simple shear.
+
+    F = I + γ e1⊗e2; τ11, τ22, τ33 share one undetermined pressure (σ33 = 0 fixes it:
+    the measured normal stresses are τ11 − τ33 and τ22 − τ33); τ12 = σ12.
+
+    Examples
+    --------
+    >>> from vhfit import hyperelastic
+    >>> mr = hyperelastic.get("mooney_rivlin")           # σ12 = 2 (C10 + C01) γ
+    >>> float(shear_kirchhoff_stress(mr, [0.3, 0.1], 0.5)[3][0])
+    0.4
+    """
+    return shear_kirchhoff(model, constant_columns(model, params), gamma)
