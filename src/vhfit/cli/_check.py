@@ -19,7 +19,8 @@ from vhfit.model import ViscoHyperelastic
 
 __all__ = ["cmd_check"]
 
-_DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time")
+_DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time",
+                 "columns", "units", "group_by", "select")
 
 
 def cmd_check(args) -> int:

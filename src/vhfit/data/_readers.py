@@ -155,6 +155,7 @@ def read_csv(
         paths = list(path_or_paths)
         if not paths:
             raise DataError("read_csv: no files given")
+    _check_unit_roles(units)
     rates = _per_file(rate, "rates", len(paths), np.ndim(rate) == 0)
     tests = _per_file(deformation, "deformations", len(paths), isinstance(deformation, str))
     out: list[Curve | FrequencySweep | Relaxation] = []
@@ -162,7 +163,7 @@ def read_csv(
         table = _read_table(p, names, encoding)
         plan = _moduli_plan(table.names, columns, table.source)
         if plan is not None:
-            out.extend(_moduli_items(table, plan, units, None))
+            out.extend(_moduli_items(table, plan, units, None, group_by, select))
             continue
         out.extend(_curves_from_table(
             table, rate=None if r is None else float(r), measure=measure, mode=mode,
@@ -171,6 +172,20 @@ def read_csv(
             deformation=dfm,
         ))
     return out
+
+
+#: The roles ``units=`` may name: of stress–strain curves, then of moduli tables.
+_UNIT_ROLES = ("strain", "stretch", "stress", "time", "rate", "strain_rate", "strain2",
+               "stretch2", "stress2", "frequency", "omega", "storage", "loss", "modulus",
+               "relaxation")
+
+
+def _check_unit_roles(units: Mapping[str, str] | None) -> None:
+    """A ``units=`` role that no column can have is refused, not ignored."""
+    for role in units or {}:
+        if role not in _UNIT_ROLES:
+            raise DataError(f"units={{{role!r}: ...}} (command line: --units {role}=UNIT): "
+                            f"unknown role; use {', '.join(_UNIT_ROLES)}")
 
 
 def _per_file(value: Any, what: str, n: int, single: bool) -> list[Any]:
@@ -236,10 +251,11 @@ def curves_from_arrays(
     >>> [(c.strain_rate, float(c.target_stress[-1])) for c in cs]
     [(-1.0, -0.3), (-100.0, -0.6)]
     """
+    _check_unit_roles(units)
     table = _table_from_data(data, names, source)
     plan = _moduli_plan(table.names, columns, table.source)
     if plan is not None:  # moduli: frequency sweeps or relaxation tests
-        return _moduli_items(table, plan, units, name)
+        return _moduli_items(table, plan, units, name, group_by, select)
     return _curves_from_table(
         table, rate=rate, measure=measure, mode=mode,
         compression_positive=compression_positive, columns=columns, units=units,
