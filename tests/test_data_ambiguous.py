@@ -279,8 +279,8 @@ def test_cli_columns_units_select_and_group_by_reach_the_reader(tmp_path, capsys
     points = [r.split(",") for r in rows if ",point," in r]
     # -1.10 and 0.90 given in Pa (--units) are -1.1e-6 and 9e-7 MPa
     np.testing.assert_allclose([float(r[6]) for r in points], [-1.1e-6, 9e-7])
-    code, out2 = main(["fit", str(p), "--group-by", "region", "--out", str(tmp_path / "o2"),
-                       "--prony", "0", "--no-plot", "-q", "--maxiter", "3"]), None
+    code = main(["fit", str(p), "--group-by", "region", "--out", str(tmp_path / "o2"),
+                 "--prony", "0", "--no-plot", "-q", "--maxiter", "3"])
     assert code == 0
     res = json.loads((tmp_path / "o2" / "results.json").read_text())
     assert len(res["curves"]) == 4
