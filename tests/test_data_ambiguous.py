@@ -51,12 +51,14 @@ def test_agreeing_columns_read_the_finest_written_one(tmp_path):
 
 
 def test_columns_that_differ_by_more_than_their_rounding_are_refused(tmp_path):
-    # -50.06 kPa = -0.05006 MPa against -0.050 MPa (rounding 5e-4 MPa): agree; against
-    # -0.0500 (rounding 5e-5 MPa) the 6e-5 MPa gap exceeds 5e-5 + 5e-6: refused
-    ok = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.06,-0.050\n")
+    # agreement: within twice the sum of the written roundings. -50.16 kPa = -0.05016 MPa
+    # against -0.050 MPa (rounding 5e-4 MPa): 1.6e-4 <= 2 (5e-4 + 5e-6), agree; against
+    # -0.0500 (rounding 5e-5 MPa): 1.6e-4 > 2 (5e-5 + 5e-6) = 1.1e-4, refused
+    assert vhfit.data._ambiguous.ROUNDINGS == 2.0
+    ok = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.16,-0.050\n")
     [c] = vhfit.read_csv(ok, rate=-1.0, n_points=None)
-    np.testing.assert_allclose(c.stress, [0.0, -0.05006])
-    bad = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.06,-0.0500\n")
+    np.testing.assert_allclose(c.stress, [0.0, -0.05016])
+    bad = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.16,-0.0500\n")
     refused(r"could both be the stress but differ", bad, rate=-1.0)
 
 
@@ -88,7 +90,7 @@ def test_a_true_strain_agreeing_with_the_engineering_strain_is_no_ambiguity(tmp_
     p = write(tmp_path, "engineering_strain,true_strain,stress\n0,0,0\n0.5,0.405465,1\n")
     [c] = vhfit.read_csv(p, rate=1.0, n_points=None)
     np.testing.assert_allclose(c.strain, [0.0, np.expm1(0.405465)])
-    p = write(tmp_path, "engineering_strain,true_strain,stress\n0,0,0\n0.5,0.5,1.0\n")
+    p = write(tmp_path, "engineering_strain,true_strain,stress\n0,0,0\n0.50,0.50,1.0\n")
     refused(r"'engineering_strain' and 'true_strain' could both be the strain", p, rate=1.0)
 
 

@@ -4,9 +4,11 @@ Two kinds: several columns that could hold the same quantity (``stress_kPa`` bes
 ``stress_MPa``, ``strain`` beside ``stretch``, ``frequency_Hz`` beside ``omega_rad/s``),
 and a text column whose values differ inside what would become one curve (a ``region``
 column naming four specimens). ``_settle`` compares candidate columns value by value after
-unit conversion: they agree when every pair of values differs by no more than the
+unit conversion: they agree when every pair of values differs by no more than twice the
 rounding of the digits written (half a unit in each value's last digit, carried through
-the conversion), and then the column written with the finest digits is read — nothing
+the conversion; twice, because a column computed from another's already rounded values
+carries that rounding too — a lab's true strain from its rounded engineering strain),
+and then the column written with the finest digits is read — nothing
 the other holds is lost; otherwise a one-line ``DataError`` names both columns and how to
 choose one. ``_check_text_columns`` refuses a varying text column that no option accounts
 for, naming ``group_by=`` / ``select=`` and their command-line flags. ``_select_rows``
@@ -28,6 +30,8 @@ from vhfit.data._table import _Table
 _NUMBER = re.compile(r"^[+-]?(\d*)(?:[.,](\d*))?(?:[eE]([+-]?\d+))?$")
 #: Agreement of numbers that carry no rounding of their own (arrays): relative slack.
 _FLOAT_RTOL = 1e-12
+#: Columns agree within this many times the sum of their written roundings.
+ROUNDINGS = 2.0
 #: How many values of a varying text column a message lists.
 _SHOWN = 4
 
@@ -70,7 +74,8 @@ def _cells(texts: Sequence[Any]) -> tuple[np.ndarray, np.ndarray]:
 
 def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit: str) -> int:
     """Which of ``cands`` (the preferred first) to read: all must agree with the first to
-    within the rounding of their digits; the finest-written one is read.
+    within :data:`ROUNDINGS` times the rounding of their digits; the finest-written one
+    is read.
 
     Raises
     ------
@@ -90,7 +95,7 @@ def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit
             continue
         scale = max(np.max(np.abs(x0[ok])), np.max(np.abs(x[ok])))
         bad = np.zeros_like(ok)
-        bad[ok] = np.abs(x[ok] - x0[ok]) > r0[ok] + r[ok] + _FLOAT_RTOL * scale
+        bad[ok] = np.abs(x[ok] - x0[ok]) > ROUNDINGS * (r0[ok] + r[ok]) + _FLOAT_RTOL * scale
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             a = cands[0]

@@ -64,6 +64,8 @@ _TRUE_WORDS = {"true", "cauchy"}
 _LOG_WORDS = {"true", "log", "logarithmic", "hencky", "natural"}
 _AXIAL_WORDS = {"axial", "uniaxial"}
 _SHEAR_WORDS = {"gamma", "γ"}  # the amount of shear of simple shear, alone
+#: Measured channels, never an amount of shear ('shear_force_N', 'shear_displacement_mm').
+_CHANNEL_WORDS = {"force", "load", "displacement", "disp", "position", "extension"}
 _ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate", "strain2", "stretch2", "stress2",
               "deformation", "ignore")
 #: Symbols that name a quantity: after its keyword a descriptive word, never a unit.
@@ -183,7 +185,8 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
                 break
             return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
     if tokens[0] in _SHEAR_WORDS or (
-            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS)):
+            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS
+                                                     | _CHANNEL_WORDS)):
         # "gamma", "shear_strain", "amount_of_shear": the amount of shear γ
         k = next(i for i, t in enumerate(tokens) if t in _SHEAR_WORDS | {"shear"})
         quals, u = after_unit(k, _STRAIN_WORDS | _SHEAR_WORDS | {"amount", "of", "shear"})
