@@ -52,10 +52,9 @@ def test_agreeing_columns_read_the_finest_written_one(tmp_path):
 
 def test_columns_that_differ_by_more_than_their_rounding_are_refused(tmp_path):
     # agreement: within twice the sum of the written roundings. -50.16 kPa = -0.05016 MPa
-    # against -0.050 MPa (rounding 5e-4 MPa): 1.6e-4 <= 2 (5e-4 + 5e-6), agree; against
-    # -0.0500 (rounding 5e-5 MPa): 1.6e-4 > 2 (5e-5 + 5e-6) = 1.1e-4, refused
-    assert vhfit.data._ambiguous.ROUNDINGS == 2.0
-    ok = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.16,-0.050\n")
+    # against -0.0501 MPa (rounding 5e-5 MPa): 6e-5 <= 2 (5e-5 + 5e-6) = 1.1e-4, agree
+    # (once the sum, 5.5e-5, would refuse it); against -0.0500: 1.6e-4 > 1.1e-4, refused
+    ok = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.16,-0.0501\n")
     [c] = vhfit.read_csv(ok, rate=-1.0, n_points=None)
     np.testing.assert_allclose(c.stress, [0.0, -0.05016])
     bad = write(tmp_path, "strain,stress_kPa,stress_MPa\n0,0,0\n-0.1,-50.16,-0.0500\n")
@@ -92,6 +91,21 @@ def test_a_true_strain_agreeing_with_the_engineering_strain_is_no_ambiguity(tmp_
     np.testing.assert_allclose(c.strain, [0.0, np.expm1(0.405465)])
     p = write(tmp_path, "engineering_strain,true_strain,stress\n0,0,0\n0.50,0.50,1.0\n")
     refused(r"'engineering_strain' and 'true_strain' could both be the strain", p, rate=1.0)
+
+
+def test_the_rounding_of_a_true_strain_grows_through_the_conversion(tmp_path):
+    # at ε = 16 the true strain ln 17 = 2.833 written as 2.83 (rounding 0.005) means
+    # ε within ±0.005 e^2.83 = ±0.085: it agrees with 16.000
+    p = write(tmp_path, "engineering_strain,true_strain,stress\n0,0,0\n16.000,2.83,1\n")
+    [c] = vhfit.read_csv(p, rate=1.0, n_points=None)
+    np.testing.assert_allclose(c.strain, [0.0, 16.0])
+
+
+def test_an_amount_of_shear_is_not_compared_with_a_stretch(tmp_path):
+    text = "time_s,gamma,stretch,shear_stress_kPa\n0,0,1.00,0\n1,0.20,1.10,20\n"
+    [c] = vhfit.read_csv(write(tmp_path, text), n_points=None)
+    assert c.deformation == "simple_shear"
+    np.testing.assert_allclose(c.strain, [0.0, 0.2])
 
 
 def test_a_column_with_another_qualifier_is_another_channel(tmp_path):
