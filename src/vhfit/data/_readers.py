@@ -71,16 +71,23 @@ def read_csv(
     columns : mapping, optional
         Role -> header name (or 0-based index) for ``"strain"``, ``"stretch"``,
         ``"stress"``, ``"time"``, ``"rate"``, overriding recognition; ``None`` ignores a
-        column (e.g. ``{"time": None}`` to treat a test as constant-rate).
+        role (e.g. ``{"time": None}`` to treat a test as constant-rate);
+        ``"ignore"`` -> a header or a list of them ignores those columns. Several columns
+        that could hold one role are compared by value: agreeing within twice their
+        written rounding, the finest is read; disagreeing, an error says to choose here.
     units : mapping, optional
-        Role -> unit, where the header has none or a wrong one, e.g. ``{"stress": "kPa"}``.
+        Role -> unit, where the header has none or a wrong one, e.g. ``{"stress": "kPa"}``;
+        an unknown role is an error.
     names : sequence of str, optional
         Column names for files without a header row (or to replace the header).
     group_by : str or sequence of str, optional
-        Column(s) whose values tell the curves of a long file apart.
+        Column(s) whose values tell the curves of a long file apart. A text column that
+        varies inside one curve without it (nor ``select=``, nor ``"ignore"``) is an error.
     select : mapping, optional
-        Keep only rows whose column equals a value (or one of a list), e.g.
-        ``{"mode": "uniaxial_tension_compression"}``.
+        Keep only rows whose column equals a value (or one of a list; text is compared
+        case-insensitively, numbers by value), e.g.
+        ``{"mode": "uniaxial_tension_compression"}``; a value that is not there is an
+        error listing those present.
     sort : bool, default False
         Sort each curve's rows by time (or by |strain| without time) instead of
         rejecting rows out of order.
@@ -103,8 +110,9 @@ def read_csv(
         A file of moduli (a frequency column with storage and loss moduli, or |E*| and
         tan δ; or a time column with a relaxation modulus) gives a
         :class:`FrequencySweep` or :class:`Relaxation` per temperature of its temperature
-        column (one without); ``columns=``, ``units=`` and ``names=`` apply to it, the
-        options of stress–strain curves do not (docs/data.md).
+        column (one without; per value of ``group_by=`` too); ``columns=``, ``units=``,
+        ``names=``, ``group_by=`` and ``select=`` apply to it, the options of
+        stress–strain curves do not (docs/data.md).
 
     Raises
     ------
