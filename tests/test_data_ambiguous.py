@@ -110,7 +110,7 @@ def test_an_amount_of_shear_is_not_compared_with_a_stretch(tmp_path):
 
 def test_a_column_with_another_qualifier_is_another_channel(tmp_path):
     # crosshead_strain (an unknown qualifier) is not compared: the extensometer strain is read
-    p = write(tmp_path, "strain,crosshead_strain,stress\n0,0,0\n-0.1,-0.3,-0.5\n")
+    p = write(tmp_path, "strain,crosshead_strain,stress\n0,0,0\n-0.100,-0.300,-0.5\n")
     [c] = vhfit.read_csv(p, rate=-1.0, n_points=None)
     np.testing.assert_allclose(c.strain, [0.0, -0.1])
 
