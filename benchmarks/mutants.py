@@ -809,4 +809,13 @@ MUTANTS: list[Mutant] = [
       "    kw.update(_data_choices(args))\n", "",
       "--columns, --units, --group-by and --select never reach the reader",
       ("tests/test_data_ambiguous.py",)),
+    M("i20in_check_forgets_select", "vhfit/cli/_check.py",
+      '"columns", "units", "group_by", "select")', '"columns", "units", "group_by")',
+      "vhfit check reads the data without the fit's --select",
+      ("tests/test_data_ambiguous.py",)),
+    M("i20in_moduli_unknown_ignore_passes", "vhfit/data/_moduli_table.py",
+      "        if not hits:\n            raise DataError(f\"{src}: columns={{'ignore'",
+      "        if False:\n            raise DataError(f\"{src}: columns={{'ignore'",
+      "columns={'ignore': 'nope'} of a moduli file is silently ignored",
+      ("tests/test_data_ambiguous.py",)),
 ]

@@ -242,6 +242,8 @@ def test_a_moduli_file_with_a_varying_text_column(tmp_path):
     np.testing.assert_allclose(b.storage, [0.5, 1.0])
     [b] = vhfit.read_csv(p, select={"material": "B"})
     np.testing.assert_allclose(b.loss, [0.05, 0.1])
+    refused(r"columns=\{'ignore': 'nope'\} \(--columns ignore=nope\): no such column", p,
+            columns={"ignore": "nope"})
 
 
 def test_select_matches_numbers_by_value(tmp_path):
@@ -300,3 +302,19 @@ def test_cli_columns_units_select_and_group_by_reach_the_reader(tmp_path, capsys
     assert code == 0
     res = json.loads((tmp_path / "o2" / "results.json").read_text())
     assert len(res["curves"]) == 4
+
+
+def test_cli_check_reads_the_data_as_the_fit_did(tmp_path, capsys):
+    p = write(tmp_path, BRAIN, "brain.csv")
+    out = tmp_path / "o"
+    assert main(["fit", str(p), "--select", "region=cortex", "--out", str(out), "--prony",
+                 "0", "--no-plot", "-q", "--maxiter", "3", "--for", "abaqus"]) == 0
+    capsys.readouterr()
+    # the fit's --select, recorded in results.json, is the check's too: without it the
+    # file would be refused for its region column
+    assert main(["check", str(out / "results.json")]) == 0
+    cortex = capsys.readouterr().out
+    assert "brain [simple_shear]" in cortex
+    assert main(["check", str(out / "results.json"), "--select", "region=callosum"]) == 0
+    callosum = capsys.readouterr().out
+    assert "brain [simple_shear]" in callosum and callosum != cortex  # other data

@@ -160,7 +160,7 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
     strain column (a DMA export's strain amplitude); a time column with a modulus makes
     a relaxation test only in a file without strain and stress columns.
     """
-    plan = _MPlan(ignored=_ignored(names, (columns or {}).get("ignore")))
+    plan = _MPlan(ignored=_ignored(names, (columns or {}).get("ignore"), src))
     for j, h in enumerate(names):
         c = None if j in plan.ignored else _classify_header(j, h)
         if c is None:
@@ -205,14 +205,19 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
     return None
 
 
-def _ignored(names: list[str], given: Any) -> set[int]:
-    """Columns of ``columns={'ignore': header or [headers]}`` (unknown ones: the curve
-    reader names them)."""
+def _ignored(names: list[str], given: Any, src: str) -> set[int]:
+    """Columns of ``columns={'ignore': header or [headers]}``."""
     if given is None:
         return set()
-    given = [given] if isinstance(given, (str, int)) else list(given)
-    want = {str(g).strip().lower() for g in given}
-    return {j for j, h in enumerate(names) if h.strip().lower() in want or j in given}
+    out = set()
+    for g in [given] if isinstance(given, (str, int)) else list(given):
+        hits = [j for j, h in enumerate(names) if h.strip().lower() == str(g).strip().lower()
+                or (isinstance(g, int) and j == g)]
+        if not hits:
+            raise DataError(f"{src}: columns={{'ignore': {g!r}}} (--columns ignore={g}): no "
+                            f"such column; the header has {', '.join(map(repr, names))}")
+        out.update(hits)
+    return out
 
 
 def _settle_moduli(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
