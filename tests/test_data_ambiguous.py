@@ -318,3 +318,13 @@ def test_cli_check_reads_the_data_as_the_fit_did(tmp_path, capsys):
     assert main(["check", str(out / "results.json"), "--select", "region=callosum"]) == 0
     callosum = capsys.readouterr().out
     assert "brain [simple_shear]" in callosum and callosum != cortex  # other data
+
+
+def test_cli_columns_role_without_a_name_ignores_the_role(tmp_path, capsys):
+    # a measured rate channel: refused naming --columns rate=, which then reads the file
+    text = "strain_rate,strain,stress\n-1,0,0\n-2,-0.1,-1\n-3,-0.2,-2\n-4,-0.3,-3\n"
+    p = write(tmp_path, text)
+    code, out = _fit(tmp_path, p)
+    assert code == 2 and "--columns rate=" in capsys.readouterr().err and not out.exists()
+    code, out = _fit(tmp_path, p, "--columns", "rate=", "--rate", "-1")
+    assert code == 0 and (out / "results.json").exists()

@@ -272,12 +272,14 @@ def _resolve_columns(
     if deform is None:
         raise DataError(
             f"{src}: no strain or stretch column among {header_list}: name one 'strain' "
-            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'}"
+            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'} (command "
+            "line: --columns strain=NAME)"
         )
     if stress is None:
         raise DataError(
             f"{src}: no stress column among {header_list}: name one 'stress_MPa' (or "
-            "'stress [kPa]', ...), or pass columns={'stress': '<header>'}; force and "
+            "'stress [kPa]', ...), or pass columns={'stress': '<header>'} (command line: "
+            "--columns stress=NAME); force and "
             "displacement must first be converted with the specimen's area and gauge length"
         )
     deform2 = _second_deform_column(cols, explicit, src, alts.setdefault("deform2", []))
@@ -424,7 +426,8 @@ def _best_column(
         raise DataError(
             f"{src}: several columns could be the {what}: "
             f"{', '.join(repr(c.header) for c in cands)}: say which with "
-            f"columns={{'{roles[0]}': '<header>'}}"
+            f"columns={{'{roles[0]}': '<header>'}} (command line: --columns "
+            f"{roles[0]}=NAME)"
         )
     return cands[0]
 

@@ -258,7 +258,7 @@ def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
     if f is None:
         raise DataError(f"{src}, column {col.header!r}: unit {u!r} is not understood for "
                         f"{col.role.replace('_', ' ')}: use {hint}, or pass units={{"
-                        f"'{col.role}': ...}}")
+                        f"'{col.role}': ...}} (command line: --units {col.role}=UNIT)")
     return float(f)
 
 

@@ -142,7 +142,7 @@ def _table_options(
         raise DataError(
             f"{src}, column {plan.stress.header!r}: the header says {plan.measure} stress but "
             f"measure={meas!r} was given: drop measure=, or name the right column with "
-            "columns={'stress': ...}"
+            "columns={'stress': ...} (command line: --columns stress=NAME)"
         )
     if mode is None and "mode" in known:
         mode = known["mode"]
@@ -219,7 +219,8 @@ def _split_rows(
         rate_vals = table.floats(
             plan.rate.index, rows,
             empty="the strain rate is missing: fill it in (1/s, negative in compression), or "
-                  "ignore the column with columns={'rate': None}",
+                  "ignore the column with columns={'rate': None} (command line: "
+                  "--columns rate=)",
         ) * plan.factors["rate"]
     gcols = _group_columns(table, group_by, rows)
     if plan.deformation is not None and plan.deformation.index not in gcols:
@@ -312,7 +313,8 @@ def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarra
             f"{table.source}, column {plan.rate.header!r}: {uniq.size} different rates in "
             f"{rows.size} rows, {table.label(int(rows[k]))} alone at {rate_vals[k]:g}: if "
             "this is a measured rate channel, not the nominal rate of each test, ignore "
-            "it with columns={'rate': None} (and give rate= or a time column); otherwise "
+            "it with columns={'rate': None} (--columns rate=; and give rate= or a time "
+            "column); otherwise "
             "give each rate at least 2 rows"
         )
     return np.array([f"{v:.12g}" for v in rate_vals], dtype=object)
