@@ -818,4 +818,12 @@ MUTANTS: list[Mutant] = [
       "        if False:\n            raise DataError(f\"{src}: columns={{'ignore'",
       "columns={'ignore': 'nope'} of a moduli file is silently ignored",
       ("tests/test_data_ambiguous.py",)),
+    M("i20in_history_units_ignored", "vhfit/data/_readers.py",
+      "arr[:, 0], arr[:, 1] = t_conv(arr[:, 0])[0], e_conv(arr[:, 1])[0]", "pass",
+      "read_history takes time_ms for seconds and strain_% for a strain",
+      ("tests/test_data_ambiguous.py",)),
+    M("i20in_history_rivals_unchecked", "vhfit/data/_readers.py",
+      "        if bad.size:\n            i = int(bad[0])", "        if False:\n            i = 0",
+      "read_history reads the first of two disagreeing time columns silently",
+      ("tests/test_data_ambiguous.py",)),
 ]

@@ -328,3 +328,22 @@ def test_cli_columns_role_without_a_name_ignores_the_role(tmp_path, capsys):
     assert code == 2 and "--columns rate=" in capsys.readouterr().err and not out.exists()
     code, out = _fit(tmp_path, p, "--columns", "rate=", "--rate", "-1")
     assert code == 0 and (out / "results.json").exists()
+
+
+# ============================================================ loading histories
+def test_history_units_and_competing_columns(tmp_path):
+    from vhfit.data import read_history
+
+    t, e = read_history(write(tmp_path, "time_ms,strain_%\n1000,-20\n3000,-20\n"))
+    np.testing.assert_allclose(t, [0.0, 1.0, 3.0])
+    np.testing.assert_allclose(e, [0.0, -0.2, -0.2])
+    t, e = read_history(write(tmp_path, "time_s,time_ms,strain\n0,0,0\n1.0,1000,-0.2\n"))
+    np.testing.assert_allclose(t, [0.0, 1.0])
+    p = write(tmp_path, "time_s,time_ms,strain\n0,0,0\n1.0,100,-0.2\n")
+    with pytest.raises(DataError, match=r"data row 3: columns 'time_ms' and 'time_s' could "
+                                        r"both be the time but differ \(0\.1 vs 1 s\): the "
+                                        r"history reads 'time_s'; delete or rename the other"):
+        read_history(p)
+    with pytest.raises(DataError, match=r"column 'strain_gauge': unit 'gauge' is not "
+                                        r"understood for strain"):
+        read_history(write(tmp_path, "time,strain_gauge\n0,0\n1,0.1\n"))

@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.data._ambiguous import ROUNDINGS, _cells
+from vhfit.data._columns import _classify, _unit_factor
 from vhfit.data._curve import Curve, _curves_from_table
 from vhfit.data._errors import DataError
 from vhfit.data._moduli import FrequencySweep, Relaxation
@@ -280,8 +282,11 @@ def read_history(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     whose first row is numbers has no header, and its first two columns are time and
     strain. Lines starting with ``#`` and blank lines are skipped; the file is read as
     UTF-8 (with or without BOM). Time is in s, strain is engineering strain (negative in
-    compression). The material is at rest before t = 0: a first sample at t > 0 is
-    reached by a linear ramp from (0, 0) (:func:`vhfit.history.from_rest`).
+    compression), unless the header gives a unit (``time_ms``, ``t [min]``, ``strain_%``);
+    another column that could be the time or the strain must agree with the one read to
+    within twice their written rounding. The material is at rest before t = 0: a first
+    sample at t > 0 is reached by a linear ramp from (0, 0)
+    (:func:`vhfit.history.from_rest`).
 
     Parameters
     ----------
@@ -322,7 +327,51 @@ def read_history(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
         raise
     if arr.shape[0] < 2:
         raise DataError(f"{path}: needs at least 2 (time, strain) rows")
+    if data is not rows:  # a header: its units, and no second time or strain column
+        t_conv, e_conv = (_history_unit(path, rows[0], j, role)
+                          for j, role in ((it, "time"), (ie, "strain")))
+        _history_rivals(path, rows, it, "time", t_conv)
+        _history_rivals(path, rows, ie, "strain", e_conv)
+        arr[:, 0], arr[:, 1] = t_conv(arr[:, 0])[0], e_conv(arr[:, 1])[0]
     return from_rest(arr[:, 0], arr[:, 1])
+
+
+def _history_unit(path: Any, head: list[str], j: int, role: str) -> Any:
+    """Values of a history column -> s or engineering strain, from its header's unit."""
+    col = _classify(j, head[j])
+    unit = col.unit if col is not None else ""
+    factor = _unit_factor(role, unit)
+    if factor is None or (col is not None and col.ambiguous):
+        raise DataError(f"{path}, column {head[j]!r}: unit {unit!r} is not understood for "
+                        f"{role}: use {'s, ms, min or h' if role == 'time' else 'none or %'} "
+                        f"(e.g. '{role}_{'s' if role == 'time' else '%'}')")
+    if col is not None and col.kind == "log":
+        return lambda v: (np.expm1(v * factor), np.exp(v * factor) * factor)
+    return lambda v: (v * factor, np.full_like(v, factor))
+
+
+def _history_rivals(path: Any, rows: list[list[str]], j: int, role: str, conv: Any) -> None:
+    """Another column that could be the history's time (or strain) must agree with the one
+    read to within twice their written rounding, or the file is refused."""
+    head = rows[0]
+    for k, h in enumerate(head):
+        col = _classify(k, h)
+        if k == j or col is None or col.role != role or col.rank >= 2.0:
+            continue
+        a, ra = _cells([r[j] if j < len(r) else "" for r in rows[1:]])
+        b, rb = _cells([r[k] if k < len(r) else "" for r in rows[1:]])
+        with np.errstate(over="ignore", invalid="ignore"):
+            xa, da = conv(a)
+            xb, db = _history_unit(path, head, k, role)(b)
+        tol = ROUNDINGS * (np.abs(da) * ra + np.abs(db) * rb)
+        bad = np.flatnonzero(np.abs(xa - xb) > tol + 1e-12 * np.nanmax(np.abs(xa)))
+        if bad.size:
+            i = int(bad[0])
+            raise DataError(
+                f"{path}, data row {i + 2}: columns {h!r} and {head[j]!r} could both be the "
+                f"{role} but differ ({xb[i]:.6g} vs {xa[i]:.6g}{' s' if role == 'time' else ''})"
+                f": the history reads {head[j]!r}; delete or rename the other"
+            )
 
 
 def _history_rows(path: str | os.PathLike[str]) -> list[list[str]]:
