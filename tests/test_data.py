@@ -640,8 +640,9 @@ def test_hostile_but_valid_files_read_correctly(tmp_path, raw):
         ("strain,force_N\n0,0\n-0.1,-1\n", ["no stress column", "'force_N'"]),
         ("displacement,stress\n0,0\n-0.1,-1\n", ["no strain or stretch column"]),
         ("strain_rate,strain,stress\n-1,0,0\n,-0.1,-1\n", ["line 3", "rate is missing"]),
-        ("strain,stress,true_stress_MPa,nominal_stress_MPa\n0,0,0,0\n-0.1,-1,-1,-1\n",
-         ["several columns could be the stress"]),
+        ("strain,stress,true_stress_MPa,nominal_stress_MPa\n0,0,0,0\n-0.1,-1.0,-1.0,-2.0\n",
+         ["line 3", "'nominal_stress_MPa' and 'stress' could both be the stress",
+          "--columns stress="]),
         ("strain,stress\n0,0\n-0.2,-2\n-0.1,-1\n", ["line 4", "goes back", "sort=True"]),
         ("strainstress\n0\n", ["one column"]),
         ("# strain_rate: fast\nstrain,stress\n0,0\n-0.1,-1\n", ["'# strain_rate: fast'"]),
@@ -869,8 +870,8 @@ def test_read_history_feeds_the_model(tmp_path):
 
 # ============================================================ package layout
 _DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_modes",
-                 "_histories", "_attributes", "_columns", "_table", "_specs", "_curve",
-                 "_moduli", "_moduli_table", "_readers"]
+                 "_histories", "_attributes", "_columns", "_table", "_ambiguous", "_specs",
+                 "_curve", "_moduli", "_moduli_table", "_readers"]
 
 
 def test_the_data_package_imports_one_way():

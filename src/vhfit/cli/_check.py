@@ -17,7 +17,8 @@ from vhfit.export.check import card_solver, check_card
 
 __all__ = ["cmd_check"]
 
-_DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time")
+_DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time",
+                 "columns", "units", "group_by", "select")
 
 
 def cmd_check(args) -> int:

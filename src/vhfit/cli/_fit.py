@@ -263,6 +263,7 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
             )
         kw["deformation"] = tests[0] if len(tests) == 1 else list(tests)
     kw["n_points"] = args.points
+    kw.update(_data_choices(args))
     curves = read_csv(files, **kw)
     if not curves:
         raise UsageError(f"{', '.join(files)}: no curves found; check the files' columns")
@@ -285,6 +286,35 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
         curves = [trimmed(c) for c in curves]
     inputs = [{"path": os.path.abspath(f), "sha256": _sha256(f)} for f in files]
     return curves, inputs
+
+
+def _data_choices(args) -> dict[str, Any]:
+    """read_csv's ``columns=``, ``units=``, ``group_by=`` and ``select=`` from ``--columns``,
+    ``--units``, ``--group-by`` and ``--select`` (pairs as parsed, or as a results file
+    records them)."""
+    kw: dict[str, Any] = {}
+    columns: dict[str, Any] = {}
+    for role, name in getattr(args, "columns", None) or []:
+        if role.lower() == "ignore":
+            columns.setdefault("ignore", []).append(name)
+        elif role in columns:
+            raise UsageError(f"--columns {role}= given twice: give each role once")
+        else:
+            columns[role] = name or None
+    units: dict[str, str] = {}
+    for role, unit in getattr(args, "units", None) or []:
+        if role in units:
+            raise UsageError(f"--units {role}= given twice: give each role once")
+        units[role] = unit
+    select: dict[str, Any] = {}
+    for col, value in getattr(args, "select", None) or []:
+        select.setdefault(col, []).append(value)
+    select = {c: v[0] if len(v) == 1 else v for c, v in select.items()}
+    for key, val in (("columns", columns), ("units", units), ("select", select),
+                     ("group_by", list(getattr(args, "group_by", None) or []))):
+        if val:
+            kw[key] = val
+    return kw
 
 
 # ================================================================ the fit job
@@ -529,7 +559,8 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
 
 def _jsonable(d: dict) -> dict:
     out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
-    for later in ("deformation", "formulation", "tref", "shift"):
+    for later in ("deformation", "formulation", "tref", "shift", "columns", "units",
+                  "group_by", "select"):
         if out.get(later, "") is None:  # not given: the record is as before the flag
             del out[later]
     return out

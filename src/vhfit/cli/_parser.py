@@ -147,6 +147,38 @@ def _shift(text: str) -> tuple[str, tuple[float, ...]]:
     return law, vals
 
 
+def _pair(flag: str, form: str) -> Callable[[str], tuple[str, str]]:
+    """``KEY=VALUE`` of a repeatable flag (``--columns stress=S11``) as (KEY, VALUE)."""
+    def conv(text: str) -> tuple[str, str]:
+        key, sep, value = text.partition("=")
+        if not sep or not key.strip():
+            raise argparse.ArgumentTypeError(f"{flag} {text!r}: give {form}")
+        return key.strip(), value.strip()
+
+    return conv
+
+
+def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
+    """--columns, --units, --group-by and --select of the files' reader."""
+    p.add_argument("--columns", type=_pair("--columns", "ROLE=NAME, e.g. stress=stress_kPa"),
+                   action="append", metavar="ROLE=NAME", default=default,
+                   help="the column holding a role (strain, stretch, stress, time, rate, "
+                        "temperature, frequency, storage, ...): overrides recognition; "
+                        "ROLE= (empty NAME) ignores the role; ignore=NAME ignores a column "
+                        "(repeatable)")
+    p.add_argument("--units", type=_pair("--units", "ROLE=UNIT, e.g. stress=kPa"),
+                   action="append", metavar="ROLE=UNIT", default=default,
+                   help="the unit of a role's column where its header has none or a wrong "
+                        "one, e.g. stress=kPa (repeatable)")
+    p.add_argument("--group-by", action="append", metavar="COLUMN", default=default,
+                   help="split each file into one curve per value of this column, e.g. "
+                        "--group-by region (repeatable)")
+    p.add_argument("--select", type=_pair("--select", "COLUMN=VALUE, e.g. region=cortex"),
+                   action="append", metavar="COLUMN=VALUE", default=default,
+                   help="keep only the rows where COLUMN holds VALUE (repeatable; the same "
+                        "column twice keeps either value)")
+
+
 def _solvers(text: str) -> list[str]:
     """``--for abaqus,ansys`` -> ['abaqus', 'ansys'] (names or aliases of the solver records)."""
     out = []
@@ -299,6 +331,7 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                    help="known time-temperature shift at --tref: wlf:C1,C2 or "
                         "arrhenius:E_A[,T0] (default: built from the sweeps' overlap and "
                         "fitted by WLF); a WLF shift goes into the Abaqus and Ansys cards")
+    _add_data_choices(p)
     _add_fit_options(p, demo=False)
     p.set_defaults(func=cmd_fit)
 
@@ -446,6 +479,7 @@ def _add_check(sub, common: argparse.ArgumentParser) -> None:
                    action="append", default=d, help="as for fit (default: the fit's)")
     p.add_argument("--trim-time", type=_window("--trim-time"), metavar="LOW:HIGH",
                    action="append", default=d, help="as for fit (default: the fit's)")
+    _add_data_choices(p, default=d)
     p.add_argument("--json", action="store_true", help="print the card check as JSON")
     p.set_defaults(func=cmd_check)
 

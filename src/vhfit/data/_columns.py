@@ -64,8 +64,12 @@ _TRUE_WORDS = {"true", "cauchy"}
 _LOG_WORDS = {"true", "log", "logarithmic", "hencky", "natural"}
 _AXIAL_WORDS = {"axial", "uniaxial"}
 _SHEAR_WORDS = {"gamma", "γ"}  # the amount of shear of simple shear, alone
+#: Measured channels, never an amount of shear ('shear_force_N', 'shear_displacement_mm').
+_CHANNEL_WORDS = {"force", "load", "displacement", "disp", "position", "extension"}
 _ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate", "strain2", "stretch2", "stress2",
-              "deformation")
+              "deformation", "ignore")
+#: Symbols that name a quantity: after its keyword a descriptive word, never a unit.
+_SYMBOLS = {"sigma", "σ", "epsilon", "eps", "ε", "lambda", "λ", "gamma", "γ"}
 _GROUP_NAMES = {"curve", "test", "specimen", "name"}
 #: Headers of a text column naming each row's test (its values: deformation names).
 _DEFORMATION_NAMES = {"deformation", "deformation_mode", "mode", "test_mode", "test_type",
@@ -123,6 +127,7 @@ class _Col:
     unit: str  # as written ("" if none)
     kind: str = ""  # strain: "eng" | "log" | "shear"; stress: "engineering" | "true" | ""
     # stretch: "" | "or_shear" (a stretch, or the amount of shear on simple-shear rows)
+    ambiguous: str = ""  # why the unit suffix may be a word instead ("" if it cannot)
 
 
 def _split_header(h: str) -> tuple[list[str], str | None]:
@@ -180,10 +185,11 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
                 break
             return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
     if tokens[0] in _SHEAR_WORDS or (
-            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS)):
+            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS
+                                                     | _CHANNEL_WORDS)):
         # "gamma", "shear_strain", "amount_of_shear": the amount of shear γ
         k = next(i for i, t in enumerate(tokens) if t in _SHEAR_WORDS | {"shear"})
-        quals, u = after_unit(k, _STRAIN_WORDS | {"amount"})
+        quals, u = after_unit(k, _STRAIN_WORDS | _SHEAR_WORDS | {"amount", "of", "shear"})
         return _Col(index, header, "strain", 0.0, u, "shear")
     for k, tok in enumerate(tokens):
         before = set(tokens[:k])
@@ -192,14 +198,16 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
             q = before | set(quals)
             kind = ("true" if q & _TRUE_WORDS else "engineering" if q & _ENG_WORDS else "")
             other = q - _ENG_WORDS - _TRUE_WORDS - {"shear"}
-            return _Col(index, header, "stress", 2.0 if other else 0.0, u, kind)
+            return _overbar(_Col(index, header, "stress", 2.0 if other else 0.0, u, kind),
+                            tok, unit)
         if tok in _STRAIN_WORDS:
             quals, u = after_unit(k, _ENG_WORDS | _LOG_WORDS | _AXIAL_WORDS)
             q = before | set(quals)
             kind = "log" if q & _LOG_WORDS else "eng"
             other = q - _ENG_WORDS - _LOG_WORDS - _AXIAL_WORDS
-            return _Col(index, header, "strain", 2.0 if other else (1.0 if kind == "log" else 0.0),
-                        u, kind)
+            return _overbar(_Col(index, header, "strain",
+                                 2.0 if other else (1.0 if kind == "log" else 0.0), u, kind),
+                            tok, unit)
         if tok in _STRETCH_WORDS:
             rest = tokens[k + 1 :]
             u = unit if unit is not None else ""
@@ -210,6 +218,13 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
             other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS
             return _Col(index, header, "stretch", 0.5 + (1.5 if other else 0.0), u)
     return None
+
+
+def _overbar(col: _Col, keyword: str, bracketed: str | None) -> _Col:
+    """``sigma_bar``: 'bar' after a symbol may be the unit or an overbar (a mean)."""
+    if keyword in _SYMBOLS and bracketed is None and _norm_unit(col.unit) == "bar":
+        col.ambiguous = "'bar' after a symbol may be the unit or an overbar (a mean)"
+    return col
 
 
 @dataclass
@@ -225,6 +240,11 @@ class _Plan:
     deform2: _Col | None = None  # λ2 or λ2 − 1 of a biaxial test
     stress2: _Col | None = None  # stress in direction 2
     deformation: _Col | None = None  # a text column naming each row's test
+    #: other columns that could hold a role's quantity (plan role -> columns), to be
+    #: compared with the chosen one by value (``_ambiguous._settle``)
+    alternates: dict[str, list[_Col]] = field(default_factory=dict)
+    alt_factors: dict[int, float] = field(default_factory=dict)  # column -> unit factor
+    ignored: set[int] = field(default_factory=set)  # columns={'ignore': ...}
 
 
 
@@ -236,38 +256,57 @@ def _resolve_columns(
     src: str,
 ) -> _Plan:
     """The columns that feed a curve and their unit factors, or a DataError saying why not."""
-    cols = [_classify(j, h) for j, h in enumerate(names)]
+    columns = dict(columns or {})
+    ignored = _ignored_columns(names, columns.pop("ignore", None), src)
+    cols = [None if j in ignored else _classify(j, h) for j, h in enumerate(names)]
     explicit = _explicit_columns(names, cols, columns, src)
-    deform = _deform_column(cols, explicit, src)
-    stress = _best_column(cols, explicit, ("stress",), "stress", src, prefer_measure=measure)
-    time = _best_column(cols, explicit, ("time",), "time", src)
-    rate = _best_column(cols, explicit, ("rate",), "strain rate", src)
+    alts: dict[str, list[_Col]] = {}
+    deform = _deform_column(cols, explicit, src, alts.setdefault("deform", []))
+    stress = _best_column(cols, explicit, ("stress",), "stress", src, prefer_measure=measure,
+                          pool=alts.setdefault("stress", []))
+    time = _best_column(cols, explicit, ("time",), "time", src, pool=alts.setdefault("time", []))
+    rate = _best_column(cols, explicit, ("rate",), "strain rate", src,
+                        pool=alts.setdefault("rate", []))
     header_list = ", ".join(map(_short, names[:12])) + (
         f" and {len(names) - 12} more" if len(names) > 12 else "")
     if deform is None:
         raise DataError(
             f"{src}: no strain or stretch column among {header_list}: name one 'strain' "
-            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'}"
+            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'} (command "
+            "line: --columns strain=NAME)"
         )
     if stress is None:
         raise DataError(
             f"{src}: no stress column among {header_list}: name one 'stress_MPa' (or "
-            "'stress [kPa]', ...), or pass columns={'stress': '<header>'}; force and "
+            "'stress [kPa]', ...), or pass columns={'stress': '<header>'} (command line: "
+            "--columns stress=NAME); force and "
             "displacement must first be converted with the specimen's area and gauge length"
         )
-    deform2 = _second_deform_column(cols, explicit, src)
+    deform2 = _second_deform_column(cols, explicit, src, alts.setdefault("deform2", []))
     stress2 = _best_column(cols, explicit, ("stress2",), "second stress", src,
-                           prefer_measure=measure)
+                           prefer_measure=measure, pool=alts.setdefault("stress2", []))
     dcol = _best_column(cols, explicit, ("deformation",), "deformation", src)
     plan = _Plan(deform, stress, time, rate, deform2=deform2, stress2=stress2,
-                 deformation=dcol)
+                 deformation=dcol, ignored=ignored)
     for role, col in (("deform", deform), ("stress", stress), ("time", time), ("rate", rate),
                       ("deform2", deform2), ("stress2", stress2)):
         if col is not None:
             plan.factors[role] = _column_factor(col, units, src)
+        if col is not None and alts.get(role):
+            plan.alternates[role] = alts[role]
+            for c in alts[role]:
+                plan.alt_factors[c.index] = _column_factor(c, units, src, rival=col)
     if stress.kind:
         plan.measure = stress.kind
     return plan
+
+
+def _ignored_columns(names: list[str], given: Any, src: str) -> set[int]:
+    """The columns of ``columns={'ignore': header or [headers]}``."""
+    if given is None:
+        return set()
+    given = [given] if isinstance(given, (str, int, np.integer)) else list(given)
+    return {_explicit_index("ignore", g, names, src) for g in given}
 
 
 def _explicit_columns(
@@ -281,7 +320,8 @@ def _explicit_columns(
                 "shear": "strain"}.get(role, role)
         if role not in _ROLE_KEYS:
             raise DataError(
-                f"{src}: columns={{{key!r}: ...}}: unknown role; use {', '.join(_ROLE_KEYS)}"
+                f"{src}: columns={{{key!r}: ...}} (--columns {key}=NAME): unknown role; use "
+                f"{', '.join(_ROLE_KEYS)}"
             )
         if val is None:
             explicit[role] = None
@@ -312,14 +352,14 @@ def _explicit_index(key: Any, val: Any, names: list[str], src: str) -> int:
     hits = [j for j, h in enumerate(names) if _plain(h) == wanted]
     if not hits:
         raise DataError(
-            f"{src}: columns={{{key!r}: {val!r}}}: no such column; the header has "
-            f"{', '.join(map(repr, names))}"
+            f"{src}: columns={{{key!r}: {val!r}}} (--columns {key}={val}): no such column; the "
+            f"header has {', '.join(map(repr, names))}"
         )
     return hits[0]
 
 
 def _deform_column(
-    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str
+    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str, pool: list[_Col]
 ) -> _Col | None:
     """The strain column, else the stretch column (a given one first)."""
     if "strain" in explicit and explicit["strain"] is not None:
@@ -327,18 +367,20 @@ def _deform_column(
     if "stretch" in explicit and explicit["stretch"] is not None:
         return explicit["stretch"]
     roles = tuple(r for r in ("strain", "stretch") if r not in explicit)
-    return _best_column(cols, explicit, roles, "strain or stretch", src) if roles else None
+    return (_best_column(cols, explicit, roles, "strain or stretch", src, pool=pool)
+            if roles else None)
 
 
 def _second_deform_column(
-    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str
+    cols: list[_Col | None], explicit: dict[str, _Col | None], src: str, pool: list[_Col]
 ) -> _Col | None:
     """The λ2 − 1 column, else the λ2 column, of a biaxial test (a given one first)."""
     for r in ("strain2", "stretch2"):
         if explicit.get(r) is not None:
             return explicit[r]
     roles = tuple(r for r in ("strain2", "stretch2") if r not in explicit)
-    return _best_column(cols, explicit, roles, "second strain or stretch", src) if roles else None
+    return (_best_column(cols, explicit, roles, "second strain or stretch", src, pool=pool)
+            if roles else None)
 
 
 def _best_column(
@@ -348,8 +390,17 @@ def _best_column(
     what: str,
     src: str,
     prefer_measure: str | None = None,
+    pool: list[_Col] | None = None,
 ) -> _Col | None:
-    """The given column of one of ``roles``, else the best-ranked recognised one."""
+    """The given column of one of ``roles``, else the best-ranked recognised one.
+
+    With ``pool`` (a quantity that can be compared by value), ties are not refused here:
+    the column read is the best-ranked (a stress in MPa first, then the first in the
+    file), and every other column that could hold the same quantity — recognised without
+    an unknown qualifier word (``crosshead_strain``, ``target_strain`` are other
+    channels), of the same kind (an amount of shear is no stretch) — goes into ``pool``
+    to be compared with it by value.
+    """
     for r in roles:
         if r in explicit:
             return explicit[r]
@@ -359,6 +410,12 @@ def _best_column(
     if not cands:
         return None
     top = min(c.rank for c in cands)
+    if pool is not None:
+        cands = [c for c in cands if (c.rank < 2.0 if top < 2.0 else c.rank == top)]
+        cands.sort(key=lambda c: (c.rank, "stress" in what and _norm_unit(c.unit)
+                                  not in ("mpa", "n/mm2"), c.index))
+        pool.extend(c for c in cands[1:] if _family(c) == _family(cands[0]))
+        return cands[0]
     cands = [c for c in cands if c.rank == top]
     if len(cands) > 1 and what == "stress" and all(c.unit for c in cands):
         # the same stress in two units (e.g. kgf/cm2 and MPa): take the MPa one
@@ -369,9 +426,17 @@ def _best_column(
         raise DataError(
             f"{src}: several columns could be the {what}: "
             f"{', '.join(repr(c.header) for c in cands)}: say which with "
-            f"columns={{'{roles[0]}': '<header>'}}"
+            f"columns={{'{roles[0]}': '<header>'}} (command line: --columns "
+            f"{roles[0]}=NAME)"
         )
     return cands[0]
+
+
+def _family(col: _Col) -> str:
+    """Columns of one family hold the same quantity after conversion."""
+    if col.kind in ("shear", "or_shear"):
+        return col.kind
+    return col.role.rstrip("2").replace("stretch", "strain")
 
 
 def _stress_candidates(cands: list[_Col], prefer_measure: str | None) -> list[_Col]:
@@ -388,18 +453,29 @@ def _stress_candidates(cands: list[_Col], prefer_measure: str | None) -> list[_C
     return cands
 
 
-def _column_factor(col: _Col, units: Mapping[str, str] | None, src: str) -> float:
-    """Factor from the column's unit (the header's, or ``units=``) to MPa, s or 1/s."""
+def _column_factor(col: _Col, units: Mapping[str, str] | None, src: str,
+                   rival: _Col | None = None) -> float:
+    """Factor from the column's unit (the header's, or ``units=``) to MPa, s or 1/s
+    (``rival``: the column read instead, when ``col`` is only compared with it)."""
     r = col.role.rstrip("2")
     u = (units or {}).get(col.role, (units or {}).get(r))
     if u is None and r == "rate":
         u = (units or {}).get("strain_rate")
+    given = u is not None
     u = col.unit if u is None else u
     f = _unit_factor(r, u)
-    if f is None:
+    if f is not None and (given or not col.ambiguous):
+        return f
+    why = col.ambiguous or f"unit {u!r} is not understood for {r}"
+    if rival is not None:
         raise DataError(
-            f"{src}, column {col.header!r}: unit {u!r} is not understood for {r}: use "
-            f"{_UNIT_HINT[r]} (e.g. '{r}_{'MPa' if r == 'stress' else 's'}'), or pass "
-            f"units={{'{r}': ...}}"
+            f"{src}, column {col.header!r}: could also be the {r} beside {rival.header!r}, "
+            f"but {why}: say which column is the {r} with columns={{'{r}': {rival.header!r}}} "
+            f"(command line: --columns {r}={rival.header}), or its unit with "
+            f"units={{'{r}': ...}} (--units {r}=UNIT)"
         )
-    return f
+    raise DataError(
+        f"{src}, column {col.header!r}: {why}: use "
+        f"{_UNIT_HINT[r]} (e.g. '{r}_{'MPa' if r == 'stress' else 's'}'), or pass "
+        f"units={{'{r}': ...}} (command line: --units {r}=UNIT)"
+    )

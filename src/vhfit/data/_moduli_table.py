@@ -12,13 +12,21 @@ name the file, line and column.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from vhfit.data._ambiguous import (
+    _Cand,
+    _check_text_columns,
+    _col_index,
+    _scaled,
+    _select_rows,
+    _settle,
+)
 from vhfit.data._columns import _STRESS_UNITS, _TIME_UNITS, _classify, _norm_unit
 from vhfit.data._errors import DataError, _norm_key, _Subset
 from vhfit.data._moduli import FrequencySweep, Relaxation
@@ -47,6 +55,10 @@ class _MCol:
 @dataclass
 class _MPlan:
     cols: dict[str, _MCol] = field(default_factory=dict)
+    #: other columns that could hold a role's quantity (a frequency also: an angular
+    #: frequency), compared with the chosen one by value before it is read
+    alternates: dict[str, list[_MCol]] = field(default_factory=dict)
+    ignored: set[int] = field(default_factory=set)
 
     @property
     def is_sweep(self) -> bool:
@@ -112,7 +124,9 @@ def _classify_header(j: int, header: str) -> _MCol | None:
         return _MCol(j, header, "set", "")
     if first == "t" and unit is None and len(tokens) == 2 and _is_temperature(tokens[1]):
         return _MCol(j, header, "temperature", tokens[1])
-    if first in ("temperature", "temp", "t") and (first != "t" or _is_temperature(unit)):
+    if (first in ("temperature", "temp", "t") and (first != "t" or _is_temperature(unit))) or (
+            {"temperature", "temp"} & set(tokens) and "rate" not in tokens):
+        # also with qualifiers: 'nominal_temperature_C', 'measured_sample_temperature_C'
         rest, u = _trailing_unit(tokens, {"c": 1, "°c": 1, "degc": 1, "k": 1})
         return _MCol(j, header, "temperature", unit if unit is not None else u)
     if first in ("omega", "ω", "w") or "angular" in tokens:
@@ -146,20 +160,26 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
     strain column (a DMA export's strain amplitude); a time column with a modulus makes
     a relaxation test only in a file without strain and stress columns.
     """
-    plan = _MPlan()
+    plan = _MPlan(ignored=_ignored(names, (columns or {}).get("ignore"), src))
     for j, h in enumerate(names):
-        c = _classify_header(j, h)
+        c = None if j in plan.ignored else _classify_header(j, h)
         if c is None:
             continue
         if c.role in plan.cols:
-            raise DataError(f"{src}: columns {plan.cols[c.role].header!r} and {h!r} could both "
-                            f"be the {c.role.replace('_', ' ')}: pass columns={{'{c.role}': "
-                            "'<header>'}}")
-        plan.cols[c.role] = c
+            plan.alternates.setdefault(c.role, []).append(c)
+        else:
+            plan.cols[c.role] = c
+    if "frequency" in plan.cols and "omega" in plan.cols:  # the same axis twice
+        plan.alternates.setdefault("frequency", []).append(plan.cols.pop("omega"))
+        plan.alternates["frequency"] += plan.alternates.pop("omega", [])
     for key, val in (columns or {}).items():
         role = _norm_key(key)
         if role not in _ROLES:
             continue
+        plan.alternates.pop(role, None)  # the user chose
+        if role in ("frequency", "omega"):
+            plan.alternates.pop("frequency", None)
+            plan.cols.pop("omega" if role == "frequency" else "frequency", None)
         if val is None:  # ignore that column
             plan.cols.pop(role, None)
             continue
@@ -185,6 +205,42 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
     return None
 
 
+def _ignored(names: list[str], given: Any, src: str) -> set[int]:
+    """Columns of ``columns={'ignore': header or [headers]}``."""
+    if given is None:
+        return set()
+    out = set()
+    for g in [given] if isinstance(given, (str, int)) else list(given):
+        hits = [j for j, h in enumerate(names) if h.strip().lower() == str(g).strip().lower()
+                or (isinstance(g, int) and j == g)]
+        if not hits:
+            raise DataError(f"{src}: columns={{'ignore': {g!r}}} (--columns ignore={g}): no "
+                            f"such column; the header has {', '.join(map(repr, names))}")
+        out.update(hits)
+    return out
+
+
+def _settle_moduli(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
+                   rows: np.ndarray) -> None:
+    """Each role with several columns: the finest-written one if they agree on ``rows`` to
+    within their rounding (moduli as E = 3G, angular frequencies in Hz), else refused."""
+    src = table.source
+    for role, alts in list(plan.alternates.items()):
+        cols = [plan.cols[role]] + alts
+        cands = []
+        for c in cols:
+            f = _factor(c, units, src) * (3.0 if c.kind == "G" else 1.0)
+            if c.role == "omega":
+                f /= 2 * np.pi
+            cands.append(_Cand(c.index, c.header, c.role, _scaled(f)))
+        unit = {"frequency": " Hz", "time": " s", "temperature": "", "set": "",
+                "tan_delta": ""}.get(role, " MPa")
+        k = _settle(table, rows, cands, role.replace("_", " "), unit)
+        plan.cols.pop(role)
+        plan.cols[cols[k].role] = cols[k]
+        del plan.alternates[role]
+
+
 def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
     """Factor of a column to MPa, Hz, rad/s or s (the header's unit or ``units=``)."""
     u = (units or {}).get(col.role, (units or {}).get("modulus" if col.role in _MODULUS_ROLES
@@ -202,16 +258,20 @@ def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
     if f is None:
         raise DataError(f"{src}, column {col.header!r}: unit {u!r} is not understood for "
                         f"{col.role.replace('_', ' ')}: use {hint}, or pass units={{"
-                        f"'{col.role}': ...}}")
+                        f"'{col.role}': ...}} (command line: --units {col.role}=UNIT)")
     return float(f)
 
 
 def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
-                  name: str | None) -> list[FrequencySweep | Relaxation]:
-    """One sweep or relaxation test per temperature of the table."""
+                  name: str | None, group_by: str | Sequence[str] | None = None,
+                  select: Mapping[str, Any] | None = None) -> list[FrequencySweep | Relaxation]:
+    """One sweep or relaxation test per group (``group_by``) and temperature of the
+    table's selected rows (``select``)."""
     src = table.source
     meta = {_norm_key(k): v for k, v in table.meta.items()}
     units = {**{k[:-5]: v for k, v in meta.items() if k.endswith("_unit")}, **(units or {})}
+    sel = _select_rows(table, select)
+    _settle_moduli(table, plan, units, sel)
     cols = plan.cols
     if plan.is_sweep and not cols.keys() & {"storage", "loss", "modulus", "tan_delta"}:
         raise DataError(f"{src}: a frequency column but no moduli: add storage and loss "
@@ -219,25 +279,37 @@ def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
     if not plan.is_sweep and "relaxation" not in cols:
         raise DataError(f"{src}: moduli columns but no frequency column: add 'frequency_Hz' "
                         "(or 'omega_rad/s')")
-    values = {r: table.floats(c.index) * _factor(c, units, src) for r, c in cols.items()}
+    values = {r: table.floats(c.index, sel) * _factor(c, units, src) for r, c in cols.items()}
     kinds = {c.kind for r, c in cols.items() if r in _MODULUS_ROLES}
     kind = meta.get("kind", "G" if kinds == {"G"} else "E")
     stem = Path(src).stem if src and not src.startswith("<") else (src or "data")
     base = name or meta.get("name") or stem
     temps = values.get("temperature")
-    groups = ([(None, np.arange(table.n_rows))] if temps is None else
-              _levels(temps, values.get("set")))
+    gcols = [_col_index(table, g, "group_by")
+             for g in ([group_by] if isinstance(group_by, str) else group_by or [])]
+    groups = []
+    for part, m in _parts(table, sel, gcols):
+        if temps is None:
+            groups.append((part, None, m))
+        else:
+            sets = values.get("set")
+            groups += [(part, T, m[r]) for T, r in _levels(temps[m], None if sets is None
+                                                           else sets[m])]
+    skip = {c.index for c in cols.values()} | plan.ignored | set(gcols)
+    skip |= {_col_index(table, h, "select") for h in (select or {})}
+    _check_text_columns(table, sel, [g[2] for g in groups], skip)
     values.pop("set", None)
     headers = {r: c.header for r, c in cols.items() if r != "set"}
     if "relaxation" in headers:
         headers["modulus"] = headers.pop("relaxation")
     out: list[FrequencySweep | Relaxation] = []
-    for T, rows in groups:
+    for part, T, rows in groups:
         T = T if T is not None else meta.get("temperature")
-        label = base if temps is None else f"{base} [T = {T:g}]"
+        tags = ([part] if part else []) + ([] if temps is None else [f"T = {T:g}"])
+        label = f"{base} [{', '.join(tags)}]" if tags else base
         v = {r: a[rows] for r, a in values.items()}
         common = dict(kind=kind, temperature=T, name=label, source=src, _headers=headers,
-                      _rows=_Subset(table.labels, rows))
+                      _rows=_Subset(table.labels, sel[rows]))
         if plan.is_sweep:
             if "frequency" in v:
                 common["frequency"] = v["frequency"]
@@ -247,6 +319,18 @@ def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
         else:
             out.append(Relaxation(time=v["time"], modulus=v["relaxation"], **common))
     return out
+
+
+def _parts(table: _Table, sel: np.ndarray, gcols: list[int]) -> list[tuple[str, np.ndarray]]:
+    """(label, positions in ``sel``) of each group of the ``group_by`` columns, in order
+    of appearance; one unlabelled group without them."""
+    if not gcols:
+        return [("", np.arange(sel.size))]
+    keys = [", ".join(t) for t in zip(*(table.texts(j)[sel] for j in gcols))]
+    order: dict[str, list[int]] = {}
+    for k, key in enumerate(keys):
+        order.setdefault(key, []).append(k)
+    return [(key, np.asarray(m)) for key, m in order.items()]
 
 
 def _levels(temps: np.ndarray, sets: np.ndarray | None) -> list[tuple[float, np.ndarray]]:

@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.data._ambiguous import ROUNDINGS, _cells
+from vhfit.data._columns import _classify, _unit_factor
 from vhfit.data._curve import Curve, _curves_from_table
 from vhfit.data._errors import DataError
 from vhfit.data._moduli import FrequencySweep, Relaxation
@@ -71,16 +73,23 @@ def read_csv(
     columns : mapping, optional
         Role -> header name (or 0-based index) for ``"strain"``, ``"stretch"``,
         ``"stress"``, ``"time"``, ``"rate"``, overriding recognition; ``None`` ignores a
-        column (e.g. ``{"time": None}`` to treat a test as constant-rate).
+        role (e.g. ``{"time": None}`` to treat a test as constant-rate);
+        ``"ignore"`` -> a header or a list of them ignores those columns. Several columns
+        that could hold one role are compared by value: agreeing within twice their
+        written rounding, the finest is read; disagreeing, an error says to choose here.
     units : mapping, optional
-        Role -> unit, where the header has none or a wrong one, e.g. ``{"stress": "kPa"}``.
+        Role -> unit, where the header has none or a wrong one, e.g. ``{"stress": "kPa"}``;
+        an unknown role is an error.
     names : sequence of str, optional
         Column names for files without a header row (or to replace the header).
     group_by : str or sequence of str, optional
-        Column(s) whose values tell the curves of a long file apart.
+        Column(s) whose values tell the curves of a long file apart. A text column that
+        varies inside one curve without it (nor ``select=``, nor ``"ignore"``) is an error.
     select : mapping, optional
-        Keep only rows whose column equals a value (or one of a list), e.g.
-        ``{"mode": "uniaxial_tension_compression"}``.
+        Keep only rows whose column equals a value (or one of a list; text is compared
+        case-insensitively, numbers by value), e.g.
+        ``{"mode": "uniaxial_tension_compression"}``; a value that is not there is an
+        error listing those present.
     sort : bool, default False
         Sort each curve's rows by time (or by |strain| without time) instead of
         rejecting rows out of order.
@@ -103,8 +112,9 @@ def read_csv(
         A file of moduli (a frequency column with storage and loss moduli, or |E*| and
         tan δ; or a time column with a relaxation modulus) gives a
         :class:`FrequencySweep` or :class:`Relaxation` per temperature of its temperature
-        column (one without); ``columns=``, ``units=`` and ``names=`` apply to it, the
-        options of stress–strain curves do not (docs/data.md).
+        column (one without; per value of ``group_by=`` too); ``columns=``, ``units=``,
+        ``names=``, ``group_by=`` and ``select=`` apply to it, the options of
+        stress–strain curves do not (docs/data.md).
 
     Raises
     ------
@@ -155,6 +165,7 @@ def read_csv(
         paths = list(path_or_paths)
         if not paths:
             raise DataError("read_csv: no files given")
+    _check_unit_roles(units)
     rates = _per_file(rate, "rates", len(paths), np.ndim(rate) == 0)
     tests = _per_file(deformation, "deformations", len(paths), isinstance(deformation, str))
     out: list[Curve | FrequencySweep | Relaxation] = []
@@ -162,7 +173,7 @@ def read_csv(
         table = _read_table(p, names, encoding)
         plan = _moduli_plan(table.names, columns, table.source)
         if plan is not None:
-            out.extend(_moduli_items(table, plan, units, None))
+            out.extend(_moduli_items(table, plan, units, None, group_by, select))
             continue
         out.extend(_curves_from_table(
             table, rate=None if r is None else float(r), measure=measure, mode=mode,
@@ -171,6 +182,20 @@ def read_csv(
             deformation=dfm,
         ))
     return out
+
+
+#: The roles ``units=`` may name: of stress–strain curves, then of moduli tables.
+_UNIT_ROLES = ("strain", "stretch", "stress", "time", "rate", "strain_rate", "strain2",
+               "stretch2", "stress2", "frequency", "omega", "storage", "loss", "modulus",
+               "relaxation")
+
+
+def _check_unit_roles(units: Mapping[str, str] | None) -> None:
+    """A ``units=`` role that no column can have is refused, not ignored."""
+    for role in units or {}:
+        if role not in _UNIT_ROLES:
+            raise DataError(f"units={{{role!r}: ...}} (command line: --units {role}=UNIT): "
+                            f"unknown role; use {', '.join(_UNIT_ROLES)}")
 
 
 def _per_file(value: Any, what: str, n: int, single: bool) -> list[Any]:
@@ -236,10 +261,11 @@ def curves_from_arrays(
     >>> [(c.strain_rate, float(c.target_stress[-1])) for c in cs]
     [(-1.0, -0.3), (-100.0, -0.6)]
     """
+    _check_unit_roles(units)
     table = _table_from_data(data, names, source)
     plan = _moduli_plan(table.names, columns, table.source)
     if plan is not None:  # moduli: frequency sweeps or relaxation tests
-        return _moduli_items(table, plan, units, name)
+        return _moduli_items(table, plan, units, name, group_by, select)
     return _curves_from_table(
         table, rate=rate, measure=measure, mode=mode,
         compression_positive=compression_positive, columns=columns, units=units,
@@ -256,8 +282,11 @@ def read_history(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     whose first row is numbers has no header, and its first two columns are time and
     strain. Lines starting with ``#`` and blank lines are skipped; the file is read as
     UTF-8 (with or without BOM). Time is in s, strain is engineering strain (negative in
-    compression). The material is at rest before t = 0: a first sample at t > 0 is
-    reached by a linear ramp from (0, 0) (:func:`vhfit.history.from_rest`).
+    compression), unless the header gives a unit (``time_ms``, ``t [min]``, ``strain_%``);
+    another column that could be the time or the strain must agree with the one read to
+    within twice their written rounding. The material is at rest before t = 0: a first
+    sample at t > 0 is reached by a linear ramp from (0, 0)
+    (:func:`vhfit.history.from_rest`).
 
     Parameters
     ----------
@@ -298,7 +327,51 @@ def read_history(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
         raise
     if arr.shape[0] < 2:
         raise DataError(f"{path}: needs at least 2 (time, strain) rows")
+    if data is not rows:  # a header: its units, and no second time or strain column
+        t_conv, e_conv = (_history_unit(path, rows[0], j, role)
+                          for j, role in ((it, "time"), (ie, "strain")))
+        _history_rivals(path, rows, it, "time", t_conv)
+        _history_rivals(path, rows, ie, "strain", e_conv)
+        arr[:, 0], arr[:, 1] = t_conv(arr[:, 0])[0], e_conv(arr[:, 1])[0]
     return from_rest(arr[:, 0], arr[:, 1])
+
+
+def _history_unit(path: Any, head: list[str], j: int, role: str) -> Any:
+    """Values of a history column -> s or engineering strain, from its header's unit."""
+    col = _classify(j, head[j])
+    unit = col.unit if col is not None else ""
+    factor = _unit_factor(role, unit)
+    if factor is None or (col is not None and col.ambiguous):
+        raise DataError(f"{path}, column {head[j]!r}: unit {unit!r} is not understood for "
+                        f"{role}: use {'s, ms, min or h' if role == 'time' else 'none or %'} "
+                        f"(e.g. '{role}_{'s' if role == 'time' else '%'}')")
+    if col is not None and col.kind == "log":
+        return lambda v: (np.expm1(v * factor), np.exp(v * factor) * factor)
+    return lambda v: (v * factor, np.full_like(v, factor))
+
+
+def _history_rivals(path: Any, rows: list[list[str]], j: int, role: str, conv: Any) -> None:
+    """Another column that could be the history's time (or strain) must agree with the one
+    read to within twice their written rounding, or the file is refused."""
+    head = rows[0]
+    for k, h in enumerate(head):
+        col = _classify(k, h)
+        if k == j or col is None or col.role != role or col.rank >= 2.0:
+            continue
+        a, ra = _cells([r[j] if j < len(r) else "" for r in rows[1:]])
+        b, rb = _cells([r[k] if k < len(r) else "" for r in rows[1:]])
+        with np.errstate(over="ignore", invalid="ignore"):
+            xa, da = conv(a)
+            xb, db = _history_unit(path, head, k, role)(b)
+        tol = ROUNDINGS * (np.abs(da) * ra + np.abs(db) * rb)
+        bad = np.flatnonzero(np.abs(xa - xb) > tol + 1e-12 * np.nanmax(np.abs(xa)))
+        if bad.size:
+            i = int(bad[0])
+            raise DataError(
+                f"{path}, data row {i + 2}: columns {h!r} and {head[j]!r} could both be the "
+                f"{role} but differ ({xb[i]:.6g} vs {xa[i]:.6g}{' s' if role == 'time' else ''})"
+                f": the history reads {head[j]!r}; delete or rename the other"
+            )
 
 
 def _history_rows(path: str | os.PathLike[str]) -> list[list[str]]:

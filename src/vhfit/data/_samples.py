@@ -150,7 +150,8 @@ def _clean_time_series(eps, sig, t, keep, where):
         de = np.diff(eps)
         if (de > 0).all() or (de < 0).all():
             fix = ("the strain keeps going the same way, so the time column looks wrong: fix "
-                   "it, or ignore it (read_csv(..., columns={'time': None}, rate=...))")
+                   "it, or ignore it (read_csv(..., columns={'time': None}, rate=...); command "
+                   "line: --columns time= --rate R)")
         else:
             fix = ("sort the rows by time (read_csv(..., sort=True)); if the file holds "
                    "several tests, give each its own curve (a 'test' column)")

@@ -18,10 +18,18 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.data._ambiguous import (
+    _Cand,
+    _check_text_columns,
+    _col_index,
+    _scaled,
+    _select_rows,
+    _settle,
+)
 from vhfit.data._columns import (
     _GROUP_NAMES,
     _UNITS,
-    _plain,
+    _Col,
     _Plan,
     _resolve_columns,
     _split_header,
@@ -133,7 +141,7 @@ def _table_options(
         raise DataError(
             f"{src}, column {plan.stress.header!r}: the header says {plan.measure} stress but "
             f"measure={meas!r} was given: drop measure=, or name the right column with "
-            "columns={'stress': ...}"
+            "columns={'stress': ...} (command line: --columns stress=NAME)"
         )
     if mode is None and "mode" in known:
         mode = known["mode"]
@@ -194,16 +202,6 @@ def _meta_bool(val: str, src: str, key: str) -> bool:
     raise DataError(f"{src}: '# {key}: {val}': write true or false")
 
 
-def _col_index(table: _Table, h: str) -> int:
-    """The column with header ``h`` (case-insensitive, without its unit)."""
-    want = str(h).strip().lower()
-    for j, nm in enumerate(table.names):
-        if _plain(nm) == want:
-            return j
-    raise DataError(f"{table.source}: no column {h!r}; the header has "
-                    f"{', '.join(map(repr, table.names))}")
-
-
 def _split_rows(
     table: _Table,
     plan: _Plan,
@@ -214,12 +212,14 @@ def _split_rows(
     """The selected rows, split into curves by group columns and by nominal rate."""
     src = table.source
     rows = _select_rows(table, select)
+    _settle_columns(table, plan, rows)
     rate_vals = None
     if plan.rate is not None:
         rate_vals = table.floats(
             plan.rate.index, rows,
             empty="the strain rate is missing: fill it in (1/s, negative in compression), or "
-                  "ignore the column with columns={'rate': None}",
+                  "ignore the column with columns={'rate': None} (command line: "
+                  "--columns rate=)",
         ) * plan.factors["rate"]
     gcols = _group_columns(table, group_by, rows)
     if plan.deformation is not None and plan.deformation.index not in gcols:
@@ -238,6 +238,7 @@ def _split_rows(
         members = [np.flatnonzero(inv == g) for g in order]
     else:
         members = [np.arange(rows.size)]
+    _check_text_columns(table, rows, members, _used_columns(table, plan, gcols, select))
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
@@ -246,32 +247,12 @@ def _split_rows(
     return _Groups(rows, rate_vals, len(gcols), key_cols, by_rate, members)
 
 
-def _select_rows(table: _Table, select: Mapping[str, Any] | None) -> np.ndarray:
-    """Rows whose columns hold the wanted values (``select=``); all rows without it."""
-    rows = np.arange(table.n_rows)
-    for h, want in (select or {}).items():
-        j = _col_index(table, h)
-        wants = want if isinstance(want, (list, tuple, set)) else [want]
-        vals = table.texts(j)[rows]
-        ok = np.zeros(rows.size, dtype=bool)
-        for w in wants:
-            if isinstance(w, (int, float)) and not isinstance(w, bool):
-                ok |= np.array([_try_float(v) for v in vals]) == float(w)
-            else:
-                ok |= np.array([v.lower() == str(w).strip().lower() for v in vals], dtype=bool)
-        rows = rows[ok]
-        if rows.size == 0:
-            raise DataError(f"{table.source}: select={{{h!r}: {want!r}}} keeps no rows; the "
-                            f"column holds {', '.join(sorted(set(map(str, vals)))[:6])}")
-    return rows
-
-
 def _group_columns(
     table: _Table, group_by: str | Sequence[str] | None, rows: np.ndarray
 ) -> list[int]:
     """Columns telling curves apart: ``group_by``, else a 'test'/'curve'/... column that varies."""
     if group_by is not None:
-        return [_col_index(table, g)
+        return [_col_index(table, g, "group_by")
                 for g in ([group_by] if isinstance(group_by, str) else group_by)]
     gcols = []
     for j, h in enumerate(table.names):
@@ -280,6 +261,46 @@ def _group_columns(
             if len(set(table.texts(j)[rows])) > 1:
                 gcols.append(j)
     return gcols
+
+
+#: What each plan role holds, for messages, and its unit.
+_QUANTITY = {"deform": ("strain", ""), "stress": ("stress", " MPa"), "time": ("time", " s"),
+             "rate": ("strain rate", " 1/s"), "deform2": ("second strain", ""),
+             "stress2": ("second stress", " MPa")}
+
+
+def _settle_columns(table: _Table, plan: _Plan, rows: np.ndarray) -> None:
+    """Each role with several columns that could hold it: read the finest-written one if
+    they agree on ``rows`` to within their rounding, else refuse (``_ambiguous._settle``)."""
+    for role, alts in list(plan.alternates.items()):
+        chosen = getattr(plan, role)
+        cols = [chosen] + alts
+        factors = [plan.factors[role]] + [plan.alt_factors[c.index] for c in alts]
+        cands = [_Cand(c.index, c.header, c.role, _converter(c, f)) for c, f in zip(cols, factors)]
+        what, unit = _QUANTITY[role]
+        k = _settle(table, rows, cands, what, unit)
+        setattr(plan, role, cols[k])
+        plan.factors[role] = factors[k]
+        del plan.alternates[role]
+
+
+def _converter(col: _Col, factor: float):
+    """Values of ``col`` -> the role's quantity (engineering strain, MPa, s, 1/s)."""
+    if col.role.startswith("stretch") and col.kind != "or_shear":
+        return _scaled(factor, -1.0)
+    if col.kind == "log":
+        return lambda v: (np.expm1(v * factor), np.exp(v * factor) * factor)
+    return _scaled(factor)
+
+
+def _used_columns(table: _Table, plan: _Plan, gcols: list[int],
+                  select: Mapping[str, Any] | None) -> set[int]:
+    """Columns a text-column check leaves alone: read, grouping, selecting or ignored."""
+    used = set(gcols) | plan.ignored
+    used |= {c.index for c in (plan.deform, plan.stress, plan.time, plan.rate, plan.deform2,
+                               plan.stress2, plan.deformation) if c is not None}
+    used |= {_col_index(table, h, "select") for h in (select or {})}
+    return used
 
 
 def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarray) -> np.ndarray:
@@ -291,7 +312,8 @@ def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarra
             f"{table.source}, column {plan.rate.header!r}: {uniq.size} different rates in "
             f"{rows.size} rows, {table.label(int(rows[k]))} alone at {rate_vals[k]:g}: if "
             "this is a measured rate channel, not the nominal rate of each test, ignore "
-            "it with columns={'rate': None} (and give rate= or a time column); otherwise "
+            "it with columns={'rate': None} (--columns rate=; and give rate= or a time "
+            "column); otherwise "
             "give each rate at least 2 rows"
         )
     return np.array([f"{v:.12g}" for v in rate_vals], dtype=object)
@@ -428,9 +450,3 @@ def _deformation_values(table: _Table, col: Any, r: np.ndarray, factor: float,
         return d - 1.0
     return d
 
-
-def _try_float(v: Any) -> float:
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        return float("nan")

@@ -1,0 +1,208 @@
+"""Input ambiguities of a table, settled by a stated rule or refused with the fix.
+
+Two kinds: several columns that could hold the same quantity (``stress_kPa`` beside
+``stress_MPa``, ``strain`` beside ``stretch``, ``frequency_Hz`` beside ``omega_rad/s``),
+and a text column whose values differ inside what would become one curve (a ``region``
+column naming four specimens). ``_settle`` compares candidate columns value by value after
+unit conversion: they agree when every pair of values differs by no more than twice the
+rounding of the digits written (half a unit in each value's last digit, carried through
+the conversion; twice, because a column computed from another's already rounded values
+carries that rounding too — a lab's true strain from its rounded engineering strain),
+and then the column written with the finest digits is read — nothing
+the other holds is lost; otherwise a one-line ``DataError`` names both columns and how to
+choose one. ``_check_text_columns`` refuses a varying text column that no option accounts
+for, naming ``group_by=`` / ``select=`` and their command-line flags. ``_select_rows``
+(``select=``) lives here so that curves and moduli tables share it.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from vhfit.data._errors import DataError, _short
+from vhfit.data._table import _Table
+
+_NUMBER = re.compile(r"^[+-]?(\d*)(?:[.,](\d*))?(?:[eE]([+-]?\d+))?$")
+#: Agreement of numbers that carry no rounding of their own (arrays): relative slack.
+_FLOAT_RTOL = 1e-12
+#: Columns agree within this many times the sum of their written roundings.
+ROUNDINGS = 2.0
+#: How many values of a varying text column a message lists.
+_SHOWN = 4
+
+
+@dataclass
+class _Cand:
+    """A column that could hold a quantity, and how to bring it to the quantity's unit.
+
+    ``convert(v)`` returns the converted values and the derivative d(converted)/dv, with
+    which the rounding of each written value is carried through the conversion.
+    """
+
+    index: int
+    header: str
+    key: str  # the role to name in ``columns={key: header}``
+    convert: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+
+
+def _cells(texts: Sequence[Any]) -> tuple[np.ndarray, np.ndarray]:
+    """Value and rounding (half a unit in the last digit written) of each cell; NaN for
+    a cell that is not a plain number (empty, text, nan, inf)."""
+    strs = np.char.strip(np.char.strip(np.asarray([str(t) for t in texts], dtype=str)),
+                         "\"' ")
+    if strs.size and not (np.char.count(np.char.lower(strs), "e") > 0).any():
+        try:  # the usual column of plain decimals, at numpy speed
+            vals = np.asarray(np.char.replace(strs, ",", "."), dtype=np.float64)
+        except ValueError:
+            vals = None
+        if vals is not None and np.isfinite(vals).all():
+            mark = np.maximum(np.char.find(strs, "."), np.char.find(strs, ","))
+            places = np.where(mark >= 0, np.char.str_len(strs) - mark - 1, 0)
+            return vals, 0.5 * 10.0 ** -places.astype(np.float64)
+    vals = np.full(strs.size, np.nan)
+    res = np.full(strs.size, np.nan)
+    for k, s in enumerate(strs.tolist()):
+        m = _NUMBER.match(s)
+        if m is None or not (m.group(1) or m.group(2)):
+            continue
+        try:
+            v = float(s.replace(",", "."))
+        except ValueError:
+            continue
+        if not np.isfinite(v):
+            continue
+        power = int(m.group(3) or 0) - len(m.group(2) or "")
+        vals[k] = v
+        res[k] = 0.5 * 10.0 ** min(max(power, -330), 300)
+    return vals, res
+
+
+def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit: str) -> int:
+    """Which of ``cands`` (the preferred first) to read: all must agree with the first to
+    within :data:`ROUNDINGS` times the rounding of their digits; the finest-written one
+    is read.
+
+    Raises
+    ------
+    DataError
+        Naming the first row where two of them disagree, both columns, and how to choose.
+    """
+    conv = []
+    for c in cands:
+        v, r = _cells(table.texts(c.index)[rows])
+        with np.errstate(over="ignore", invalid="ignore"):
+            x, d = c.convert(v)
+        conv.append((x, np.abs(d) * r))
+    x0, r0 = conv[0]
+    for c, (x, r) in zip(cands[1:], conv[1:]):
+        ok = np.isfinite(x0) & np.isfinite(x) & np.isfinite(r0) & np.isfinite(r)
+        if not ok.any():
+            continue
+        scale = max(np.max(np.abs(x0[ok])), np.max(np.abs(x[ok])))
+        bad = np.zeros_like(ok)
+        bad[ok] = np.abs(x[ok] - x0[ok]) > ROUNDINGS * (r0[ok] + r[ok]) + _FLOAT_RTOL * scale
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            a = cands[0]
+            raise DataError(
+                f"{table.source}, {table.label(int(rows[i]))}: columns {a.header!r} and "
+                f"{c.header!r} could both be the {what} but differ ({x0[i]:.6g} vs "
+                f"{x[i]:.6g}{unit}): say which with columns={{{a.key!r}: {a.header!r}}} "
+                f"(command line: --columns {a.key}={a.header})"
+            )
+    finest = [float(np.nanmedian(r)) if np.isfinite(r).any() else np.inf for _, r in conv]
+    return int(np.argmin(finest))
+
+
+def _scaled(factor: float, offset: float = 0.0) -> Callable[[np.ndarray], tuple]:
+    """v -> v × factor + offset."""
+    return lambda v: (v * factor + offset, np.full_like(v, factor))
+
+
+def _select_rows(table: _Table, select: Mapping[str, Any] | None) -> np.ndarray:
+    """Rows whose columns hold the wanted values (``select=``); all rows without it."""
+    rows = np.arange(table.n_rows)
+    for h, want in (select or {}).items():
+        j = _col_index(table, h, "select")
+        wants = want if isinstance(want, (list, tuple, set)) else [want]
+        vals = table.texts(j)[rows]
+        numbers = _cells(vals)[0]
+        ok = np.zeros(rows.size, dtype=bool)
+        for w in wants:  # the same text, or the same number (40 selects 40.0)
+            if not (isinstance(w, (int, float)) and not isinstance(w, bool)):
+                ok |= np.array([v.lower() == str(w).strip().lower() for v in vals], dtype=bool)
+            x = _cells([w])[0][0] if not isinstance(w, bool) else np.nan
+            if np.isfinite(x):
+                ok |= numbers == x
+        if not ok.any():
+            shown = ", ".join(sorted(set(map(str, vals)))[:6])
+            first = wants[0] if wants else ""
+            raise DataError(
+                f"{table.source}: select={{{h!r}: {want!r}}} (command line: --select "
+                f"{h}={first}) keeps no rows; column {table.names[j]!r} holds {shown}"
+            )
+        rows = rows[ok]
+    return rows
+
+
+def _col_index(table: _Table, h: str, what: str = "") -> int:
+    """The column with header ``h`` (case-insensitive)."""
+    want = str(h).strip().lower()
+    for j, nm in enumerate(table.names):
+        if nm.replace("\ufeff", "").strip().lower() == want:
+            return j
+    flag = {"select": f" (select=, --select {h}=VALUE)",
+            "group_by": f" (group_by=, --group-by {h})"}.get(what, "")
+    raise DataError(f"{table.source}: no column {h!r}{flag}; the header has "
+                    f"{', '.join(map(repr, table.names))}")
+
+
+def _check_text_columns(
+    table: _Table, rows: np.ndarray, members: list[np.ndarray], skip: set[int]
+) -> None:
+    """Refuse a text column whose values differ inside one curve (``members``: positions
+    in ``rows`` of each curve), other than the columns in ``skip``.
+
+    A column counts as text when one of its non-empty cells is not a number; numeric
+    columns (force, displacement) are other channels and are ignored, as are columns
+    whose every value differs (a timestamp or row label names rows, not curves).
+    """
+    for j, h in enumerate(table.names):
+        if j in skip:
+            continue
+        try:
+            table.floats(j, rows)
+            continue  # numbers: another channel
+        except DataError:
+            pass
+        texts = table.texts(j)[rows]
+        filled = texts != ""
+        if not (np.isnan(_cells(texts[filled])[0])).any():
+            continue  # numbers with some cells empty
+        uniq, codes = np.unique(texts[filled].astype(str), return_inverse=True)
+        if uniq.size < 2 or uniq.size == int(filled.sum()):
+            continue
+        code = np.full(rows.size, -1)
+        code[filled] = codes
+        for g in members:
+            c = code[g]
+            c = c[c >= 0]
+            if c.size and c.min() != c.max():
+                _refuse_text_column(table, h, uniq[np.unique(c)])
+
+
+def _refuse_text_column(table: _Table, h: str, values: np.ndarray) -> None:
+    shown = ", ".join(_short(str(v)) for v in values[:_SHOWN]) + (
+        ", ..." if values.size > _SHOWN else "")
+    v0 = str(values[0])
+    raise DataError(
+        f"{table.source}, column {h!r}: {values.size} different values ({shown}) would be "
+        f"merged into one curve: split the file by them with group_by={h!r} (command line: "
+        f"--group-by {h}), keep one with select={{{h!r}: {v0!r}}} (--select {h}={v0}), or "
+        f"ignore the column with columns={{'ignore': {h!r}}} (--columns ignore={h})"
+    )
