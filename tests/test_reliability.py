@@ -543,14 +543,17 @@ def test_resume_from_the_final_checkpoint_gives_the_same_result(tmp_path):
 # ============================================================ resource bounds
 def test_max_time_ends_the_search_cleanly_with_the_best_so_far():
     curves = noisy_curves()
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     cal = calibrate(curves, n_prony=3, seed=0, popsize=256, tol=0.0, target=0.0,
                     maxiter=10**6, stall=(0.0, 10**9), max_time=0.5, uncertainty=False)
-    wall = time.perf_counter() - t0
+    cpu = time.process_time() - t0
     assert cal.stop_reason == "max_time"
     assert np.isfinite(cal.rmsape)
     assert cal.rmsape <= min(cal.history["best"]) * (1 + 1e-12)
-    assert wall < 0.5 + 15  # one generation, the polish and the report after the deadline
+    # after the deadline: one generation, the polish and the report. Counted in this
+    # process's CPU time, which a loaded machine does not stretch (the calibration runs
+    # numba's kernels sequentially, so it is at most the wall time of an idle machine)
+    assert cpu < 0.5 + 15
 
 
 def test_a_million_point_curve_is_decimated_for_the_objective_and_kept_whole():
