@@ -8,6 +8,7 @@ pool where they can. Jobs are small synthetic calibrations (a second or less).
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
 import multiprocessing
 import os
 import signal
@@ -301,18 +302,29 @@ def test_importing_the_warm_module_runs_nothing():
 
 
 # ------------------------------------------------------------------- executors
-def nap(state):
-    """A callback that makes each generation last at least 50 ms."""
-    time.sleep(0.05)
+def wait_for_file(path, state):
+    """A callback that holds its generation until ``path`` exists (at most 300 s)."""
+    deadline = time.monotonic() + 300
+    while not os.path.exists(path) and time.monotonic() < deadline:
+        time.sleep(0.01)
 
 
-def test_user_executor_streams_results_as_they_finish(pool, serial):
+def test_user_executor_streams_results_as_they_finish(pool, serial, tmp_path):
+    # the slow job cannot finish before the fast one has been streamed back: its first
+    # generation waits for a file written only once the first result has arrived (an
+    # event, not a race between a sleep and the machine's speed)
+    go = tmp_path / "go"
     c = curves()
-    slow = dict(name="slow", curves=c, n_prony=1, seed=0, maxiter=80, tol=0.0, target=0.0,
-                stall=(0.0, 10**6), polish=False, uncertainty=False, callback=nap)
+    slow = dict(name="slow", curves=c, n_prony=1, seed=0, maxiter=3, tol=0.0, target=0.0,
+                stall=(0.0, 10**6), polish=False, uncertainty=False,
+                callback=functools.partial(wait_for_file, str(go)))
     fast = dict(name="fast", curves=c, n_prony=1, seed=0, polish=False, uncertainty=False,
                 maxiter=2)
-    order = [r.name for r in calibrate_many([slow, fast], pool)]
+    order = []
+    for r in calibrate_many([slow, fast], pool):
+        assert r.ok, r.error
+        order.append(r.name)
+        go.touch()
     assert order == ["fast", "slow"]
 
 
