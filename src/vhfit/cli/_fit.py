@@ -465,7 +465,7 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
                    and s != "json"}, card_check=cards.check, card_warnings=cards.warnings,
             card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
             status="interrupted" if interrupted else "complete", title=label, inputs=inputs,
-            figures=not args.no_plot)
+            figures=not args.no_plot, images={k: out / f for k, f in plots.items()})
         written["report.html"] = "everything above as one page to open in a browser"
     except Exception as exc:
         plot_note = (plot_note + "; " if plot_note else "") + f"no report: {one_line(exc)}"

@@ -116,21 +116,31 @@ def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
     return cards, notes, check
 
 
-def _figures_of(cal, curves) -> tuple[list, list]:
-    """(fit figures, other figures by key) of the calibration; empty without matplotlib."""
+def _figures_of(cal, curves, images: dict) -> tuple[list, dict]:
+    """(fit figures, other figures by key) of the calibration; ``images``: the PNG files
+    of vhfit.plot's figures already drawn (``fit``, ``moduli``, ``order_scan``,
+    ``history``), inlined instead of drawn again."""
     fits = cal.fitted_curves(curves) if curves else []
-    main = _figures.fit_figures(cal, curves, fits) if curves else []
+    # plot_fit's labels are right only without sweeps among the curves: else redraw
+    drawn = None if any(is_moduli(c) for c in curves) else images.get("fit")
+    main = _figures.fit_figures(cal, curves, fits, drawn) if curves else []
     other = {}
     if any(not is_moduli(c) for c in curves or []):
         other["residuals"] = _figures.residual_figure(cal, curves, fits)
     if any(is_moduli(c) for c in curves or []):
-        other["moduli"] = _figures.moduli_figure(cal, curves)
+        other["moduli"] = (_figures.from_file("moduli", "frequency sweeps and relaxation "
+                                              "tests", "", images["moduli"])
+                           if "moduli" in images else _figures.moduli_figure(cal, curves))
     if len(cal.shift_table or {}) >= 2:
         other["shift"] = _figures.shift_figure(cal)
     if cal.order_scan:
-        other["scan"] = _figures.scan_figure(cal)
+        other["scan"] = (_figures.from_file("order-scan", "error against the number of Prony "
+                                            "terms", "", images["order_scan"])
+                         if "order_scan" in images else _figures.scan_figure(cal))
     if (cal.history or {}).get("nit"):
-        other["history"] = _figures.history_figure(cal)
+        other["history"] = (_figures.from_file("history", "error against generation", "",
+                                               images["history"])
+                            if "history" in images else _figures.history_figure(cal))
     return main, other
 
 
@@ -138,7 +148,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
                  card_check: dict | None = None, card_notes: dict | None = None,
                  card_warnings: Sequence[str] = (), command: str | None = None,
                  status: str = "complete", title: str | None = None, inputs=None,
-                 figures: bool = True) -> str:
+                 figures: bool = True, images: dict | None = None) -> str:
     """The report as one HTML document (see the module's description).
 
     Parameters
@@ -165,6 +175,9 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         Input files (``path``, ``sha256``).
     figures : bool
         Draw the figures (needs matplotlib; without it a note stands in their place).
+    images : dict, optional
+        Kind -> PNG file of a :mod:`vhfit.plot` figure already drawn (``fit`` of all
+        the curves, ``moduli``, ``order_scan``, ``history``): inlined, not drawn again.
 
     Returns
     -------
@@ -187,7 +200,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         note = "figures not drawn (asked for none)"
     elif not plot.have_matplotlib():
         note = f"figures not drawn: {plot.INSTALL_HINT}"
-    main, other = _figures_of(cal, curves) if note is None else ([], {})
+    main, other = _figures_of(cal, curves, dict(images or {})) if note is None else ([], {})
     if note is None and not curves:
         note = "no fit figures: the data are not at hand (give curves= to Calibration.report)"
     name = f"{cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s)"

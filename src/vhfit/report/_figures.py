@@ -51,6 +51,17 @@ def _draw(key: str, title: str, caption: str, make: Callable[[io.BytesIO], objec
     return Figure(key, title, caption, uri=uri)
 
 
+def from_file(key: str, title: str, caption: str, path) -> Figure:
+    """A figure already drawn into a PNG file (``vhfit fit``'s own plots), inlined."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        return Figure(key, title, caption, note=f"figure not read: {exc.strerror}")
+    return Figure(key, title, caption,
+                  uri="data:image/png;base64," + base64.b64encode(data).decode("ascii"))
+
+
 def _save(fig, buf) -> None:
     fig.savefig(buf, format="png", dpi=DPI)  # constrained layout: no second, tight pass
 
@@ -82,10 +93,21 @@ def _subset(cal, idx: list[int]):
                                                       for i in idx])
 
 
-def fit_figures(cal, curves, fits: list) -> list[Figure]:
-    """Data against model, one figure per deformation mode; then stress against time."""
+def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
+    """Data against model, one figure per deformation mode; then stress against time.
+
+    ``drawn``: a PNG file of :func:`vhfit.plot.plot_fit` of all the curves, used as the
+    figure when they are all of one mode (drawing it again would double the time).
+    """
     out = []
-    for mode, idx in modes_of(curves).items():
+    groups = modes_of(curves)
+    if drawn is not None and len(groups) == 1:
+        mode = next(iter(groups))
+        out.append(from_file(f"fit-{mode}", f"{MODE_NAMES.get(mode, mode)}: data (markers) "
+                             "and model (lines)", "curves whose stresses differ by more than "
+                             "10x are on separate panels", drawn))
+        groups = {}
+    for mode, idx in groups.items():
         name = MODE_NAMES.get(mode, mode)
         sub, cs = _subset(cal, idx), [curves[i] for i in idx]
         title = f"{name}: data (markers) and model (lines)"
