@@ -46,8 +46,8 @@ def versions() -> dict[str, str]:
 
     Examples
     --------
-    >>> sorted(versions())[:3]
-    ['matplotlib', 'numba', 'numpy']
+    >>> {"vhfit", "numpy", "scipy", "numba", "python"} <= set(versions())
+    True
     """
     import numba
     import numpy
