@@ -820,4 +820,20 @@ MUTANTS: list[Mutant] = [
       'if "bounds=" in str(exc) else ""', 'if "bounds=" in "" else ""',
       "the command line names bounds= without saying it is a keyword of vhfit.calibrate",
       ("tests/test_cli.py::test_fit_bad_input_leaves_the_out_folder_as_it_was",)),
+    # i24-report: the HTML report (escaping, nothing outside the file, the verdict)
+    M("html_text_not_escaped", "vhfit/report/_html.py",
+      "return html.escape(str(text), quote=True)", "return str(text)",
+      "a curve or file name goes into report.html as markup (a '<script>' name runs)",
+      ("tests/test_report.py::test_a_hostile_curve_name_is_escaped_everywhere",
+       "tests/test_report.py::test_vhfit_fit_writes_report_html_beside_the_other_outputs")),
+    M("html_plot_linked_not_inlined", "vhfit/report/_figures.py",
+      'uri="data:image/png;base64," + base64.b64encode(data).decode("ascii"))',
+      "uri=str(path))",
+      "vhfit fit's plots are linked by file path instead of inlined: the report shows "
+      "no figure once moved or mailed",
+      ("tests/test_report.py::test_vhfit_fit_writes_report_html_beside_the_other_outputs",)),
+    M("html_worst_curve_needs_three", "vhfit/report/_html.py",
+      "if len(errs) < 2:", "if len(errs) < 3:",
+      "the verdict of a two-curve fit does not name its worst curve",
+      ("tests/test_report.py::test_the_verdict_comes_first_with_the_error_and_the_worst_curve",)),
 ]
