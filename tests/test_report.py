@@ -231,3 +231,25 @@ def test_vhfit_fit_no_plot_still_writes_the_report(tmp_path):
                      "--out", str(out)]) == 0
     text = (out / "report.html").read_text(encoding="utf-8")
     assert "figures not drawn (asked for none)" in text and "<img" not in text
+
+
+def test_one_fit_figure_per_test_mode_and_the_order_scan(tmp_path):
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    g = np.linspace(0.0, 0.8, 21)
+    shear = vhfit.Curve(strain=g, stress=m.stress(P, strain=g, strain_rate=1.0,
+                                                  measure="engineering",
+                                                  deformation="simple_shear"),
+                        strain_rate=1.0, deformation="simple_shear", name="shear")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c = vhfit.calibrate([*curves(), shear], hyperelastic="mooney_rivlin", n_prony="auto",
+                            max_prony=2, seed=0, maxiter=10)
+    text = report.build_report(c, cards={})
+    figs = re.findall(r'<figure id="fig-([^"]+)"', text)
+    if plot.have_matplotlib():
+        assert figs[:2] == ["fit-uniaxial", "fit-simple_shear"] and "order-scan" in figs
+    scan = [r for r in Doc(text).rows if len(r) == 4 and r[0] in ("1", "2")]
+    assert [int(r[0]) for r in scan] == [row["n_prony"] for row in c.order_scan]
+    for r, row in zip(scan, c.order_scan):
+        assert float(r[1]) == pytest.approx(row["rmsape"], rel=1e-3)
+    assert [r[3] for r in scan].count("chosen") == 1
