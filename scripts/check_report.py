@@ -4,7 +4,7 @@ For .ci/run (its own phase; Debian 12 package names):
 
     # --- report: report.html renders in a real browser, offline ------------------------
     # apt-get install -y chromium-headless-shell     # or: chromium
-    # PYTHONPATH=src python scripts/check_report.py --out ci-report-check
+    # PYTHONPATH=src python scripts/check_report.py --out ci-report-check --demo
     # (exit 0: every report loaded with no console error, no exception, no request
     #  outside its file; screenshots ci-report-check/*.png show the verdict and the
     #  first figure)
@@ -22,15 +22,19 @@ Each is checked twice:
   ``Network.requestWillBeSent`` is the file itself or a ``data:`` URI; then a
   1200 x 900 screenshot (``Page.captureScreenshot``).
 
-Usage: ``python scripts/check_report.py [--out DIR] [--browser PATH]``; exit 1 with the
-problems listed when a check fails, 2 when no browser is found.
+Usage: ``python scripts/check_report.py [--out DIR] [--browser PATH] [--demo]``; exit 1
+with the problems listed when a check fails, 2 when no browser is found. ``--demo`` also
+runs ``vhfit demo`` (about a minute) and checks its report the same way, under 3 MB,
+printing how long it took to write.
 """
 
 from __future__ import annotations
 
 import argparse
 import base64
+import contextlib
 import fcntl
+import io
 import json
 import os
 import re
@@ -256,10 +260,39 @@ def open_in_browser(browser: str, html: Path, shot: Path) -> list[str]:
     return problems
 
 
+def demo_report(out: Path) -> list[str]:
+    """``vhfit demo`` in-process: its report's size (must be under 3 MB) and write time
+    (printed: a time limit would make the check depend on the machine's load)."""
+    from vhfit import cli, report
+
+    took = []
+    write = report.write_report
+
+    def timed(*a, **kw):
+        t0 = time.perf_counter()
+        write(*a, **kw)
+        took.append(time.perf_counter() - t0)
+
+    report.write_report = timed
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):  # its table: not this check's
+            code = cli.main(["demo", "--out", str(out / "demo"), "--force", "-q"])
+    finally:
+        report.write_report = write
+    path = out / "demo" / "report.html"
+    if code != 0 or not path.is_file() or len(took) != 1:
+        return [f"vhfit demo: exit {code}, report written {len(took)} time(s)"]
+    size = path.stat().st_size
+    print(f"demo: report {size / 1e6:.2f} MB, written in {took[0]:.2f} s")
+    return [] if size < 3e6 else [f"demo report {size / 1e6:.2f} MB: over 3 MB"]
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="report-check", help="folder of the reports and shots")
     ap.add_argument("--browser", help="the Chromium binary (default: found on PATH)")
+    ap.add_argument("--demo", action="store_true",
+                    help="also run vhfit demo and report its report's size and write time")
     args = ap.parse_args(argv)
     browser = find_browser(args.browser)
     if browser is None:
@@ -282,6 +315,13 @@ def main(argv=None) -> int:
         print(f"{name}: {size / 1e6:.2f} MB, written in {took:.2f} s, RMSAPE "
               f"{cal.rmsape:.3g} %, screenshot {out / (name + '.png')}: "
               + ("ok" if not problems else "FAILED"))
+        for p in problems:
+            print(f"  {p}")
+        failed += bool(problems)
+    if args.demo:
+        problems = demo_report(out)
+        problems += open_in_browser(browser, out / "demo" / "report.html", out / "demo.png") \
+            if not problems else []
         for p in problems:
             print(f"  {p}")
         failed += bool(problems)

@@ -110,7 +110,7 @@ def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
     if curves:
         texts = {s: t for s, t in cards.items() if t is not None}
         try:
-            check = _checks(check_cards(texts, curves, fits=cal))
+            check = check_cards(texts, curves, fits=cal)
         except Exception as exc:  # the check reports, it never stops the report
             check = {s: {"error": " ".join(str(exc).split())} for s in texts}
     return cards, notes, check
@@ -194,7 +194,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         card_check = card_check if card_check is not None else py_check
     check = _checks(card_check)
     card_warnings = list(card_warnings) or [
-        _exceeds_text(s, c) for s, c in check.items() if c.get("exceeds")]
+        _exceeds_text(s, c, (card_check or {})[s]) for s, c in check.items() if c.get("exceeds")]
     note = None
     if not figures:
         note = "figures not drawn (asked for none)"
@@ -217,7 +217,11 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     return _html.page(f"vhfit report: {name}", body)
 
 
-def _exceeds_text(solver: str, c: dict) -> str:
+def _exceeds_text(solver: str, c: dict, given) -> str:
+    """The headline of a card that fails its check: its own (with the remedy) if it has
+    one, else the numbers."""
+    if hasattr(given, "warning"):
+        return given.warning()
     return (f"{solver} card: RMSAPE {_html.num(c['rmsape'])} % on the data, allowed "
             f"{_html.num(c.get('allowed'))} %")
 
