@@ -253,3 +253,20 @@ def test_one_fit_figure_per_test_mode_and_the_order_scan(tmp_path):
     for r, row in zip(scan, c.order_scan):
         assert float(r[1]) == pytest.approx(row["rmsape"], rel=1e-3)
     assert [r[3] for r in scan].count("chosen") == 1
+
+
+@pytest.mark.skipif(not plot.have_matplotlib(), reason="figures need matplotlib")
+def test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_does_not(page):
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    t = np.concatenate([np.linspace(0.0, 1.0, 11), np.linspace(1.5, 20.0, 20)])
+    eps = np.where(t <= 1.0, -0.3 * t, -0.3)
+    hold = vhfit.Curve(strain=eps, stress=m.stress(P, strain=eps, time=t,
+                                                   measure="engineering"),
+                       time=t, name="ramp-hold")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c = vhfit.calibrate([hold], hyperelastic="mooney_rivlin", n_prony=1, seed=0,
+                            maxiter=5)
+    figs = re.findall(r'<figure id="fig-([^"]+)"', report.build_report(c, cards={}))
+    assert "stress-time" in figs
+    assert "stress-time" not in re.findall(r'<figure id="fig-([^"]+)"', page)
