@@ -12,6 +12,7 @@ from __future__ import annotations
 import html
 import json
 import re
+import shlex
 import warnings
 from html.parser import HTMLParser
 
@@ -270,3 +271,24 @@ def test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_does_not(page):
     figs = re.findall(r'<figure id="fig-([^"]+)"', report.build_report(c, cards={}))
     assert "stress-time" in figs
     assert "stress-time" not in re.findall(r'<figure id="fig-([^"]+)"', page)
+
+
+def test_a_result_read_back_brings_its_recorded_context(cal, tmp_path):
+    """What vhfit fit recorded in results.json (``context`` of a loaded result) stands in
+    for the arguments not given: command, status, card check, versions."""
+    cal.save(tmp_path / "results.json")
+    loaded = vhfit.Calibration.load(tmp_path / "results.json")
+    loaded.context = {
+        "command": ["vhfit", "fit", "<x>.csv"], "status": "interrupted",
+        "card_check": {"lsdyna": {"rmsape": 9.0, "per_curve": [8.0, 10.0],
+                                  "formulation": "lsdyna", "fit_formulation": "hereditary",
+                                  "fit_rmsape": 1.0, "allowed": 1.1, "exceeds": True}},
+        "card_check_warnings": ["LS-DYNA card: recorded warning"],
+        "versions": {"numpy": "0.0-recorded"}, "data_label": "label <i>",
+    }
+    text = report.build_report(loaded, figures=False)
+    assert html.escape(shlex.join(["vhfit", "fit", "<x>.csv"])) in text
+    assert '<p class="interrupted">' in text
+    assert "WARNING: LS-DYNA card: recorded warning" in text
+    assert "lsdyna: EXCEEDS, card RMSAPE 9 % (allowed 1.1 %)" in text
+    assert "0.0-recorded" in text and "label &lt;i&gt;" in text

@@ -17,7 +17,7 @@ verdict and its main plot (``_repr_html_``).
 from __future__ import annotations
 
 import platform
-import sys
+import shlex
 import time
 import warnings
 from collections.abc import Sequence
@@ -147,7 +147,7 @@ def _figures_of(cal, curves, images: dict) -> tuple[list, dict]:
 def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = None,
                  card_check: dict | None = None, card_notes: dict | None = None,
                  card_warnings: Sequence[str] = (), command: str | None = None,
-                 status: str = "complete", title: str | None = None, inputs=None,
+                 status: str | None = None, title: str | None = None, inputs=None,
                  figures: bool = True, images: dict | None = None) -> str:
     """The report as one HTML document (see the module's description).
 
@@ -168,11 +168,15 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         Headline warnings of the card check (shown in the verdict).
     command : str, optional
         The command that produced the result.
-    status : {"complete", "interrupted"}
+    status : {"complete", "interrupted"}, optional
     title : str, optional
         The data's label.
     inputs : list of dict, optional
         Input files (``path``, ``sha256``).
+
+        A result read back from a results file (``Calibration.load``) brings its own
+        ``context``: the command, status, label, inputs, versions and card check that
+        ``vhfit fit`` recorded stand in for the arguments not given.
     figures : bool
         Draw the figures (needs matplotlib; without it a note stands in their place).
     images : dict, optional
@@ -188,6 +192,15 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     >>> text = build_report(cal)  # doctest: +SKIP
     """
     curves = list(curves if curves is not None else getattr(cal, "curves", None) or [])
+    ctx = getattr(cal, "context", None) or {}  # a results file read back: what fit recorded
+    if command is None and ctx.get("command"):
+        command = shlex.join(str(a) for a in ctx["command"])
+    status = status or ctx.get("status") or "complete"
+    title = title if title is not None else ctx.get("data_label")
+    inputs = inputs if inputs is not None else ctx.get("inputs")
+    if card_check is None and not curves and ctx.get("card_check"):
+        card_check = ctx["card_check"]
+        card_warnings = card_warnings or ctx.get("card_check_warnings") or ()
     if cards is None:
         cards, py_notes, py_check = _python_cards(cal, curves)
         card_notes = {**py_notes, **(card_notes or {})}
@@ -213,7 +226,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     body.append(_html.verdict_html(cal, status, check, card_warnings))
     body.append(_nav(bool(main or other), cal, check, cards))
     body += _sections(cal, curves, main, other, note, check, cards, card_notes or {},
-                      command, inputs)
+                      command, inputs, ctx.get("versions"))
     return _html.page(f"vhfit report: {name}", body)
 
 
@@ -236,8 +249,8 @@ def _nav(figs: bool, cal, check, cards) -> str:
     return "<nav>" + "".join(f'<a href="#{k}">{_html.esc(t)}</a>' for k, t in items) + "</nav>"
 
 
-def _sections(cal, curves, main, other, note, check, cards, card_notes, command, inputs
-              ) -> list[str]:
+def _sections(cal, curves, main, other, note, check, cards, card_notes, command, inputs,
+              made_with) -> list[str]:
     H = _html
     figs = [H.figure_html(f) for f in main]
     figs += [H.figure_html(other[k]) for k in ("residuals", "moduli", "shift") if k in other]
@@ -263,10 +276,10 @@ def _sections(cal, curves, main, other, note, check, cards, card_notes, command,
         else "<p>none</p>"]))
     if "history" in other:
         out.append(H.section("search", "the search", [H.figure_html(other["history"])]))
-    cmd = command if command is not None else "Python: Calibration.report() (" + " ".join(
-        sys.argv[:1]) + ")"
+    cmd = command if command is not None else (
+        "Python: vhfit.calibrate(...) with the calibration options below")
     out.append(H.section("provenance", "command and versions", [
-        H.provenance_html(cmd, versions(), dict(cal.options or {}), inputs),
+        H.provenance_html(cmd, made_with or versions(), dict(cal.options or {}), inputs),
         f'<p class="note">written {H.esc(time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()))}'
         "</p>"]))
     return out
