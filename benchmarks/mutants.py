@@ -836,7 +836,7 @@ MUTANTS: list[Mutant] = [
       "if len(errs) < 2:", "if len(errs) < 3:",
       "the verdict of a two-curve fit does not name its worst curve",
       ("tests/test_report.py::test_the_verdict_comes_first_with_the_error_and_the_worst_curve",)),
-    M("html_interrupted_not_marked", "vhfit/cli/_fit.py",
+    M("html_interrupted_not_marked", "vhfit/cli/_report.py",
       'status="interrupted" if interrupted else "complete", title=label',
       'status="complete", title=label',
       "the report of an interrupted fit reads as a finished one",

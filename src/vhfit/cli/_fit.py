@@ -3,7 +3,7 @@
 The two commands share the whole workflow (:func:`run_fit`): they differ only in where
 the curves come from. ``results.json`` is written by :meth:`Calibration.save`; the
 files that only the command line writes (``fitted_curves.csv``, ``summary.txt``, the
-solver cards, the plots and ``report.html``, by :mod:`vhfit.report`) are written here.
+solver cards, the plots and ``report.html``, through ``_report``) are written here.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from vhfit import datasets, plot, report, tts
+from vhfit import datasets, plot, tts
 from vhfit._io import atomic_write
 from vhfit.calibration import (
     Calibration,
@@ -52,6 +52,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
+from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 
@@ -458,17 +459,10 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
-    try:  # the report never stops the other outputs
-        report.write_report(
-            cal, out / "report.html", curves, command=shlex.join(["vhfit", *command]),
-            cards={s: (out / f).read_text() for s, f in cards.files.items() if s in CARD_FILES
-                   and s != "json"}, card_check=cards.check, card_warnings=cards.warnings,
-            card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
-            status="interrupted" if interrupted else "complete", title=label, inputs=inputs,
-            figures=not args.no_plot, images={k: out / f for k, f in plots.items()})
-        written["report.html"] = "everything above as one page to open in a browser"
-    except Exception as exc:
-        plot_note = (plot_note + "; " if plot_note else "") + f"no report: {one_line(exc)}"
+    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
+                                     label=label, inputs=inputs, interrupted=interrupted)
+    written.update(page)
+    plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
     lines = head + [f"WARNING: {w}" for w in cards.warnings] + ["", cal.summary()]
     for form, other in list(fits.items())[1:]:
