@@ -224,7 +224,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         body.append('<p class="interrupted">INTERRUPTED: the best parameters found so far, '
                     "not converged; resume the fit to finish it</p>")
     body.append(_html.verdict_html(cal, status, check, card_warnings))
-    body.append(_nav(bool(main or other), cal, check, cards))
+    body.append(_nav(cal, check, cards))
     body += _sections(cal, curves, main, other, note, check, cards, card_notes or {},
                       command, inputs, ctx.get("versions"))
     return _html.page(f"vhfit report: {name}", body)
@@ -239,7 +239,7 @@ def _exceeds_text(solver: str, c: dict, given) -> str:
             f"{_html.num(c.get('allowed'))} %")
 
 
-def _nav(figs: bool, cal, check, cards) -> str:
+def _nav(cal, check, cards) -> str:
     items = [("figures", "fit"), ("constants", "constants"), ("curves", "per curve")]
     items += [("order-scan", "order scan")] if cal.order_scan else []
     items += [("stability", "stability")]

@@ -40,12 +40,12 @@ def esc(text) -> str:
 
 
 def num(v, digits: int = 4) -> str:
-    """A number rounded for reading."""
+    """A number rounded for reading (plain text: escaped where it is put)."""
     try:
         x = float(v)
     except (TypeError, ValueError):
-        return esc(v)
-    return f"{x:.{digits}g}" if math.isfinite(x) else esc(str(x))
+        return str(v)
+    return f"{x:.{digits}g}" if math.isfinite(x) else str(x)
 
 
 def table(head: list[str], rows: list[list], numeric: set[int] = frozenset()) -> str:
@@ -151,7 +151,7 @@ def verdict_html(cal, status: str, check: dict, card_warnings: list[str]) -> str
              f'<p class="headline">{esc(headline(cal, status))}</p>',
              f"<p>{esc(cal.model.hyperelastic.name)} + {cal.n_prony} Prony term(s), "
              f"'{esc(cal.model.formulation)}' formulation; stop: {esc(cal.stop_reason)}; "
-             f"{int(cal.nit)} generations, {num(cal.wall_time, 3)} s</p>"]
+             f"{int(cal.nit)} generations, {esc(num(cal.wall_time, 3))} s</p>"]
     if warns:
         parts.append('<ul class="warn">' + "".join(f"<li>WARNING: {esc(w)}</li>" for w in warns)
                      + "</ul>")
@@ -198,7 +198,7 @@ def curves_html(cal, curves) -> str:
                      getattr(c, "deformation", "-") if c is not None else "-",
                      "-" if rate is None else f"{float(rate):.4g}",
                      getattr(c, "measure", "-") if c is not None else "-",
-                     getattr(c, "temperature", None) or "-",
+                     "-" if getattr(c, "temperature", None) is None else num(c.temperature),
                      num(errs[i]) if i < len(errs) else "-"])
     return table(["curve", "test", "rate (1/s)", "measure", "temperature", "RMSAPE (%)"],
                  rows, {2, 5})
