@@ -1100,4 +1100,32 @@ MUTANTS: list[Mutant] = [
       "        if bad.size:\n            i = int(bad[0])", "        if False:\n            i = 0",
       "read_history reads the first of two disagreeing time columns silently",
       ("tests/test_data_ambiguous.py",)),
+    # i24-report: the HTML report (escaping, nothing outside the file, the verdict)
+    M("html_text_not_escaped", "vhfit/report/_html.py",
+      "return html.escape(str(text), quote=True)", "return str(text)",
+      "a curve or file name goes into report.html as markup (a '<script>' name runs)",
+      ("tests/test_report.py::test_a_hostile_curve_name_is_escaped_everywhere",
+       "tests/test_report.py::test_vhfit_fit_writes_report_html_beside_the_other_outputs")),
+    M("html_plot_linked_not_inlined", "vhfit/report/_figures.py",
+      'uri="data:image/png;base64," + base64.b64encode(data).decode("ascii"))',
+      "uri=str(path))",
+      "vhfit fit's plots are linked by file path instead of inlined: the report shows "
+      "no figure once moved or mailed",
+      ("tests/test_report.py::test_vhfit_fit_writes_report_html_beside_the_other_outputs",)),
+    M("html_worst_curve_needs_three", "vhfit/report/_html.py",
+      "if len(errs) < 2:", "if len(errs) < 3:",
+      "the verdict of a two-curve fit does not name its worst curve",
+      ("tests/test_report.py::test_the_verdict_comes_first_with_the_error_and_the_worst_curve",)),
+    M("html_interrupted_not_marked", "vhfit/cli/_report.py",
+      'status="interrupted" if interrupted else "complete", title=label',
+      'status="complete", title=label',
+      "the report of an interrupted fit reads as a finished one",
+      ("tests/test_cli.py::test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_"
+       "run",)),
+    M("html_holds_not_seen", "vhfit/report/_figures.py",
+      "return bool(held.any() or ((d > 0).any() and (d < 0).any()))",
+      "return bool((d > 0).any() and (d < 0).any())",
+      "a ramp–hold history gets no stress–time view (only unloading is noticed)",
+      ("tests/test_report.py::test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_"
+       "does_not",)),
 ]

@@ -403,6 +403,7 @@ def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy,
     assert res["status"] == "interrupted" and res["interrupted"] is True
     assert res["stop_reason"] == "interrupted" and 0 < res["nit"] < 600
     assert "INTERRUPTED" in (out / "summary.txt").read_text()
+    assert '<p class="interrupted">' in (out / "report.html").read_text(encoding="utf-8")
     for f in ("fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac"):
         assert (out / f).is_file()
     assert (out / "checkpoint.json").is_file()

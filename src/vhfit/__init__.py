@@ -9,7 +9,7 @@ The public API::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import export, formulations, hyperelastic, spectrum, tts, viscoelastic
+from vhfit import export, formulations, hyperelastic, report, spectrum, tts, viscoelastic
 from vhfit._version import __version__
 from vhfit.calibration import Calibration, CalibrationError, CalibrationWarning, calibrate
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
@@ -50,6 +50,7 @@ __all__ = [
     "optimize",
     "per_curve_rmsape",
     "read_csv",
+    "report",
     "rmsape",
     "spectrum",
     "tts",

@@ -76,7 +76,9 @@ def _figure(path, nrows: int = 1, ncols: int = 1, **kw) -> tuple[Any, Any]:
 
 
 def _finish(fig, path):
-    if path is not None:
+    if hasattr(path, "write"):  # a file object (the HTML report draws in memory): a PNG,
+        fig.savefig(path, dpi=100, format="png")  # laid out by the figure's own layout
+    elif path is not None:
         fig.savefig(os.fspath(path), dpi=120, bbox_inches="tight")
     return fig
 
@@ -158,8 +160,9 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
         The calibration (``.model``, ``.params``, optional ``.per_curve_rmsape``).
     curves : sequence of Curve
         The data it was fitted to.
-    path : path-like, optional
-        Save the figure there (PNG, PDF, SVG... by extension) without needing a display.
+    path : path-like or binary file object, optional
+        Save the figure there (PNG, PDF, SVG... by extension; a file object gets a PNG)
+        without needing a display.
     ratio : float
         Curves whose peak stresses differ by more than this factor go on separate
         panels (see :func:`group_by_magnitude`).

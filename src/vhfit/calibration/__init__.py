@@ -16,8 +16,13 @@ Inside, one module per concern:
 
 from vhfit.calibration._bounds import auto_bounds
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
-from vhfit.calibration._result import RESULTS_FORMAT, Calibration, CalibrationWarning
+from vhfit.calibration._result import (
+    RESULTS_FORMAT,
+    Calibration,
+    CalibrationWarning,
+    set_html_report,
+)
 from vhfit.calibration._workflow import CalibrationError, calibrate
 
 __all__ = ["calibrate", "Calibration", "CalibrationWarning", "CalibrationError", "auto_bounds",
-           "RESULTS_FORMAT", "default_n_prony", "viscous_evidence"]
+           "RESULTS_FORMAT", "default_n_prony", "viscous_evidence", "set_html_report"]

@@ -18,9 +18,35 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
 from vhfit.tts import WLF, Arrhenius, PolynomialShift
 
-__all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT"]
+__all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report"]
 
 RESULTS_FORMAT = "vhfit-results-1"
+
+#: The HTML report's builders (``"write"`` and ``"repr"``), given by :mod:`vhfit.report`
+#: when it is imported: it draws with the plot and export modules, which sit above this
+#: layer, so this layer only calls what it was handed (vhfit's ``__init__`` imports it).
+_HTML: dict = {}
+
+
+def set_html_report(write, repr_html) -> None:
+    """Install the builders behind :meth:`Calibration.report` and ``_repr_html_``.
+
+    Parameters
+    ----------
+    write : callable
+        ``write(cal, path, curves=None, **kw)`` writes the report file.
+    repr_html : callable
+        ``repr_html(cal) -> str``: the verdict and the main plot as an HTML fragment.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import vhfit.report  # installs its builders on import
+    """
+    _HTML["write"], _HTML["repr"] = write, repr_html
 
 
 def _versions() -> dict[str, str]:
@@ -162,6 +188,9 @@ class Calibration:
         "law" (given), "table" (given factors), "overlap" (built from the sweeps).
     T_ref : float or None
         Reference temperature of the constants (with a shift).
+    curves : list
+        The curves (at ``T_ref``) it was fitted to, for its report and plots; not saved
+        in the results file (empty after :meth:`load`).
     """
 
     model: ViscoHyperelastic
@@ -191,6 +220,7 @@ class Calibration:
     fits: dict = field(default_factory=dict, repr=False, compare=False)
     #: the results file's entries that are not the fit's own (inputs, options, cards)
     context: dict = field(default_factory=dict, repr=False, compare=False)
+    curves: list = field(default_factory=list, repr=False, compare=False)
 
     @property
     def x(self) -> np.ndarray:
@@ -527,6 +557,36 @@ class Calibration:
                 "fine_model": np.asarray(fine, dtype=np.float64),
             })
         return out
+
+    def report(self, path, curves: Sequence | None = None, **kw) -> None:
+        """Write the HTML report: verdict, plots, constants, checks and cards in one file.
+
+        Parameters
+        ----------
+        path : path-like
+            The file to write (``report.html``).
+        curves : sequence of Curve, optional
+            The data it was fitted to; default the curves it keeps from the fit.
+        **kw
+            Passed to :func:`vhfit.report.write_report`.
+
+        Returns
+        -------
+        None
+
+        Examples
+        --------
+        >>> cal.report("report.html")  # doctest: +SKIP
+        """
+        if "write" not in _HTML:
+            raise RuntimeError("the HTML report is not installed: import vhfit.report")
+        _HTML["write"](self, path, curves, **kw)
+
+    def _repr_html_(self) -> str:
+        """The report's verdict and main plot, for Jupyter."""
+        if "repr" not in _HTML:
+            return "<pre>" + self.summary().replace("&", "&amp;").replace("<", "&lt;") + "</pre>"
+        return _HTML["repr"](self)
 
     def to_json(self, path=None, **kw) -> str:
         """Serialise :meth:`to_dict`; write it atomically to ``path`` if given."""

@@ -3,7 +3,7 @@
 The two commands share the whole workflow (:func:`run_fit`): they differ only in where
 the curves come from. ``results.json`` is written by :meth:`Calibration.save`; the
 files that only the command line writes (``fitted_curves.csv``, ``summary.txt``, the
-solver cards and the plots) are written here.
+solver cards, the plots and ``report.html``, through ``_report``) are written here.
 """
 
 from __future__ import annotations
@@ -50,6 +50,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
+from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 from vhfit.modes import get_deformation
@@ -485,6 +486,10 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
+    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
+                                     label=label, inputs=inputs, interrupted=interrupted)
+    written.update(page)
+    plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
     lines = head + [f"WARNING: {w}" for w in cards.warnings] + ["", cal.summary()]
     for form, other in list(fits.items())[1:]:

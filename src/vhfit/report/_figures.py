@@ -1,0 +1,228 @@
+"""The report's figures, each drawn in memory and inlined as a base64 PNG.
+
+The fit, moduli, order-scan and history figures are :mod:`vhfit.plot`'s; the
+stress–time view of histories with holds or unloading, the residuals and the shift
+factors of a calibration are drawn here. Every figure is drawn on a bare Agg
+:class:`matplotlib.figure.Figure` (no display, no pyplot state); one that fails leaves
+a one-line note in its place, never a failed report.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import io
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+
+from vhfit import plot
+from vhfit.data import is_moduli
+
+#: dots per inch of the figures drawn here (vhfit.plot's own are at 120)
+DPI = 100
+#: at most this many histories get a stress–time panel (the rest are named)
+MAX_TIME_PANELS = 6
+
+
+@dataclasses.dataclass
+class Figure:
+    """One figure of the report: its title, a caption, and the ``<img>`` data URI or a note."""
+
+    key: str
+    title: str
+    caption: str = ""
+    uri: str | None = None
+    note: str | None = None
+
+
+def _draw(key: str, title: str, caption: str, make: Callable[[io.BytesIO], object]) -> Figure:
+    """Run a plot function into memory; a failure becomes the figure's note."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # nothing from matplotlib leaks to stderr
+            buf = io.BytesIO()
+            make(buf)  # each draws its figure into buf, once
+            uri = "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+    except Exception as exc:  # a figure never stops the report
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        return Figure(key, title, caption, note=f"figure not drawn: {text}")
+    return Figure(key, title, caption, uri=uri)
+
+
+def from_file(key: str, title: str, caption: str, path) -> Figure:
+    """A figure already drawn into a PNG file (``vhfit fit``'s own plots), inlined."""
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        return Figure(key, title, caption, note=f"figure not read: {exc.strerror}")
+    return Figure(key, title, caption,
+                  uri="data:image/png;base64," + base64.b64encode(data).decode("ascii"))
+
+
+def _save(fig, buf) -> None:
+    fig.savefig(buf, format="png", dpi=DPI)  # constrained layout: no second, tight pass
+
+
+def _bare(nrows: int, ncols: int, size: tuple[float, float]):
+    from matplotlib.figure import Figure as MplFigure
+
+    fig = MplFigure(figsize=size, layout="constrained")
+    return fig, fig.subplots(nrows, ncols, squeeze=False)
+
+
+MODE_NAMES = {"uniaxial": "uniaxial", "equibiaxial": "equibiaxial", "planar": "planar (pure shear)",
+              "biaxial": "biaxial", "simple_shear": "simple shear"}
+
+
+def modes_of(curves) -> dict[str, list[int]]:
+    """Deformation mode -> indices of the stress–strain curves in it (data order)."""
+    out: dict[str, list[int]] = {}
+    for i, c in enumerate(curves):
+        if not is_moduli(c):
+            out.setdefault(str(getattr(c, "deformation", "uniaxial")), []).append(i)
+    return out
+
+
+def _subset(cal, idx: list[int]):
+    """The calibration with the per-curve errors of the curves ``idx`` (for plot_fit)."""
+    errs = list(cal.per_curve_rmsape or [])
+    return dataclasses.replace(cal, per_curve_rmsape=[errs[i] if i < len(errs) else np.nan
+                                                      for i in idx])
+
+
+def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
+    """Data against model, one figure per deformation mode; then stress against time.
+
+    ``drawn``: a PNG file of :func:`vhfit.plot.plot_fit` of all the curves, used as the
+    figure when they are all of one mode (drawing it again would double the time).
+    """
+    out = []
+    groups = modes_of(curves)
+    if drawn is not None and len(groups) == 1:
+        mode = next(iter(groups))
+        out.append(from_file(f"fit-{mode}", f"{MODE_NAMES.get(mode, mode)}: data (markers) "
+                             "and model (lines)", "curves whose stresses differ by more than "
+                             "10x are on separate panels", drawn))
+        groups = {}
+    for mode, idx in groups.items():
+        name = MODE_NAMES.get(mode, mode)
+        sub, cs = _subset(cal, idx), [curves[i] for i in idx]
+        title = f"{name}: data (markers) and model (lines)"
+        out.append(_draw(f"fit-{mode}", title,
+                         "curves whose stresses differ by more than 10x are on separate panels",
+                         lambda buf, sub=sub, cs=cs, t=title: plot.plot_fit(sub, cs, buf, title=t)))
+    timed = [i for i, f in enumerate(fits) if "fine_time" in f and has_holds_or_unloading(f)]
+    if timed:
+        shown = timed[:MAX_TIME_PANELS]
+        more = [str(getattr(curves[i], "name", i)) for i in timed[MAX_TIME_PANELS:]]
+        cap = ("the model at the data's own times and on a fine grid; "
+               + (f"not shown: {', '.join(more)}" if more else "every such history shown"))
+        out.append(_draw("stress-time", "stress against time (histories with holds or "
+                         "unloading)", cap, lambda buf: _stress_time(curves, fits, shown, buf)))
+    return out
+
+
+def has_holds_or_unloading(f: dict) -> bool:
+    """Whether a fitted history holds its strain or reverses it (not a monotone ramp)."""
+    t, e = np.asarray(f["time"]), np.asarray(f["strain"])
+    if t.size < 3 or not np.all(np.isfinite(t)):
+        return False
+    d = np.diff(e)
+    scale = max(float(np.max(np.abs(e))), 1e-300)
+    held = np.abs(d) <= 1e-9 * scale
+    return bool(held.any() or ((d > 0).any() and (d < 0).any()))
+
+
+def _stress_time(curves, fits, shown: list[int], buf):
+    n = len(shown)
+    cols = min(n, 3)
+    rows = -(-n // cols)
+    fig, axes = _bare(rows, cols, (4.2 * cols, 3.2 * rows))
+    for k, ax in enumerate(axes.flat):
+        if k >= n:
+            ax.set_visible(False)
+            continue
+        i = shown[k]
+        f = fits[i]
+        t = np.concatenate([f["time"], f["fine_time"]])
+        m = np.concatenate([f["model"], f["fine_model"]])
+        order = np.argsort(t, kind="stable")
+        ax.plot(f["time"], f["stress"], "o", ms=3, mfc="none", color="C0", label="data")
+        ax.plot(t[order], m[order], "-", lw=1.3, color="C3", label="model")
+        ax.set_title(str(getattr(curves[i], "name", f"curve {i + 1}")), fontsize=9)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(f"{getattr(curves[i], 'measure', 'true')} stress (MPa)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    _save(fig, buf)
+    return fig
+
+
+def residual_figure(cal, curves, fits: list) -> Figure:
+    """Model minus data in percent of each curve's peak stress, a panel per mode."""
+    def make(buf):
+        groups = modes_of(curves)
+        fig, axes = _bare(1, len(groups), (4.6 * len(groups), 3.3))
+        for ax, (mode, idx) in zip(axes[0], groups.items()):
+            for k, i in enumerate(idx):
+                f = fits[i]
+                peak = max(float(np.max(np.abs(f["stress"]))), 1e-300)
+                ax.plot(f["strain"], 100.0 * (f["model"] - f["stress"]) / peak, "o", ms=2.5,
+                        color=f"C{k % 10}", label=str(getattr(curves[i], "name", i))[:40])
+            ax.axhline(0.0, color="0.4", lw=0.8)
+            ax.set_xlabel("amount of shear γ" if mode == "simple_shear"
+                          else "engineering strain")
+            ax.set_ylabel("model − data (% of the curve's peak)")
+            ax.set_title(MODE_NAMES.get(mode, mode), fontsize=9)
+            ax.grid(True, alpha=0.3)
+            if len(idx) <= 10:
+                ax.legend(fontsize=6)
+        _save(fig, buf)
+        return fig
+
+    return _draw("residuals", "residuals", "model − data at the objective points, in percent "
+                 "of each curve's largest |stress|", make)
+
+
+def moduli_figure(cal, curves) -> Figure:
+    return _draw("moduli", "frequency sweeps and relaxation tests",
+                 "E-type moduli, markers data, lines model"
+                 + (" (at the reference temperature)" if cal.shift_table else ""),
+                 lambda buf: plot.plot_moduli_fit(cal, curves, buf))
+
+
+def shift_figure(cal) -> Figure:
+    """log10 a_T of each temperature, and the calibration's law as a line."""
+    def make(buf):
+        T = np.array(sorted(cal.shift_table), dtype=np.float64)
+        L = np.array([cal.shift_table[t] for t in sorted(cal.shift_table)], dtype=np.float64)
+        fig, axes = _bare(1, 1, (5.0, 3.6))
+        ax = axes[0, 0]
+        ax.plot(T, L, "o", mfc="none", color="k", label="applied to the tests")
+        law = cal.shift
+        if law is not None:
+            fine = np.linspace(T.min(), T.max(), 200)
+            consts = ", ".join(f"{k} = {v:.4g}" for k, v in law.constants().items())
+            ax.plot(fine, law.log_aT(fine), "-", color="C1", label=f"{law.name}: {consts}")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_xlabel("temperature")
+        ax.set_ylabel("log10 a_T")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        _save(fig, buf)
+        return fig
+
+    return _draw("shift", "time–temperature shift factors", "", make)
+
+
+def scan_figure(cal) -> Figure:
+    return _draw("order-scan", "error against the number of Prony terms", "",
+                 lambda buf: plot.plot_order_scan(cal, buf))
+
+
+def history_figure(cal) -> Figure:
+    return _draw("history", "error against generation", "best and population mean",
+                 lambda buf: plot.plot_history(cal, buf))
