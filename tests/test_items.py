@@ -62,3 +62,20 @@ def test_calibrate_refuses_what_is_not_a_test_item():
 def test_the_protocol_is_typed():
     hints = typing.get_type_hints(vhfit.data.TestItem)
     assert hints["is_moduli"] is bool and hints["name"] is str
+
+
+def test_a_master_curve_refuses_a_stress_strain_curve_with_the_fix():
+    curve, _, _ = items()
+    sweep = vhfit.FrequencySweep(frequency=[0.1, 1.0], storage=[2.0, 3.0], loss=[0.5, 0.4],
+                                 temperature=20.0)
+    with pytest.raises(vhfit.data.DataError, match="item 2 is a Curve: give vhfit.FrequencySweep"):
+        vhfit.tts.master_curve([sweep, curve])
+
+
+def test_objective_reads_weights_and_point_scales_of_items_only():
+    curve, sweep, _ = items()
+    obj = vhfit.objective.Objective([curve.replace(weight=3.0), sweep])
+    np.testing.assert_array_equal(obj.weights[: curve.n_points], 3.0)
+    # arrays of targets carry no weights: all alike
+    bare = vhfit.objective.Objective([curve.target_stress, sweep.target_stress])
+    np.testing.assert_array_equal(bare.weights, 1.0)
