@@ -53,7 +53,7 @@ def test_a_single_unloading_curve_identifies():
 
 
 def test_equilibrium_curves_alone_identify_nothing_but_beside_a_ramp_they_do():
-    eq = SimpleNamespace(history=SimpleNamespace(is_equilibrium=True))
+    eq = SimpleNamespace(is_equilibrium=True, is_moduli=False)
     assert "only equilibrium" in viscous_evidence([eq, eq])
     assert viscous_evidence([eq, ramp(-1.0)]) is None
 

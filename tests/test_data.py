@@ -869,8 +869,8 @@ def test_read_history_feeds_the_model(tmp_path):
 
 
 # ============================================================ package layout
-_DATA_MODULES = ["_errors", "_measures", "_paths", "_points", "_samples", "_modes",
-                 "_histories", "_attributes", "_columns", "_table", "_ambiguous", "_specs",
+_DATA_MODULES = ["_items", "_errors", "_measures", "_paths", "_points", "_samples", "_modes",
+                 "_columns", "_table", "_ambiguous", "_specs",
                  "_curve", "_moduli", "_moduli_table", "_readers"]
 
 

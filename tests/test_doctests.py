@@ -68,3 +68,21 @@ def test_docstring_examples(name, tmp_path, monkeypatch, registries_restored):
             runner.run(test)
     result = runner.summarize(verbose=False)
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples of {name} failed"
+
+
+#: Documentation pages whose examples run as written (the extension points among them).
+DOC_PAGES = ["architecture.md"]
+DOCS = __import__("pathlib").Path(__file__).resolve().parents[1] / "docs"
+
+
+@pytest.mark.parametrize("name", DOC_PAGES)
+def test_documentation_examples(name, tmp_path, monkeypatch, registries_restored):
+    text = (DOCS / name).read_text(encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    test = doctest.DocTestParser().get_doctest(text, {}, name, str(DOCS / name), 0)
+    assert test.examples, f"docs/{name} has no examples"
+    runner = doctest.DocTestRunner(optionflags=FLAGS)
+    with np.printoptions(legacy=False):
+        runner.run(test)
+    result = runner.summarize(verbose=False)
+    assert result.failed == 0, f"{result.failed} of {result.attempted} examples of {name} failed"

@@ -52,6 +52,7 @@ def fork_is_safe() -> bool:
         from numba.np.ufunc import parallel as nb_parallel
     except ImportError:  # pragma: no cover - numba is a dependency
         return False
+    # getattr default: numba's private flag, absent in some numba versions
     return getattr(nb_parallel, "_is_initialized", True) is False
 
 
@@ -78,6 +79,7 @@ def check_start_method(mp_context: Any, name: str = "mp_context") -> None:
         if mp_context not in usable:
             names = ", ".join(repr(m) for m in START_METHODS if m in usable)
             raise ValueError(f"{name} = {mp_context!r}: give {names} or a context")
+    # getattr default: any object may be given; only a context has the method
     elif not callable(getattr(mp_context, "get_start_method", None)):
         raise ValueError(
             f"{name} is a {type(mp_context).__name__}: give 'auto', 'fork', 'forkserver', "
@@ -129,6 +131,7 @@ def _preload_vhfit(ctx) -> None:
     """
     from multiprocessing import forkserver
 
+    # getattr defaults: CPython's private fork-server state, absent elsewhere
     server = getattr(forkserver, "_forkserver", None)
     if server is None or getattr(server, "_forkserver_pid", None) is not None:
         return

@@ -253,7 +253,7 @@ def _matched(slow, fast, n: int = 10):
     for c in (slow, fast):
         e = np.asarray(c.target_strain, dtype=np.float64)
         s = np.asarray(c.target_stress, dtype=np.float64)
-        if getattr(c, "measure", "true") == "engineering":
+        if c.measure == "engineering":
             s = s * (1.0 + e)
         o = np.argsort(np.abs(e))
         out.append((np.abs(e[o]), s[o], float(np.sign(e[o][-1]))))
@@ -291,10 +291,10 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
     hm, n = _model_of(model_or_name, n_prony)
     cs = []
     for i, c in enumerate(curves):
-        r = getattr(c, "strain_rate", None)
-        if r is None or not np.isfinite(r) or r == 0 or not getattr(c, "is_constant_rate", True):
+        r = c.strain_rate
+        if r is None or not np.isfinite(r) or r == 0 or not c.is_constant_rate:
             continue
-        if not get_deformation(getattr(c, "deformation", "uniaxial")).uniaxial:
+        if not get_deformation(c.deformation).uniaxial:
             continue
         cs.append((abs(float(r)), i, c))
     cs.sort(key=lambda t: t[0])
@@ -335,7 +335,7 @@ def rate_pairs(curves: Sequence, model_or_name="mooney_rivlin", n_prony=None, *,
     out = []
     for (ca, cb, eps, ratio), (low, high) in zip(cand, bounds):
         out.append(RatePair(
-            slow=str(getattr(ca, "name", "curve")), fast=str(getattr(cb, "name", "curve")),
+            slow=str(ca.name), fast=str(cb.name),
             rate_slow=float(ca.strain_rate), rate_fast=float(cb.strain_rate),
             rate_ratio=float(cb.strain_rate / ca.strain_rate), stress_ratio=ratio,
             low=float(np.min(low)), high=float(np.max(high)), strain=eps,

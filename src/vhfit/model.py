@@ -109,12 +109,20 @@ def _history_from(deformation, direction, *, strain, strain_rate, time, stretch,
 def _history_of(item) -> History | LinearLoad:
     if isinstance(item, (History, LinearLoad)):
         return item
-    h = getattr(item, "history", None)
+    try:
+        h = item.history  # a test item (vhfit.data.TestItem): curve, sweep, relaxation
+    except AttributeError:
+        h = None
     if isinstance(h, (History, LinearLoad)):
         return h
     raise TypeError(
         f"expected a vhfit.History or a Curve (anything with a .history), got {type(item).__name__}"
     )
+
+
+def _measure_of(item) -> str:
+    """A test item's stress measure; a bare history's targets are true stresses."""
+    return "true" if isinstance(item, (History, LinearLoad)) else item.measure
 
 
 class ViscoHyperelastic:
@@ -433,9 +441,7 @@ class Batch:
             raise ValueError("give at least one history or curve")
         hs = [_history_of(it) for it in items]
         if measure is None or isinstance(measure, str):
-            measures = [
-                measure if measure is not None else getattr(it, "measure", "true") for it in items
-            ]
+            measures = [measure if measure is not None else _measure_of(it) for it in items]
         else:
             measures = list(measure)
             if len(measures) != len(items):

@@ -40,6 +40,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.data import TestItem
+
 __all__ = [
     "OBJECTIVES",
     "Objective",
@@ -132,7 +134,7 @@ def _scale_relative_l2(target: np.ndarray, curve: np.ndarray, weights: np.ndarra
 
 def _as_targets(targets: Any) -> list[np.ndarray]:
     """Targets as a list of 1-D float arrays, one per curve."""
-    if hasattr(targets, "target_stress"):  # a single Curve
+    if isinstance(targets, TestItem):  # a single curve, sweep or relaxation test
         targets = [targets]
     if isinstance(targets, np.ndarray) and targets.ndim == 1:
         targets = [targets]
@@ -140,7 +142,7 @@ def _as_targets(targets: Any) -> list[np.ndarray]:
         return [np.asarray(row, dtype=np.float64) for row in targets]
     out = []
     for i, t in enumerate(targets):
-        arr = np.asarray(getattr(t, "target_stress", t), dtype=np.float64)
+        arr = np.asarray(t.target_stress if isinstance(t, TestItem) else t, dtype=np.float64)
         if arr.ndim == 0:
             # a flat list of numbers is one curve
             return [np.asarray(targets, dtype=np.float64).reshape(-1)]
@@ -203,12 +205,14 @@ class Objective:
         *,
         weights: Sequence[float] | None = None,
     ) -> None:
-        if hasattr(curves, "target_stress"):
+        if isinstance(curves, TestItem):
             items: list[Any] | None = [curves]
         elif isinstance(curves, np.ndarray):
             items = None
-        else:
+        else:  # test items (their weights and scales count), or arrays of targets
             items = list(curves)
+            if not all(isinstance(c, TestItem) for c in items):
+                items = None
         targets = _as_targets(items if items is not None else curves)
         m = len(targets)
         if m == 0:
@@ -227,14 +231,14 @@ class Objective:
             if cw.size != m:
                 raise ValueError(f"weights has {cw.size} entries for {m} curves")
         elif items is not None and len(items) == m:
-            cw = np.array([float(getattr(c, "weight", 1.0)) for c in items])
+            cw = np.array([float(c.weight) for c in items])
         else:
             cw = np.ones(m)
         pw = []
         for i, n in enumerate(sizes):
             p = None
             if items is not None and len(items) == m:
-                p = getattr(items[i], "target_weights", None)
+                p = items[i].target_weights
             p = np.ones(n) if p is None else np.asarray(p, dtype=np.float64).reshape(-1)
             if p.size != n:
                 raise ValueError(f"curve {i}: {p.size} point weights for {n} points")
@@ -251,6 +255,7 @@ class Objective:
         self.slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
         self.weights = w
         if callable(kind):
+            # getattr default: a callable (functools.partial, an instance) may have no name
             self.kind = getattr(kind, "__name__", "custom")
             scale_fn = kind
         else:
@@ -357,7 +362,7 @@ class Objective:
 def _point_scales(items: Sequence[Any], slices: list[slice], scale: np.ndarray) -> None:
     """RMSAPE of moduli: each point relative to its own value (``target_scale``), in place."""
     for i, (c, sl) in enumerate(zip(items, slices)):
-        ts = getattr(c, "target_scale", None)
+        ts = c.target_scale
         if ts is None:
             continue
         ts = np.asarray(ts, dtype=np.float64).reshape(-1)

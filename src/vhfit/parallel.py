@@ -409,6 +409,7 @@ def _generate(jobs, executor, max_workers, seed, threads, max_pending, mp_contex
         try:
             tasks.append(_as_task(job, i, seed))
         except (TypeError, ValueError) as exc:
+            # getattr default: a job is a mapping or any object, named or not
             name = getattr(job, "name", None) or (
                 job.get("name") if isinstance(job, Mapping) else None)
             bad.append(JobResult(str(name or f"job {i}"), i, None, _describe(exc),
@@ -512,6 +513,7 @@ def _make_pool(kind: str, n: int, mp_context, initializer, initargs) -> cf.Execu
 def _shutdown(pool: cf.Executor, abandon: bool) -> None:
     """Shut a pool down; when abandoning it (consumer gone, error), stop its workers now."""
     if abandon:
+        # getattr default: only a ProcessPoolExecutor has (private) _processes
         for p in list((getattr(pool, "_processes", None) or {}).values()):
             p.terminate()
     pool.shutdown(wait=True, cancel_futures=True)

@@ -125,8 +125,7 @@ def group_by_magnitude(peaks: Sequence[float], ratio: float = 10.0) -> list[list
 
 # --------------------------------------------------------------------- curves
 def _label(curve, i: int) -> str:
-    name = getattr(curve, "name", None)
-    rate = getattr(curve, "strain_rate", None)
+    name, rate = curve.name, curve.strain_rate
     text = str(name) if name else f"curve {i + 1}"
     if rate is not None and np.isfinite(rate) and f"{rate:g}" not in text:
         text += f" ({rate:g} 1/s)"
@@ -135,16 +134,15 @@ def _label(curve, i: int) -> str:
 
 def _data_points(curve) -> tuple[np.ndarray, np.ndarray]:
     """Strain and stress of a curve's data as given (or its objective points)."""
-    eps = getattr(curve, "strain", None)
-    sig = getattr(curve, "stress", None)
-    if eps is None or sig is None or np.shape(eps) != np.shape(sig):
+    eps, sig = curve.strain, curve.stress
+    if np.shape(eps) != np.shape(sig):
         eps, sig = curve.history.out_strain, curve.target_stress
     return np.asarray(eps, dtype=np.float64), np.asarray(sig, dtype=np.float64)
 
 
 def _strain_label(curves) -> str:
     """The x label of stress-strain panels: what the curves' records call their strain."""
-    tests = {get_deformation(getattr(c, "deformation", "uniaxial")) for c in curves}
+    tests = {get_deformation(c.deformation) for c in curves}
     own = sorted(f"{t.name}: {t.strain_label}" for t in tests if t.shear)
     if own and all(t.shear for t in tests):
         return "; ".join(sorted({t.strain_label for t in tests}))
@@ -185,8 +183,8 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
     groups = group_by_magnitude(peaks, ratio)
     fig, axes = _figure(path, 1, len(groups), figsize=(5.2 * len(groups), 4.2),
                         layout="constrained")
-    errs = list(getattr(cal, "per_curve_rmsape", []) or [])
-    measures = {getattr(c, "measure", "true") for c in curves}
+    errs = list(cal.per_curve_rmsape)
+    measures = {c.measure for c in curves}
     ylabel = (f"{measures.pop()} stress (MPa)" if len(measures) == 1
               else "stress (MPa, each curve's measure)")
     from matplotlib import colormaps
@@ -210,9 +208,9 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0, title: st
         ax.axhline(0, color="0.6", lw=0.6)
         ax.legend(fontsize=7, loc="best")
     if title is None:
-        hm = getattr(getattr(cal.model, "hyperelastic", None), "name", "model")
+        hm = cal.model.hyperelastic.name
         title = f"{hm} + {cal.model.n_prony} Prony term(s)"
-        if getattr(cal, "rmsape", None) is not None:
+        if cal.rmsape is not None:
             title += f": RMSAPE {cal.rmsape:.3g} %"
     fig.suptitle(title, fontsize=10)
     return _finish(fig, path)
@@ -259,7 +257,7 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
                 ax.plot(f["time"], f["modulus"], "o", ms=3, mfc="none", color=c, label=lab)
                 ax.plot(f["fine_time"], f["fine_model"], "-", lw=1.2, color=c)
         # items shifted to T_ref by the calibration sit at reduced frequency (time)
-        _moduli_axes(ax, "storage" in fits[panel[0]], bool(getattr(cal, "shift_table", None)))
+        _moduli_axes(ax, "storage" in fits[panel[0]], bool(cal.shift_table))
         ax.legend(fontsize=7, loc="best")
     fig.suptitle("markers: data, lines: model", fontsize=10)
     return _finish(fig, path)
@@ -279,7 +277,7 @@ def plot_history(cal, path=None):
     -------
     matplotlib.figure.Figure
     """
-    h = getattr(cal, "history", None) or {}
+    h = cal.history or {}
     fig, axes = _figure(path, 1, 1, figsize=(5.5, 3.8), layout="constrained")
     ax = axes[0, 0]
     nit = np.asarray(h.get("nit", []), dtype=np.float64)
@@ -315,7 +313,7 @@ def plot_order_scan(cal, path=None):
     -------
     matplotlib.figure.Figure
     """
-    scan = list(getattr(cal, "order_scan", None) or [])
+    scan = list(cal.order_scan or [])
     if not scan:
         raise ValueError("this calibration has no order scan: calibrate with n_prony='auto'")
     fig, axes = _figure(path, 1, 1, figsize=(5.0, 3.6), layout="constrained")
@@ -323,7 +321,7 @@ def plot_order_scan(cal, path=None):
     n = [int(r["n_prony"]) for r in scan]
     e = [float(r["rmsape"]) for r in scan]
     ax.semilogy(n, e, "o-")
-    chosen = (getattr(cal, "options", None) or {}).get("n_prony_chosen")
+    chosen = (cal.options or {}).get("n_prony_chosen")
     if chosen in n:
         k = n.index(chosen)
         ax.semilogy([n[k]], [e[k]], "s", ms=11, mfc="none", color="C3",

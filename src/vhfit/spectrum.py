@@ -76,6 +76,7 @@ class PronySpectrum:
 
 def _data(item, frequency, storage, loss, time, modulus):
     if item is not None:
+        # getattr default: a sweep, a relaxation test or a MasterCurve (storage None: time)
         if getattr(item, "storage", None) is not None:
             frequency, storage, loss = item.frequency, item.storage, item.loss
         else:

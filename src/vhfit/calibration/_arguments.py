@@ -106,6 +106,7 @@ def _shift(a: dict) -> None:
     fix = ("give a law (vhfit.tts.WLF(C1, C2, T_ref), ...), a dict {temperature: log10 a_T} "
            "or a pair (temperatures, log10 a_T)")
     if hasattr(sf, "log_aT"):
+        # getattr default: a user's shift law (anything with log_aT) may have no T_ref
         law_T = getattr(sf, "T_ref", None)
         if T_ref is not None and law_T is not None and abs(float(law_T) - T_ref) > 1e-12:
             _fail("T_ref", T_ref, f"the shift law is referred to T_ref = {law_T!r}: drop "

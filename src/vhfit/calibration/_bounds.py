@@ -34,13 +34,13 @@ def rates(curves) -> np.ndarray:
     """Nominal |rates| of the rate and time curves (equilibrium curves have none), and
     ω or 1/t of the small-strain tests."""
     linear = [r for c in curves if is_moduli(c) for r in _linear_rates(c)]
-    rated = [c for c in curves if not getattr(c, "is_equilibrium", False) and not is_moduli(c)]
+    rated = [c for c in curves if not c.is_equilibrium and not is_moduli(c)]
     if not rated and not linear:
         raise ValueError(
             "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
             "(rate-free) curves carry no viscous response; fit n_prony=0"
         )
-    r = np.array([abs(float(getattr(c, "strain_rate", np.nan) or np.nan)) for c in rated]
+    r = np.array([abs(float(c.strain_rate or np.nan)) for c in rated]
                  + linear)
     if not np.all(np.isfinite(r) & (r > 0)):
         raise ValueError(
@@ -55,13 +55,13 @@ def tau_bounds_log10(rates, n, strategy, below, above) -> np.ndarray:
     from vhfit.optimize import tau_bounds  # lazy: the optimizer imports scipy.optimize
 
     b = tau_bounds(rates, n, strategy=strategy, decades_above=above, decades_below=below)
-    return np.asarray(getattr(b, "bounds", b), dtype=np.float64).reshape(n, 2)
+    return np.asarray(b, dtype=np.float64).reshape(n, 2)  # TauBounds: an (n, 2) array
 
 
 def _true_target(c) -> np.ndarray:
     """|true stress| of a curve's targets (nominal ones times the loaded stretch)."""
     y = np.abs(np.asarray(c.target_stress, dtype=np.float64))
-    if getattr(c, "measure", "true") == "engineering":
+    if c.measure == "engineering":
         y = y * c.history.out_loaded_stretch
     return y
 
@@ -78,7 +78,7 @@ def _long_term_true(hm, params, h) -> np.ndarray:
 
 def _is_uniaxial(c) -> bool:
     """Whether a curve is of the paper's test, whose long-term stress is the law's own."""
-    return get_deformation(getattr(c, "deformation", "uniaxial")).uniaxial
+    return get_deformation(c.deformation).uniaxial
 
 
 def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple[float, float]]:
@@ -101,7 +101,7 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     lam = np.concatenate([c.history.out_stretch for c in uni] + [np.zeros(0)])
     y = np.concatenate([np.asarray(c.target_stress, dtype=np.float64) for c in uni]
                        + [np.zeros(0)])
-    meas = np.concatenate([np.full(np.size(c.target_stress), getattr(c, "measure", "true"))
+    meas = np.concatenate([np.full(np.size(c.target_stress), c.measure)
                            for c in uni] + [np.zeros(0, dtype=str)])
     y_true = np.abs(np.where(meas == "engineering", y * lam, y))
     keep = np.abs(lam - 1) > 1e-9

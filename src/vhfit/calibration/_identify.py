@@ -27,7 +27,7 @@ RATE_RATIO = 1.25
 
 
 def _is_equilibrium(curve) -> bool:
-    return bool(getattr(curve.history, "is_equilibrium", False))
+    return bool(curve.is_equilibrium)
 
 
 def _distinct_rates(rates: Sequence[float]) -> int:
@@ -69,7 +69,7 @@ def viscous_evidence(curves: Sequence) -> str | None:
         return "only equilibrium (rate-free) curves, which carry no viscous response"
     if len(rated) < len(curves):
         return None  # the equilibrium curves fix the long-term law, the others the rest
-    if any(int(getattr(c, "n_segments", 1)) > 1 for c in rated):
+    if any(int(c.n_segments) > 1 for c in rated):
         return None  # a hold or an unloading shows relaxation or hysteresis
     rates = [float(c.strain_rate) for c in rated]
     if _distinct_rates(rates) > 1:

@@ -373,6 +373,6 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
         nit=int(nit), nfev=int(nfev), wall_time=time.perf_counter() - t0, stop_reason=str(stop),
         g=[float(v) for v in g], g_inf=float(g_inf), bounds=bounds, history=history,
         confidence=conf, stability=stab, warnings=msgs, headlines=heads, options=options,
-        curve_names=[str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)],
+        curve_names=[str(c.name) for c in curves],
         curves=list(curves),
     )

@@ -12,6 +12,7 @@ from datetime import datetime, timezone
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.data import TestItem
 from vhfit.formulations import FORMULATIONS
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
@@ -66,16 +67,15 @@ def _versions() -> dict[str, str]:
 
 
 def _curve_info(c) -> dict:
-    if hasattr(c, "curve_info"):  # frequency sweeps and relaxation tests
+    if c.is_moduli:  # frequency sweeps and relaxation tests
         return c.curve_info()
     return {
-        "name": str(getattr(c, "name", "")),
-        "strain_rate": (None if getattr(c, "strain_rate", None) is None
-                        else float(c.strain_rate)),
-        "deformation": getattr(c, "deformation", "uniaxial"),
-        "measure": getattr(c, "measure", "true"),
+        "name": str(c.name),
+        "strain_rate": None if c.strain_rate is None else float(c.strain_rate),
+        "deformation": c.deformation,
+        "measure": c.measure,
         "n_points": int(np.size(c.target_stress)),
-        "source": getattr(c, "source", None),
+        "source": c.source,
     }
 
 
@@ -233,8 +233,8 @@ class Calibration:
 
     def predict(self, history=None, **kwargs) -> np.ndarray:
         """Stress of the calibrated material along a history or curve (see ``model.stress``)."""
-        if history is not None and not kwargs and hasattr(history, "target_stress"):
-            kwargs["measure"] = getattr(history, "measure", "true")
+        if not kwargs and isinstance(history, TestItem):
+            kwargs["measure"] = history.measure
         return self.model.stress(self.params, history, **kwargs)
 
     def summary(self) -> str:
@@ -538,11 +538,11 @@ class Calibration:
         """
         out = []
         for c in curves:
-            if hasattr(c, "fitted_curve"):  # frequency sweeps and relaxation tests: moduli
+            if c.is_moduli:  # frequency sweeps and relaxation tests: moduli
                 out.append(c.fitted_curve(self.model, self.params, int(points)))
                 continue
             h = c.history
-            measure = getattr(c, "measure", "true")
+            measure = c.measure
             model = self.model.stress(self.params, h, measure=measure)
             t_fine, fh = _fine_history(h, int(points))
             fine = self.model.stress(self.params, fh, measure=measure)

@@ -17,7 +17,7 @@ from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._search import CalibrationError, run_search
 from vhfit.calibration._space import SPACES, Problem
-from vhfit.data import is_moduli, read_csv
+from vhfit.data import TestItem, is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
@@ -31,7 +31,7 @@ DEFAULT_DECADES_ABOVE = 1
 
 def _as_curves(curves) -> list:
     """A list of curves from Curve objects, file paths (read with read_csv), or a mix."""
-    if hasattr(curves, "history") or isinstance(curves, (str, os.PathLike)):
+    if isinstance(curves, (TestItem, str, os.PathLike)):
         curves = [curves]
     try:
         items = list(curves)
@@ -43,7 +43,7 @@ def _as_curves(curves) -> list:
     for i, c in enumerate(items):
         if isinstance(c, (str, os.PathLike)):
             out += read_csv(c)
-        elif hasattr(c, "history") and hasattr(c, "target_stress"):
+        elif isinstance(c, TestItem):
             out.append(c)
         else:
             raise ValueError(

@@ -86,7 +86,7 @@ def card_jobs(solver: str, args) -> list[tuple[str, dict]]:
     (``--NAME-VARIANT``)."""
     rec = get_solver(solver)
     return [(solver, {})] + [(f"{solver}_{v}", {v: True}) for v in rec.variants
-                             if getattr(args, f"{solver}_{v}", False)]
+                             if getattr(args, f"{solver}_{v}")]
 
 
 def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
@@ -125,10 +125,10 @@ def card_shift(cal) -> tuple[object, str | None]:
     A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's); another law
     cannot (the cards take WLF only), which the note says.
     """
-    law = getattr(cal, "shift", None)
+    law = cal.shift
     if law is None:
         return None, None
-    if getattr(law, "name", None) == "wlf":
+    if law.name == "wlf":
         return law, None
     return None, (f"no time-temperature shift in the card: the fit's {law.name} law has no "
                   "card form (the cards take WLF); fit with --shift wlf:C1,C2, or without "
@@ -139,7 +139,7 @@ def card_options(args, solver: str) -> dict:
     """The keyword arguments of ``solver``'s writer from ``--density``, ``--poisson``,
     ``--bulk-modulus`` (those its record declares)."""
     return get_solver(solver).options(
-        **{k: getattr(args, k, None) for k in ("density", "poisson", "bulk_modulus")})
+        **{k: getattr(args, k) for k in ("density", "poisson", "bulk_modulus")})
 
 
 @dataclass
@@ -283,11 +283,11 @@ def _summary(res: Cards, curves, args, fits, plan) -> list[str]:
         lines += [f"note ({k} card): {n}" for n in v]
     for k, v in res.errors.items():
         lines.append(f"no {k} card: {v}")
-    if getattr(args, "density", None) is None:
+    if args.density is None:
         lines.append("note: no --density: the cards carry no density (*DENSITY, RO, MP,DENS) "
                      "and say so; give --density RHO (tonne/mm^3, 1e-9 for 1000 kg/m^3) for "
                      "dynamic or explicit analyses")
     if res.check:
-        names = [str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)]
+        names = [str(c.name) for c in curves]
         lines += [""] + check_table(res.check, names)
     return lines

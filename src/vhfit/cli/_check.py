@@ -39,7 +39,7 @@ def cmd_check(args) -> int:
     if args.json:
         print(json.dumps({"card_check": {k: c.to_dict() for k, c in checks.items()}}, indent=2))
         return EXIT_OK
-    names = [str(getattr(c, "name", f"curve {i}")) for i, c in enumerate(curves)]
+    names = [str(c.name) for c in curves]
     for c in checks.values():
         if c.warning():
             print(f"WARNING: {c.warning()}")
@@ -67,7 +67,7 @@ def _at_reference(curves, cal) -> list:
     if cal.shift_source is None:
         return curves
     table, law = dict(cal.shift_table), cal.shift
-    law = law if getattr(law, "name", None) == "wlf" else None
+    law = law if law is not None and law.name == "wlf" else None
     try:
         return tts.shift_to_reference(curves, shift_factors=table or law,
                                       T_ref=cal.T_ref).items
@@ -113,7 +113,7 @@ def _data_args(args, saved: dict) -> argparse.Namespace:
     """The data options: given on the command line, else the fit's own."""
     ns = argparse.Namespace()
     for k in _DATA_OPTIONS:
-        v = getattr(args, k, None) if hasattr(args, k) else saved.get(k)
+        v = getattr(args, k) if hasattr(args, k) else saved.get(k)
         if k.startswith("trim_") and v:
             v = [None if w is None else tuple(w) for w in v]
         setattr(ns, k, v)

@@ -41,7 +41,7 @@ class FitFailed(Exception):
 def one_line(exc: BaseException) -> str:
     """The message of ``exc`` on one line (an OSError names its file)."""
     text = str(exc) or type(exc).__name__
-    if isinstance(exc, (OSError,)) and getattr(exc, "filename", None):
+    if isinstance(exc, OSError) and exc.filename:
         text = f"{exc.filename}: {exc.strerror or text}"
     return " ".join(part.strip() for part in text.splitlines() if part.strip())
 

@@ -169,13 +169,13 @@ def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, str]) -
 def _check_card_flags(args) -> None:
     """``--for`` a solver that lacks the law, or an unknown ``--formulation``: refused
     before anything is fitted or written."""
-    form = getattr(args, "formulation", None)
+    form = args.formulation
     if form is not None and form not in FORMULATIONS:
         load_plugins()  # a plug-in may register it
         if form not in FORMULATIONS:
             raise UsageError(f"--formulation {form}: unknown; choose one of "
                              f"{', '.join(FORMULATIONS)} (or register one in a plug-in)")
-    given = getattr(args, "targets", None)
+    given = args.targets
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
         check_targets(args.targets, resolve_model_name(args.model))
@@ -183,7 +183,7 @@ def _check_card_flags(args) -> None:
 
 def _shift_law(args):
     """The law of ``--shift`` at ``--tref`` (None without ``--shift``)."""
-    given = getattr(args, "shift", None)
+    given = args.shift
     if given is None:
         return None
     name, vals = given
@@ -255,7 +255,7 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
         kw["rate"] = args.rate[0] if len(args.rate) == 1 else list(args.rate)
     if args.measure:
         kw["measure"] = args.measure
-    tests = getattr(args, "deformation", None)
+    tests = args.deformation
     if tests:
         if len(tests) not in (1, len(files)):
             raise UsageError(
@@ -270,7 +270,7 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
         raise UsageError(f"{', '.join(files)}: no curves found; check the files' columns")
     windows = {}
     for what in ("strain", "time"):
-        given = getattr(args, f"trim_{what}", None) or []
+        given = getattr(args, f"trim_{what}") or []
         if len(given) not in (0, 1, len(files)):
             raise UsageError(
                 f"--trim-{what} given {len(given)} times for {len(files)} files: give one "
@@ -280,7 +280,7 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
     if windows["strain"] or windows["time"]:
         def trimmed(c):
             src = os.path.abspath(c.source) if c.source else None
-            if not hasattr(c, "trim"):  # a frequency sweep or relaxation test
+            if c.is_moduli:  # a frequency sweep or relaxation test: no trim
                 return c
             return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
 
@@ -295,7 +295,7 @@ def _data_choices(args) -> dict[str, Any]:
     records them)."""
     kw: dict[str, Any] = {}
     columns: dict[str, Any] = {}
-    for role, name in getattr(args, "columns", None) or []:
+    for role, name in args.columns or []:
         if role.lower() == "ignore":
             columns.setdefault("ignore", []).append(name)
         elif role in columns:
@@ -303,16 +303,16 @@ def _data_choices(args) -> dict[str, Any]:
         else:
             columns[role] = name or None
     units: dict[str, str] = {}
-    for role, unit in getattr(args, "units", None) or []:
+    for role, unit in args.units or []:
         if role in units:
             raise UsageError(f"--units {role}= given twice: give each role once")
         units[role] = unit
     select: dict[str, Any] = {}
-    for col, value in getattr(args, "select", None) or []:
+    for col, value in args.select or []:
         select.setdefault(col, []).append(value)
     select = {c: v[0] if len(v) == 1 else v for c, v in select.items()}
     for key, val in (("columns", columns), ("units", units), ("select", select),
-                     ("group_by", list(getattr(args, "group_by", None) or []))):
+                     ("group_by", list(args.group_by or []))):
         if val:
             kw[key] = val
     return kw
@@ -346,7 +346,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         if why:
             print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
                   file=sys.stderr, flush=True)
-    plan = plan_fits(getattr(args, "targets", None), getattr(args, "formulation", None))
+    plan = plan_fits(args.targets, args.formulation)
     sigs = Signals()
     fits: dict[str, Calibration] = {}
     interrupted = False
@@ -408,9 +408,10 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
         kw["max_prony"] = args.max_prony
     if formulation != "hereditary":  # the default, left out: the call is today's
         kw["formulation"] = formulation
+    # getattr default: set by cmd_fit only (not demo); goes with the settings object
     if getattr(args, "_shift_law", None) is not None:
         kw["shift_factors"] = args._shift_law
-    if getattr(args, "tref", None) is not None:
+    if args.tref is not None:
         kw["T_ref"] = args.tref
     try:
         cal = calibrate(curves, **kw)
@@ -468,6 +469,7 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
     first fit of ``plan`` is the results' own, the others are listed under ``fits``."""
     cal = next(iter(fits.values()))
+    # getattr default: set by cmd_fit only (not demo); goes with the settings object
     raw, curves = curves, getattr(args, "_at_ref", None) or curves  # tests at T_ref
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
@@ -529,7 +531,7 @@ def _fit_record(cal: Calibration) -> dict:
     """One fit of several in results.json: its constants and errors (no history)."""
     d = cal.to_dict()
     d.pop("history", None)
-    d["formulation"] = getattr(cal.model, "formulation", "hereditary")
+    d["formulation"] = cal.model.formulation
     return d
 
 
@@ -582,7 +584,7 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
               "kind=fine: model on a fine time grid (stress_data empty)\n")
     buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
     # other tests than the paper's add two columns: the test, and the loaded direction
-    tests = {get_deformation(getattr(c, "deformation", "uniaxial")) for c in curves}
+    tests = {get_deformation(c.deformation) for c in curves}
     modes = not all(t.uniaxial for t in tests)
     if modes:
         strains = "".join(f"; {t.name}: strain = {t.strain_label}"
@@ -596,12 +598,12 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     for c, f in zip(curves, fits):
         if _moduli.is_moduli_fit(f):  # in fitted_moduli.csv
             continue
-        name = str(getattr(c, "name", ""))
-        r = getattr(c, "strain_rate", float("nan"))
+        name = str(c.name)
+        r = c.strain_rate
         rate = "" if r is None else f"{float(r):g}"
-        meas = getattr(c, "measure", "true")
-        dfm = [getattr(c, "deformation", "uniaxial")] if modes else []
-        dirs = getattr(c, "target_direction", np.ones(len(f["time"]), dtype=int))
+        meas = c.measure
+        dfm = [c.deformation] if modes else []
+        dirs = c.target_direction
         for t, e, s, m, d in zip(f["time"], f["strain"], f["stress"], f["model"], dirs):
             w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"]
                        + (dfm + [int(d)] if modes else []))

@@ -27,7 +27,7 @@ def fitted_moduli_csv(items, fits) -> str:
     w.writerow(["item", "quantity", "kind", "frequency_hz", "time_s", "modulus_data",
                 "modulus_model"])
     for c, f in zip(items, fits):
-        name = str(getattr(c, "name", ""))
+        name = str(c.name)
         if "omega" in f:
             for q in ("storage", "loss"):
                 for x, d, m in zip(f["frequency"], f[q], f[f"model_{q}"]):

@@ -344,7 +344,7 @@ def _add_demo(sub, common: argparse.ArgumentParser) -> None:
                                    "Table 5 parameters at -0.0018, -0.18, -59.5, -820 1/s) and "
                                    "write every output into a fresh folder.")
     _add_fit_options(p, demo=True)
-    p.set_defaults(func=cmd_demo)
+    p.set_defaults(func=cmd_demo, shift=None, tref=None)  # one temperature: no shift
 
 
 def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:

@@ -44,7 +44,7 @@ def load_plugins(strict: bool = False) -> list[dict[str, Any]]:
     for ep in entry_points(group=PLUGIN_GROUP):
         before = set(hyperelastic.available())
         info = {"name": ep.name, "value": ep.value, "models": [], "error": None,
-                "distribution": getattr(getattr(ep, "dist", None), "name", None)}
+                "distribution": None if ep.dist is None else ep.dist.name}
         try:
             obj = ep.load()
             if inspect.isfunction(obj) and not any(

@@ -38,7 +38,7 @@ def cmd_simulate(args) -> int:
     buf.write(f"# vhfit simulate: {model.hyperelastic.name} + {n_prony} Prony term(s){form}, "
               f"from {source}\n")
     buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
-    dfm = getattr(args, "deformation", "uniaxial")
+    dfm = args.deformation
     test = get_deformation(dfm)
     if test.uniaxial:
         buf.write(f"# stress measure: {args.measure} (MPa); strain: engineering; time: s\n")
@@ -90,7 +90,7 @@ def _material(args) -> tuple[ViscoHyperelastic, dict[str, float], str]:
 def _loads(args) -> list[tuple[str, float, History]]:
     """(label, rate or NaN, history) of each --rate ramp and --history file."""
     loads: list[tuple[str, float, History]] = []
-    dfm = getattr(args, "deformation", "uniaxial")
+    dfm = args.deformation
     if get_deformation(dfm).second_stretch:
         raise UsageError(f"--deformation {dfm} needs a second stretch path, which simulate "
                          "does not take: use the Python API (ViscoHyperelastic.stress with "

@@ -33,16 +33,20 @@ rather than declared (e.g. compression given as positive numbers) is done with a
 The tolerances below are module attributes read when a curve is built; setting one here
 (e.g. ``vhfit.data.MAX_BREAKPOINTS = 5000``) changes it for the curves built afterwards.
 
+Curves, sweeps and relaxation tests are *test items*: they share the protocol
+:class:`TestItem` (name, kind of test, deformation, measure, history, targets, weights),
+and every consumer reads them through it.
+
 Layout (private modules, imported in this order, none importing a later one):
-``_errors`` (DataError, message locations) → ``_measures`` → ``_paths`` (path geometry)
-→ ``_points`` (objective points) → ``_samples`` (the checks of ``Curve(...)``) →
-``_modes`` (the deformation's arguments and signs) → ``_histories`` (every
-:class:`~vhfit.history.History` built for a curve) → ``_attributes`` (the curve's
-read-only properties) → ``_columns`` (header recognition, units) → ``_table`` (CSV
-decoding, tables) → ``_specs`` (table → curve arguments) → ``_curve`` (:class:`Curve`)
-→ ``_moduli`` (:class:`FrequencySweep`, :class:`Relaxation`: small-strain moduli) →
-``_moduli_table`` (tables of moduli → sweeps and relaxation tests) → ``_readers``
-(:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
+``_items`` (:class:`TestItem`, :func:`is_moduli`) → ``_errors`` (DataError, message
+locations) → ``_measures`` → ``_paths`` (path geometry) → ``_points`` (objective points)
+→ ``_samples`` (the checks of ``Curve(...)``) → ``_modes`` (the deformation's arguments
+and signs) →
+``_columns`` (header recognition, units) → ``_table`` (CSV decoding, tables) →
+``_ambiguous`` (competing columns) → ``_specs`` (table → curve arguments) → ``_curve``
+(:class:`Curve`) → ``_moduli`` (:class:`FrequencySweep`, :class:`Relaxation`:
+small-strain moduli) → ``_moduli_table`` (tables of moduli → sweeps and relaxation tests)
+→ ``_readers`` (:func:`read_csv`, :func:`curves_from_arrays`, :func:`read_history`).
 """
 
 from __future__ import annotations
@@ -54,8 +58,9 @@ from typing import Any
 from vhfit.data import _curve, _paths, _samples
 from vhfit.data._curve import MAX_BREAKPOINTS, MAX_POINTS, PATH_RTOL, Curve
 from vhfit.data._errors import DataError, DataWarning
+from vhfit.data._items import TestItem, is_moduli
 from vhfit.data._measures import engineering_to_true, true_to_engineering
-from vhfit.data._moduli import FrequencySweep, Relaxation, is_moduli
+from vhfit.data._moduli import FrequencySweep, Relaxation
 from vhfit.data._paths import HOLD_MIN_DURATION, HOLD_RTOL, LEG_RTOL
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._readers import curves_from_arrays, read_csv, read_history
@@ -75,6 +80,7 @@ __all__ = [
     "DataWarning",
     "FrequencySweep",
     "Relaxation",
+    "TestItem",
     "curves_from_arrays",
     "engineering_to_true",
     "is_moduli",

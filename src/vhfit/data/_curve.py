@@ -3,23 +3,25 @@ objective points.
 
 The constructor runs the checks and inferences of :mod:`vhfit.data._samples` (and of
 :mod:`vhfit.data._modes` for the test's deformation) in order; the objective points are
-placed by :mod:`vhfit.data._points` and the history is built by
-:mod:`vhfit.data._histories`. Conventions and errors: see :mod:`vhfit.data`.
+placed by :mod:`vhfit.data._points`. The history is built here (:func:`_build_history`,
+every call of the :class:`~vhfit.history.History` builders the data package makes): a
+constant-rate ramp, a measured (time, strain) path simplified to the breakpoints that
+matter or followed through bin means when too noisy, or an equilibrium set of states.
 :func:`_curves_from_table` builds the curves of a table (the readers' last step).
+Conventions and errors: see :mod:`vhfit.data`.
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-from vhfit.data._attributes import _CurveAttributes
-from vhfit.data._errors import DataError, _norm_measure, _Subset, _Where
-from vhfit.data._histories import _build_history, _Path
+from vhfit.data._errors import DataError, _norm_measure, _Subset, _warn, _Where
 from vhfit.data._modes import (
     _check_deformation,
     _check_mode_signs,
@@ -27,7 +29,13 @@ from vhfit.data._modes import (
     _mode_name,
     _second_path,
 )
-from vhfit.data._paths import LEG_RTOL, _segment_bounds, _turning_points
+from vhfit.data._paths import (
+    LEG_RTOL,
+    _bin_means,
+    _segment_bounds,
+    _simplify_idx,
+    _turning_points,
+)
 from vhfit.data._points import (
     DEFAULT_N_POINTS,
     _check_points_args,
@@ -51,7 +59,7 @@ from vhfit.data._samples import (
 )
 from vhfit.data._specs import _curve_specs
 from vhfit.data._table import _Table, _table_from_data
-from vhfit.history import History
+from vhfit.history import History, from_rest
 from vhfit.modes import get_deformation
 
 #: A measured strain path is simplified (breakpoints dropped) only where that moves it by
@@ -72,8 +80,110 @@ MAX_BREAKPOINTS = 2000
 MAX_POINTS = 500
 
 
+# ======================================================= the curve's history
+@dataclass(frozen=True)
+class _Path:
+    """What a curve's history is made of: its samples and its objective points."""
+
+    deformation: str
+    rate: float | None  # constant-rate ramp; None for time paths and equilibrium
+    time: np.ndarray | None  # sample times (None: constant rate or equilibrium)
+    strain: np.ndarray  # λ1 − 1 (γ in simple shear) of the samples
+    strain2: np.ndarray | None  # λ2 − 1 of the samples (a second prescribed stretch)
+    e_obj: np.ndarray  # driving strain at the objective points (one direction)
+    e2_obj: np.ndarray | None
+    t_obj: np.ndarray  # their times (sample numbers at equilibrium)
+    two: bool  # outputs in both loaded directions (stress2 measured)
+
+
+def _build_history(p: _Path, path_rtol: float, max_breakpoints: int, where: _Where) -> History:
+    """The history of path ``p`` with outputs at its objective points (both directions
+    when ``p.two``); a History refusal becomes a DataError naming the curve."""
+    try:
+        return _history(p, path_rtol, max_breakpoints, where)
+    except ValueError as exc:
+        if isinstance(exc, DataError):
+            raise
+        raise DataError(f"{where()}: {exc}") from None
+
+
+def _history(p: _Path, path_rtol: float, max_breakpoints: int, where: _Where) -> History:
+    kw = {"deformation": p.deformation}
+    if p.strain2 is not None:
+        kw["strain2"] = p.e2_obj if p.time is None else None
+    if p.time is None and p.rate is None:
+        h = History.equilibrium(p.e_obj, **kw)
+    elif p.time is None:
+        h = History.constant_rate(p.e_obj, p.rate, **kw)
+    else:
+        h = _measured_path(p, kw, path_rtol, max_breakpoints, where)
+    if not p.two:
+        return h
+    n = p.t_obj.size
+    return h.with_outputs(np.concatenate([h.out_time, h.out_time]),
+                          np.repeat(np.array([1, 2]), n))
+
+
+def _measured_path(p: _Path, kw: dict, path_rtol: float, max_breakpoints: int,
+                   where: _Where) -> History:
+    """Through the measured samples, breakpoints dropped where that moves the path(s) by
+    less than ``path_rtol`` of the range; through bin means when that keeps too many."""
+    t, e = from_rest(p.time, p.strain)
+    paths = [e] if p.strain2 is None else [e, from_rest(p.time, p.strain2)[1]]
+    scale = max(max(float(np.ptp(x)), float(np.abs(x).max())) for x in paths)
+    tol = path_rtol * scale
+    idx = _union_idx(t, paths, tol, max_breakpoints)
+    if idx is None:
+        return _smoothed(p, kw, path_rtol, scale, max_breakpoints, where)
+    if p.strain2 is not None:
+        kw["strain2"] = paths[1][idx]
+    return History.piecewise_linear(t[idx], e[idx], out_time=p.t_obj, **kw)
+
+
+def _union_idx(t, paths, tol, limit):
+    """Breakpoints that every path needs (None past ``limit`` of them)."""
+    keep = None
+    for x in paths:
+        idx = _simplify_idx(t, x, tol, limit=limit)
+        if idx is None:
+            return None
+        keep = idx if keep is None else np.union1d(keep, idx)
+    if limit is not None and keep.size > limit:
+        return None
+    return keep
+
+
+def _smoothed(p: _Path, kw: dict, path_rtol: float, scale: float, limit: int,
+              where: _Where) -> History:
+    # Following every noisy sample would keep ~all of them as breakpoints and turn
+    # the noise into strain-rate spikes of noise/Δt; follow bin means instead.
+    raws = [p.strain] if p.strain2 is None else [p.strain, p.strain2]
+    binned = [from_rest(*_bin_means(p.time, x, limit)) for x in raws]
+    t, xs = binned[0][0], [b[1] for b in binned]
+    tol = path_rtol * scale
+    idx = None
+    while idx is None:
+        idx = _union_idx(t, xs, tol, limit)
+        tol *= 2.0
+    t, xs = t[idx], [x[idx] for x in xs]
+    dev = np.interp(p.time, t, xs[0]) - p.strain
+    rms = float(np.sqrt(np.mean(dev * dev)))
+    _warn(
+        f"{where()}: the measured strain path is noisy or too detailed to follow "
+        f"sample by sample (more than {limit} breakpoints within "
+        f"{path_rtol:g} of its range, and noise would become strain-rate spikes): the "
+        f"simulated history follows a {limit}-bin average of it with "
+        f"{idx.size} breakpoints (RMS deviation from the samples {rms:.3g} strain, "
+        f"{rms / scale:.2g} of the range); smooth the strain signal yourself, or raise "
+        f"vhfit.data.MAX_BREAKPOINTS, to choose differently", 6
+    )
+    if p.strain2 is not None:
+        kw["strain2"] = xs[1]
+    return History.piecewise_linear(t, xs[0], out_time=p.t_obj, **kw)
+
+
 # ================================================================= the curve
-class Curve(_CurveAttributes):
+class Curve:
     """One test: measured deformation and stress, its loading history, objective points.
 
     Parameters
@@ -229,6 +339,9 @@ class Curve(_CurveAttributes):
     (500, 'bins', 0.001)
     """
 
+    #: A stress–strain test, not data of moduli (see :class:`vhfit.data.TestItem`).
+    is_moduli = False
+
     def __init__(
         self,
         strain: Any = None,
@@ -344,6 +457,162 @@ class Curve(_CurveAttributes):
         new.__dict__.update(attrs)
         new._set_points()
         return new
+
+    # ------------------------------------------------------- measured data
+    @property
+    def strain(self) -> np.ndarray:
+        """Measured engineering strain of each sample (after merging duplicates)."""
+        return self._strain
+
+    @property
+    def stress(self) -> np.ndarray:
+        """Measured stress of each sample in MPa, in :attr:`measure`."""
+        return self._stress
+
+    @property
+    def time(self) -> np.ndarray | None:
+        """Measured time of each sample in s, or ``None`` for a constant-rate curve."""
+        return self._time
+
+    @property
+    def stretch(self) -> np.ndarray:
+        """λ1 = 1 + ε of each sample (in simple shear :attr:`strain` is γ, not λ − 1)."""
+        return 1.0 + self._strain
+
+    @property
+    def strain_rate(self) -> float | None:
+        """Nominal engineering strain rate in 1/s (negative in compression); None for an
+        equilibrium curve.
+
+        As given; for a time curve without a given rate it is estimated as the median of
+        |dε/dt| over the samples, each step weighted by the strain it applies (so holds
+        and sensor noise do not count), with the sign of the loading mode (of the first
+        loading for a mixed curve). See :attr:`strain_rate_estimated`. In simple shear
+        it is the rate of γ; in a biaxial test, of the path (λ1 or λ2) that moves more.
+        """
+        return self._rate
+
+    @property
+    def strain_rate_estimated(self) -> bool:
+        """True if :attr:`strain_rate` was estimated from the time column."""
+        return self._rate_estimated
+
+    @property
+    def is_constant_rate(self) -> bool:
+        """True if the history is a constant-rate ramp (a rate, no time column)."""
+        return self._time is None and not self._equilibrium
+
+    @property
+    def is_equilibrium(self) -> bool:
+        """True for an equilibrium curve (neither rate nor time): fully relaxed states,
+        compared with the long-term law alone; its samples need no order."""
+        return self._equilibrium
+
+    @property
+    def deformation(self) -> str:
+        """The test: the name of a registered deformation (``"uniaxial"``, the paper's,
+        or another, :func:`vhfit.modes.get_deformation` gives its record)."""
+        return self._deformation
+
+    @property
+    def strain2(self) -> np.ndarray | None:
+        """λ2 − 1 of each sample of a biaxial curve (None otherwise)."""
+        return self._strain2
+
+    @property
+    def stress2(self) -> np.ndarray | None:
+        """Stress in the second loaded direction of each sample, in :attr:`measure`
+        (MPa), when it was measured (a test with two loaded directions; None otherwise)."""
+        return self._stress2
+
+    @property
+    def measure(self) -> str:
+        """Stress measure: ``"engineering"`` or ``"true"``."""
+        return self._measure
+
+    @property
+    def mode(self) -> str:
+        """Loading mode: ``"compression"``, ``"tension"`` or ``"mixed"``."""
+        return self._mode
+
+    @property
+    def name(self) -> str:
+        """Name of the curve."""
+        return self._name
+
+    @property
+    def weight(self) -> float:
+        """Weight of the curve in the objective."""
+        return self._weight
+
+    @property
+    def source(self) -> str | None:
+        """File (or other source) the curve was read from."""
+        return self._source
+
+    @property
+    def metadata(self) -> dict[str, Any]:
+        """Free-form information (e.g. a file's ``# key: value`` lines)."""
+        return self._metadata
+
+    # ------------------------------------------------------- objective points
+    @property
+    def n_points(self) -> int:
+        """Number of objective points."""
+        return int(self._t_obj.size)
+
+    @property
+    def n_segments(self) -> int:
+        """Number of segments of the history: loading legs between strain reversals, and holds.
+
+        A constant-rate ramp is one segment; see ``by="segments"`` in :class:`Curve`.
+        """
+        return int(self._bounds.size - 1)
+
+    @property
+    def by(self) -> str:
+        """How the objective points are spaced: ``"strain"``, ``"time"``, ``"arclength"``,
+        ``"segments"``, ``"samples"`` (the measured samples themselves) or ``"bins"``
+        (means of bins of consecutive samples, a record longer than ``MAX_POINTS``)."""
+        return self._by
+
+    @property
+    def target_strain(self) -> np.ndarray:
+        """Strain at the objective points."""
+        return self._e_obj
+
+    @property
+    def target_time(self) -> np.ndarray:
+        """Time of the objective points in the history (``strain / rate`` at constant rate)."""
+        return self._t_obj
+
+    @property
+    def target_stress(self) -> np.ndarray:
+        """Measured stress at the objective points, in :attr:`measure` (MPa)."""
+        return self._s_obj
+
+    @property
+    def target_weights(self) -> np.ndarray:
+        """Weight of each objective point (all 1 unless set by :meth:`with_point_weights`)."""
+        return self._w_obj
+
+    @property
+    def target_direction(self) -> np.ndarray:
+        """Loaded direction of each objective point: 1, or 2 for the points of ``stress2``
+        (they follow those of ``stress``)."""
+        return self._d_obj
+
+    @property
+    def target_strain2(self) -> np.ndarray | None:
+        """λ2 − 1 at the objective points of a biaxial curve (None otherwise)."""
+        return self._e2_obj
+
+    @property
+    def target_scale(self) -> None:
+        """Scale of each point's relative error: none, a curve's points are scaled by the
+        curve's own RMS stress (paper Eq. 20); frequency sweeps and relaxation tests give
+        one per point."""
+        return None
 
     @cached_property
     def history(self) -> History:

@@ -24,25 +24,9 @@ from vhfit.data._errors import DataError
 from vhfit.data._samples import _check_weight
 from vhfit.viscoelastic import loss_modulus, relaxation_modulus, storage_modulus
 
-__all__ = ["FrequencySweep", "Relaxation", "is_moduli"]
+__all__ = ["FrequencySweep", "Relaxation"]
 
 _KINDS = {"e": "E", "g": "G"}
-
-
-
-def is_moduli(item: Any) -> bool:
-    """Whether ``item`` is a small-strain test — a frequency sweep or a relaxation test,
-    data of moduli — rather than a stress–strain curve.
-
-    Examples
-    --------
-    >>> import vhfit
-    >>> is_moduli(vhfit.Relaxation(time=[0.0, 1.0], modulus=[2.0, 1.0]))
-    True
-    >>> is_moduli(vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0))
-    False
-    """
-    return bool(getattr(getattr(item, "history", None), "is_linear", False))
 
 
 class _Loc:
@@ -150,11 +134,16 @@ def _point_scale(*blocks: np.ndarray) -> np.ndarray:
 
 
 class _Item:
-    """What frequency sweeps and relaxation tests share as calibration items."""
+    """What frequency sweeps and relaxation tests share as test items
+    (:class:`vhfit.data.TestItem`): a small-strain uniaxial (E-type) test."""
 
-    measure = "true"
+    is_moduli = True
+    deformation = "uniaxial"
+    measure = "true"  # at small strain the measures agree
     strain_rate = None
     is_equilibrium = False
+    is_constant_rate = False
+    n_segments = 1
     _what = "item"
     _axis = "x"
 

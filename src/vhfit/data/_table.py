@@ -256,6 +256,7 @@ def _read_table(
 def _file_text(path: Any, encoding: str | None) -> tuple[str, str, str]:
     """(name for messages, text, note on a guessed encoding) of a path or text stream."""
     if hasattr(path, "read"):
+        # getattr default: a text stream (io.StringIO) has no name
         src = str(getattr(path, "name", "<stream>"))
         content = path.read()
         text, note = (content, "") if isinstance(content, str) else _decode(content, src,

@@ -412,7 +412,7 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     0.7, 1.0
     <BLANKLINE>
     """
-    law = getattr(hyperelastic, "name", hyperelastic)
+    law = hyperelastic if isinstance(hyperelastic, str) else hyperelastic.name
     if law not in _CARDS:
         raise unsupported(SOLVER, law, list(_CARDS))
     _check_name(name)

@@ -90,7 +90,7 @@ def _solver_key(solver: str) -> str:
 
 
 def _formulation_of(model) -> str:
-    return str(getattr(model, "formulation", "hereditary"))
+    return str(model.formulation)
 
 
 def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelastic:

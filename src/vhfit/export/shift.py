@@ -34,8 +34,8 @@ def wlf_constants(law) -> tuple[float, float, float]:
     >>> wlf_constants(WLF(C1=17.44, C2=51.6, T_ref=20.0))
     (20.0, 17.44, 51.6)
     """
-    if getattr(law, "name", None) != "wlf":
-        kind = getattr(law, "name", type(law).__name__)
+    kind = getattr(law, "name", type(law).__name__)  # a user's law may have no name
+    if kind != "wlf":
         raise ValueError(f"shift = {kind!r} law: the solvers' cards take WLF only; fit one "
                          "with vhfit.tts.fit_shift_law(T, log_aT, 'wlf')")
     vals = (float(law.T_ref), float(law.C1), float(law.C2))

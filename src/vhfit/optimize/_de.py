@@ -641,6 +641,7 @@ integrality, vectorized
             return repr(self._vh_adaptive)
         if isinstance(self.strategy, str):
             return self.strategy
+        # getattr default: a callable (functools.partial, an instance) may have no name
         return "callable " + getattr(self.strategy, "__qualname__", type(self.strategy).__name__)
 
     def _vh_clock(self) -> None:

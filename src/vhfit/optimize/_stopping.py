@@ -179,6 +179,7 @@ class FunctionCriterion(StopCriterion):
         if not callable(func):
             raise ValueError(f"stop: {func!r} is not callable")
         self.func = func
+        # getattr default: a callable (functools.partial, an instance) may have no name
         self._name = name or getattr(func, "__name__", type(func).__name__)
         self.success = bool(success)
 

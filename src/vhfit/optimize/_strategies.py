@@ -145,6 +145,7 @@ class AdaptiveStrategy:
         ``__dict__``) that holds numbers, strings, None, numpy arrays, or lists, tuples
         and dicts of those. Override it (with :meth:`restore_state`) for other state.
         """
+        # getattr default: a state class with __slots__ has no __dict__, others no slots
         names = getattr(type(state), "__slots__", None) or list(vars(state))
         try:
             return {n: to_plain(getattr(state, n)) for n in names if hasattr(state, n)}

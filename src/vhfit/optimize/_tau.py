@@ -295,6 +295,7 @@ def tau_bounds(rates: Any, n_terms: int, strategy: str | TauStrategy = "semifree
         name = strategy
     elif callable(strategy):
         f = strategy
+        # getattr default: a callable (functools.partial, an instance) may have no name
         name = getattr(strategy, "__name__", type(strategy).__name__)
     else:
         raise ValueError(

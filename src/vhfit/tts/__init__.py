@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 
+from vhfit.data import TestItem
 from vhfit.tts._laws import (
     GAS_CONSTANT,
     LAWS,
@@ -75,8 +76,7 @@ def shift_curve(item, a_T: float):
     a = float(a_T)
     if not (math.isfinite(a) and a > 0):
         raise ValueError(f"a_T = {a_T!r}: a shift factor must be finite and > 0")
-    shifted = getattr(item, "shifted", None)
-    if shifted is None:
+    if not isinstance(item, TestItem):
         raise TypeError(f"cannot shift a {type(item).__name__}: give a Curve, a frequency "
                         "sweep or a relaxation test")
-    return shifted(a)
+    return item.shifted(a)

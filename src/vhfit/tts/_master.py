@@ -140,12 +140,15 @@ def _sets_of(sweeps, domain: str | None):
     """(temperature, x, y1, y2) of each sweep-like item, and the domain."""
     out = []
     for k, s in enumerate(sweeps):
-        T = getattr(s, "temperature", None)
+        if not isinstance(s, (FrequencySweep, Relaxation, _Set)):
+            raise DataError(f"item {k + 1} is a {type(s).__name__}: give vhfit.FrequencySweep "
+                            "or vhfit.Relaxation objects (or tts.sweeps_from_columns(...))")
+        T = s.temperature
         if T is None:
-            name = getattr(s, "name", None) or f"item {k + 1}"
+            name = s.name or f"item {k + 1}"
             raise DataError(f"{name}: no temperature: give temperature= to every sweep of a "
                             "master curve")
-        if getattr(s, "storage", None) is not None:
+        if isinstance(s, FrequencySweep) or (isinstance(s, _Set) and s.storage is not None):
             d = "frequency"
             out.append((float(T), np.asarray(s.frequency, float), np.asarray(s.storage, float),
                         np.asarray(s.loss, float)))
@@ -264,7 +267,7 @@ def master_curve(sweeps, *, T_ref: float | None = None, shift_factors=None,
     sets, domain = _sets_of(sweeps, None)
     if len(sets) < 1:
         raise DataError("sweeps: give at least one sweep")
-    names = [getattr(s, "name", None) or f"sweep at T = {float(s.temperature):g}" for s in sweeps]
+    names = [s.name or f"sweep at T = {float(s.temperature):g}" for s in sweeps]
     order = np.argsort([s[0] for s in sets], kind="stable")
     sets, names = _merged([sets[k] for k in order], [names[k] for k in order], tolerance)
     temps = np.array([s[0] for s in sets])
@@ -343,15 +346,14 @@ def sweeps_from_columns(temperature, *, frequency=None, storage=None, loss=None,
 
 
 def _temperature_of(item) -> float | None:
-    T = getattr(item, "temperature", None)
-    if T is None:
-        T = (getattr(item, "metadata", None) or {}).get("temperature")
+    """A sweep's or relaxation test's temperature; a curve's from its file's metadata."""
+    T = item.temperature if item.is_moduli else item.metadata.get("temperature")
     return None if T is None else float(T)
 
 
 def _label(item, k: int) -> str:
-    src = getattr(item, "source", None)
-    name = getattr(item, "name", None) or f"item {k + 1}"
+    src = item.source
+    name = item.name or f"item {k + 1}"
     return f"{src}: {name}" if src and src not in str(name) else str(name)
 
 
@@ -398,6 +400,7 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     spread = known[-1] - known[0] if known else 0.0
     if shift_factors is None and spread <= tolerance:
         return items, None
+    # getattr default: shift factors are a law (T_ref) or a table (none)
     if T_ref is None and getattr(shift_factors, "T_ref", None) is None and None in temps:
         k = temps.index(None)
         raise DataError(f"{_label(items[k], k)}: no temperature, beside tests at "
@@ -407,11 +410,10 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     source = shift_factors
     if shift_factors is None:
         moduli = [it for it, T in zip(items, temps) if T is not None
-                  and getattr(it, "storage", None) is not None]
+                  and isinstance(it, FrequencySweep)]
         if not moduli:
             moduli = [it for it, T in zip(items, temps) if T is not None
-                      and getattr(it, "modulus", None) is not None
-                      and getattr(it, "time", None) is not None]
+                      and isinstance(it, Relaxation)]
         if not moduli:
             k = next(i for i, T in enumerate(temps) if T is not None)
             raise DataError(f"{_label(items[k], k)}: tests at {len(known)} temperatures and "

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vhfit.data import DataError
+from vhfit.data import DataError, FrequencySweep, Relaxation
 from vhfit.tts._laws import fit_shift_law
 from vhfit.tts._master import MasterCurve, _temperature_of, reduce_to_reference
 
@@ -52,11 +52,10 @@ class ReferenceShift:
 def _moduli_items(items, temps) -> list:
     """The sweeps at a temperature (else the relaxation tests): what a master curve takes."""
     sweeps = [it for it, T in zip(items, temps) if T is not None
-              and getattr(it, "storage", None) is not None]
+              and isinstance(it, FrequencySweep)]
     if sweeps:
         return sweeps
-    return [it for it, T in zip(items, temps) if T is not None
-            and getattr(it, "modulus", None) is not None and getattr(it, "time", None) is not None]
+    return [it for it, T in zip(items, temps) if T is not None and isinstance(it, Relaxation)]
 
 
 def _covered(T: float, table: dict) -> bool:
