@@ -79,3 +79,14 @@ def test_objective_reads_weights_and_point_scales_of_items_only():
     # arrays of targets carry no weights: all alike
     bare = vhfit.objective.Objective([curve.target_stress, sweep.target_stress])
     np.testing.assert_array_equal(bare.weights, 1.0)
+
+
+def test_temperature_is_one_member_for_curves_and_moduli():
+    """A curve's temperature comes from its metadata, a sweep's from its own field."""
+    c = vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0,
+                    metadata={"temperature": "40"})
+    s = vhfit.FrequencySweep(frequency=[1.0, 2.0], storage=[1.0, 2.0], loss=[0.1, 0.2],
+                             temperature=25.0)
+    bare = vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.2], strain_rate=-1.0)
+    assert (c.temperature, s.temperature, bare.temperature) == (40.0, 25.0, None)
+    assert c.shifted(10.0).temperature is None  # at the reference: nothing left to shift

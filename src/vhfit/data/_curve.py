@@ -555,6 +555,12 @@ class Curve:
         """Free-form information (e.g. a file's ``# key: value`` lines)."""
         return self._metadata
 
+    @property
+    def temperature(self) -> float | None:
+        """Test temperature: ``metadata["temperature"]`` (None when not stated)."""
+        T = self._metadata.get("temperature")
+        return None if T is None else float(T)
+
     # ------------------------------------------------------- objective points
     @property
     def n_points(self) -> int:

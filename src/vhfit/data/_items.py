@@ -44,6 +44,8 @@ class TestItem(Protocol):
         Stress measure of the targets: ``"true"`` or ``"engineering"``.
     strain_rate : float or None
         Nominal strain rate, 1/s (None: equilibrium curves and small-strain tests).
+    temperature : float or None
+        Test temperature (None: not stated, or already at the reference temperature).
     is_equilibrium : bool
         Fully relaxed states, compared with the long-term law alone.
     is_constant_rate : bool
@@ -80,6 +82,7 @@ class TestItem(Protocol):
     deformation: str
     measure: str
     strain_rate: float | None
+    temperature: float | None
     is_equilibrium: bool
     is_constant_rate: bool
     n_segments: int

@@ -29,10 +29,9 @@ from vhfit.calibration import set_html_report
 from vhfit.data import is_moduli
 from vhfit.report import _figures, _html
 
-__all__ = ["build_report", "write_report", "verdict", "repr_html", "versions", "SOLVERS"]
+__all__ = ["build_report", "write_report", "verdict", "repr_html", "versions"]
 
 #: the solvers whose cards a report made in Python carries
-SOLVERS = ("abaqus", "lsdyna", "ansys")
 
 
 def versions() -> dict[str, str]:
@@ -92,11 +91,11 @@ def _checks(card_check) -> dict:
 
 def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
     """Cards and their check for a report made in Python (not by ``vhfit fit``)."""
-    from vhfit.export import export, supported_laws
+    from vhfit.export import export, solvers, supported_laws
     from vhfit.export.check import check_cards
 
     cards, notes = {}, {}
-    for s in SOLVERS:
+    for s in solvers():  # every registered solver's card
         if cal.model.hyperelastic.name not in supported_laws(s):
             cards[s], notes[s] = None, [f"no {s} card: the solver has no card for this law"]
             continue
@@ -191,8 +190,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     --------
     >>> text = build_report(cal)  # doctest: +SKIP
     """
-    curves = list(curves if curves is not None else getattr(cal, "curves", None) or [])
-    ctx = getattr(cal, "context", None) or {}  # a results file read back: what fit recorded
+    curves = list(curves if curves is not None else cal.curves)
+    ctx = cal.context  # a results file read back: what fit recorded
     if command is None and ctx.get("command"):
         command = shlex.join(str(a) for a in ctx["command"])
     status = status or ctx.get("status") or "complete"
@@ -323,7 +322,7 @@ def repr_html(cal) -> str:
     >>> html = repr_html(cal)  # doctest: +SKIP
     """
     parts = [_html.verdict_html(cal, "complete", {}, [])]
-    curves = list(getattr(cal, "curves", None) or [])
+    curves = list(cal.curves)
     if curves and plot.have_matplotlib() and any(not is_moduli(c) for c in curves):
         fits = cal.fitted_curves(curves)
         main = _figures.fit_figures(cal, curves, fits)

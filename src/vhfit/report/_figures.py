@@ -19,6 +19,7 @@ import numpy as np
 
 from vhfit import plot
 from vhfit.data import is_moduli
+from vhfit.modes import get_deformation
 
 #: dots per inch of the figures drawn here (vhfit.plot's own are at 120)
 DPI = 100
@@ -73,8 +74,9 @@ def _bare(nrows: int, ncols: int, size: tuple[float, float]):
     return fig, fig.subplots(nrows, ncols, squeeze=False)
 
 
-MODE_NAMES = {"uniaxial": "uniaxial", "equibiaxial": "equibiaxial", "planar": "planar (pure shear)",
-              "biaxial": "biaxial", "simple_shear": "simple shear"}
+def mode_name(mode: str) -> str:
+    """The test's name for a figure title, from its record ('planar (pure shear)')."""
+    return get_deformation(mode).description.split(":")[0]
 
 
 def modes_of(curves) -> dict[str, list[int]]:
@@ -82,7 +84,7 @@ def modes_of(curves) -> dict[str, list[int]]:
     out: dict[str, list[int]] = {}
     for i, c in enumerate(curves):
         if not is_moduli(c):
-            out.setdefault(str(getattr(c, "deformation", "uniaxial")), []).append(i)
+            out.setdefault(str(c.deformation), []).append(i)
     return out
 
 
@@ -103,12 +105,12 @@ def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
     groups = modes_of(curves)
     if drawn is not None and len(groups) == 1:
         mode = next(iter(groups))
-        out.append(from_file(f"fit-{mode}", f"{MODE_NAMES.get(mode, mode)}: data (markers) "
+        out.append(from_file(f"fit-{mode}", f"{mode_name(mode)}: data (markers) "
                              "and model (lines)", "curves whose stresses differ by more than "
                              "10x are on separate panels", drawn))
         groups = {}
     for mode, idx in groups.items():
-        name = MODE_NAMES.get(mode, mode)
+        name = mode_name(mode)
         sub, cs = _subset(cal, idx), [curves[i] for i in idx]
         title = f"{name}: data (markers) and model (lines)"
         out.append(_draw(f"fit-{mode}", title,
@@ -117,7 +119,7 @@ def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
     timed = [i for i, f in enumerate(fits) if "fine_time" in f and has_holds_or_unloading(f)]
     if timed:
         shown = timed[:MAX_TIME_PANELS]
-        more = [str(getattr(curves[i], "name", i)) for i in timed[MAX_TIME_PANELS:]]
+        more = [str(curves[i].name) for i in timed[MAX_TIME_PANELS:]]
         cap = ("the model at the data's own times and on a fine grid; "
                + (f"not shown: {', '.join(more)}" if more else "every such history shown"))
         out.append(_draw("stress-time", "stress against time (histories with holds or "
@@ -152,9 +154,9 @@ def _stress_time(curves, fits, shown: list[int], buf):
         order = np.argsort(t, kind="stable")
         ax.plot(f["time"], f["stress"], "o", ms=3, mfc="none", color="C0", label="data")
         ax.plot(t[order], m[order], "-", lw=1.3, color="C3", label="model")
-        ax.set_title(str(getattr(curves[i], "name", f"curve {i + 1}")), fontsize=9)
+        ax.set_title(str(curves[i].name), fontsize=9)
         ax.set_xlabel("time (s)")
-        ax.set_ylabel(f"{getattr(curves[i], 'measure', 'true')} stress (MPa)")
+        ax.set_ylabel(f"{curves[i].measure} stress (MPa)")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
     _save(fig, buf)
@@ -171,12 +173,11 @@ def residual_figure(cal, curves, fits: list) -> Figure:
                 f = fits[i]
                 peak = max(float(np.max(np.abs(f["stress"]))), 1e-300)
                 ax.plot(f["strain"], 100.0 * (f["model"] - f["stress"]) / peak, "o", ms=2.5,
-                        color=f"C{k % 10}", label=str(getattr(curves[i], "name", i))[:40])
+                        color=f"C{k % 10}", label=str(curves[i].name)[:40])
             ax.axhline(0.0, color="0.4", lw=0.8)
-            ax.set_xlabel("amount of shear γ" if mode == "simple_shear"
-                          else "engineering strain")
+            ax.set_xlabel(get_deformation(mode).strain_label)
             ax.set_ylabel("model − data (% of the curve's peak)")
-            ax.set_title(MODE_NAMES.get(mode, mode), fontsize=9)
+            ax.set_title(mode_name(mode), fontsize=9)
             ax.grid(True, alpha=0.3)
             if len(idx) <= 10:
                 ax.legend(fontsize=6)

@@ -193,12 +193,13 @@ def curves_html(cal, curves) -> str:
     names = list(cal.curve_names or [])
     for i in range(max(len(errs), len(curves))):
         c = curves[i] if i < len(curves) else None
-        rate = getattr(c, "strain_rate", None)
-        rows.append([names[i] if i < len(names) else getattr(c, "name", f"curve {i + 1}"),
-                     getattr(c, "deformation", "-") if c is not None else "-",
+        rate = None if c is None else c.strain_rate
+        temperature = None if c is None else c.temperature
+        rows.append([names[i] if i < len(names) else f"curve {i + 1}" if c is None else c.name,
+                     "-" if c is None else c.deformation,
                      "-" if rate is None else f"{float(rate):.4g}",
-                     getattr(c, "measure", "-") if c is not None else "-",
-                     "-" if getattr(c, "temperature", None) is None else num(c.temperature),
+                     "-" if c is None else c.measure,
+                     "-" if temperature is None else num(temperature),
                      num(errs[i]) if i < len(errs) else "-"])
     return table(["curve", "test", "rate (1/s)", "measure", "temperature", "RMSAPE (%)"],
                  rows, {2, 5})

@@ -347,7 +347,7 @@ def sweeps_from_columns(temperature, *, frequency=None, storage=None, loss=None,
 
 def _temperature_of(item) -> float | None:
     """A sweep's or relaxation test's temperature; a curve's from its file's metadata."""
-    T = item.temperature if item.is_moduli else item.metadata.get("temperature")
+    T = item.temperature
     return None if T is None else float(T)
 
 
