@@ -324,13 +324,32 @@ class Calibration:
 
         The model and constants, errors, counts, bounds, intervals, warnings and
         history come back; the stability report is recomputed from the constants.
+        A file that cannot be read as one (truncated, damaged, of another program)
+        raises a one-line ``ValueError`` naming the file and what is wrong with it.
         """
+        try:
+            return cls._load(path)
+        except (ValueError, KeyError, TypeError, AttributeError, IndexError,
+                OverflowError) as exc:
+            why = (f"no {exc.args[0]!r} entry" if isinstance(exc, KeyError) else
+                   " ".join(str(exc).split()) or type(exc).__name__)
+            if why.startswith(f"{path}: "):  # already names the file and the fix
+                raise ValueError(why) from None
+            raise ValueError(f"{path}: cannot be read as a vhfit results file ({why}); give "
+                             "the results.json written by vhfit, or rerun the fit") from None
+
+    @classmethod
+    def _load(cls, path) -> Calibration:
         with open(path, encoding="utf-8") as f:
             res = json.load(f)
         if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
             raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
                              "'params'); give the results.json written by vhfit")
-        model = ViscoHyperelastic(res["hyperelastic"], int(res.get("n_prony", 0)),
+        n_prony = int(res.get("n_prony", 0))
+        if not 0 <= n_prony <= len(res["params"]) // 2:  # (10**9 terms would never end)
+            raise ValueError(f"n_prony = {n_prony} does not fit the {len(res['params'])} "
+                             "constants of 'params'")
+        model = ViscoHyperelastic(res["hyperelastic"], n_prony,
                                   formulation=str(res.get("formulation", "hereditary")))
         x = model.check(res["params"])
         lo_hi = res.get("options", {}).get("stability_range")

@@ -123,7 +123,66 @@ def load_results(path: str) -> dict:
     if not isinstance(res, dict) or "params" not in res or "hyperelastic" not in res:
         raise UsageError(f"{path}: not a vhfit results file (no 'hyperelastic' and 'params'); "
                          "give the results.json written by 'vhfit fit' or 'vhfit demo'")
+    for entry, want in _damaged(res):
+        raise UsageError(f"{path}: entry {entry!r} is not {want}: the file is damaged or of "
+                         "another program; give the results.json written by 'vhfit fit' or "
+                         "'vhfit demo', or rerun the fit")
     return res
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float))
+
+
+def _is_fit(v) -> bool:
+    return (isinstance(v, dict) and isinstance(v.get("hyperelastic"), str)
+            and isinstance(v.get("params"), dict)
+            and all(isinstance(k, str) and _is_number(x) for k, x in v["params"].items()))
+
+
+def _is_window(v) -> bool:
+    return v is None or (isinstance(v, list) and len(v) == 2
+                         and all(x is None or _is_number(x) for x in v))
+
+
+#: What the commands read from a results file: entry -> (what it must be, check). Absent
+#: or null entries are allowed (older files lack some).
+_ENTRIES = {
+    "formulation": ("a formulation name", lambda v: isinstance(v, str)),
+    "fits": ("a mapping of formulation to fit", lambda v: isinstance(v, dict) and all(
+        _is_fit(f) for f in v.values())),
+    "card_fits": ("a mapping of card to formulation", lambda v: isinstance(v, dict) and all(
+        isinstance(f, str) for f in v.values())),
+    "cards": ("a mapping of card to file name", lambda v: isinstance(v, dict) and all(
+        isinstance(f, str) for f in v.values())),
+    "inputs": ("a list of input files", lambda v: isinstance(v, list) and all(
+        isinstance(i, dict) and isinstance(i.get("path", ""), str) for i in v)),
+    "shift": ("a shift law and table", lambda v: isinstance(v, dict)
+              and all(isinstance(v.get(k) or [], list) and all(map(_is_number, v.get(k) or []))
+                      for k in ("temperatures", "log_aT"))
+              and (v.get("T_ref") is None or _is_number(v["T_ref"]))
+              and isinstance(v.get("constants") or {}, dict)),
+    "cli_options": ("the fit's options", lambda v: isinstance(v, dict)
+                    and all(isinstance(v.get(k) or [], list) for k in (
+                        "rate", "deformation", "trim_strain", "trim_time"))
+                    and all(map(_is_number, v.get("rate") or []))
+                    and all(isinstance(d, str) for d in v.get("deformation") or [])
+                    and all(map(_is_window, (v.get("trim_strain") or []) +
+                                (v.get("trim_time") or [])))
+                    and (v.get("points") is None or isinstance(v["points"], int))
+                    and (v.get("measure") is None or isinstance(v["measure"], str))),
+}
+
+
+def _damaged(res: dict):
+    """(entry, what it must be) of each entry of a results file the commands cannot use."""
+    if not _is_fit(res):
+        yield ("hyperelastic" if not isinstance(res["hyperelastic"], str) else "params",
+               "a model name" if not isinstance(res["hyperelastic"], str) else
+               "a mapping of constant names to numbers")
+    for key, (want, ok) in _ENTRIES.items():
+        if res.get(key) is not None and not ok(res[key]):
+            yield key, want
 
 
 def count_prony(params: dict) -> int:
@@ -134,6 +193,10 @@ def count_prony(params: dict) -> int:
             if k.startswith(pre) and k[len(pre):].isdigit():
                 idx.add(int(k[len(pre):]))
     n = max(idx) if idx else 0
+    if n > len(params):  # (G1000000000 alone: a gap too long to list)
+        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
+                         f"{len(params)} constants are given: check the term numbers "
+                         "(give them with --param)")
     missing = [f"{p}{i}" for i in range(1, n + 1) for p in ("G", "tau") if f"{p}{i}" not in params]
     if missing:
         raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}: missing "

@@ -1,0 +1,509 @@
+"""Hostile-input fuzzing of the newer inputs: moduli files, temperatures, multi-mode and
+biaxial columns, results files, checkpoints and command-line option values.
+
+The companion of ``tests/test_fuzz.py`` (stress-strain CSV files, arrays, calibrate): the
+same rule — every generated input ends in a correct result or in one of the documented
+errors, a one-line ``ValueError`` (``vhfit.data.DataError`` for data) that names the file
+and says what to do, or for the command line exit code 2 with one line on stderr — never
+a traceback, never an exit code 1 "unexpected" error.
+
+Inputs are generated with numpy from a seed that Hypothesis draws (the ``ci`` profile is
+derandomised: the same inputs on every machine). Each example checks a batch of ``BATCH``
+inputs, so ``EXAMPLES x BATCH`` >= 10 000 inputs per reader; the count is recorded and
+``test_fuzz_budget_per_reader`` fails if a profile or a batch loop lowers it. The
+``long`` profile (``--hypothesis-profile=long``) runs ten times more, with random seeds.
+
+Readers and their generators:
+
+* ``moduli``: frequency sweeps and relaxation tests through :func:`vhfit.read_csv` —
+  header spellings, units, E or G, |E*| with tan δ, temperature columns with drifting
+  levels, set columns, ``# temperature:`` lines; valid ones compared value by value,
+  then mutated (bad cells, negative or zero moduli, missing columns, doubled roles,
+  unknown units, truncation, byte flips);
+* ``modes``: equibiaxial, planar, biaxial (``stretch2``/``stress2``), simple-shear and
+  deformation-column files through :func:`vhfit.read_csv`, valid and mutated;
+* ``results``: results files (``results.json``) of this and other versions, damaged at
+  the JSON level (keys dropped, values of the wrong type, NaN, unknown laws) or the byte
+  level (truncated, flipped, other encodings), through :meth:`vhfit.Calibration.load`;
+* ``cli_results``: the same files through ``vhfit export``, ``vhfit simulate --results``
+  and ``vhfit check`` (``main()`` in-process);
+* ``cli_options``: option values of ``fit``, ``simulate`` and ``export`` (``--deformation``,
+  ``--tref``, ``--shift``, ``--formulation``, ``--for``, numbers, windows...): accepted
+  values parse to what they mean, refused ones exit 2 with one line naming the flag.
+  Options that land later are one line each in ``OPTIONS`` (see the marked spot there).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import io
+import json
+import math
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from vhfit import Calibration
+from vhfit.cli import _main as cli_main
+from vhfit.cli import main
+
+BATCH = 100
+#: Hypothesis examples per reader: >= 10 000 inputs in CI, 10x more with the long profile.
+EXAMPLES = max(100, settings.default.max_examples * 100 // BATCH)
+FUZZ = settings(max_examples=EXAMPLES, suppress_health_check=[HealthCheck.too_slow,
+                HealthCheck.function_scoped_fixture], deadline=None)
+SEEDS = st.integers(0, 2**63 - 1)
+#: Inputs each reader's fuzz test has checked in this session (read by the budget test).
+CHECKED: dict[str, int] = {}
+#: Words that say what to do; every error message must contain one.
+FIX_WORDS = re.compile(
+    r"\b(give|use|pass|add|delete|remove|fix|check|repair|name|write|sort|fill|choose|"
+    r"separate|correct|convert|split|drop|rename|save|ignore|negate|keep|set|replace|"
+    r"trim|make|declare|provide|store|say|select|supply|try|put|enter|change|start|rerun|"
+    r"see)\b", re.I)
+
+
+def _count(reader: str, n: int) -> None:
+    CHECKED[reader] = CHECKED.get(reader, 0) + n
+
+
+def _one_line_error(msg: str, *, names: str | None) -> None:
+    assert "\n" not in msg, f"error message spans lines: {msg!r}"
+    assert len(msg) < 800, f"error message of {len(msg)} characters"
+    assert FIX_WORDS.search(msg), f"error message says nothing about the fix: {msg!r}"
+    if names is not None:
+        assert names in msg, f"error message does not name {names!r}: {msg!r}"
+
+
+def write_fresh(path: Path, data: bytes) -> Path:
+    """Write ``data`` to a new file at ``path``: rewriting a file in place makes some file
+    systems (ext4's replace-by-truncate rule) flush it to disk on close, 50x slower."""
+    path.unlink(missing_ok=True)
+    path.write_bytes(data)
+    return path
+
+
+def _batch(reader: str, seed: int, make, check, explain) -> dict[str, int]:
+    """``BATCH`` inputs from ``make(rng)``, each checked by ``check(case)`` ('ok'/'error')."""
+    rng = np.random.default_rng(seed)
+    counts = {"ok": 0, "error": 0}
+    for _ in range(BATCH):
+        case = make(rng)
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                counts[check(case)] += 1
+        except AssertionError as exc:
+            raise AssertionError(f"{exc}\n{explain(case)}") from None
+        except Exception as exc:  # a crash: anything but the documented errors
+            raise AssertionError(f"crash {type(exc).__name__}: {exc}\n{explain(case)}") from exc
+    _count(reader, sum(counts.values()))
+    return counts
+
+
+# =========================================================== the command line
+@contextlib.contextmanager
+def _fast_parser():
+    """``main()`` with its parser built once: building it costs milliseconds, parsing it
+    microseconds, and a parser is not changed by parsing (everything else in ``main`` —
+    parsing, the command, the exit codes and messages — runs as it does for a user)."""
+    parser = cli_main.build_parser()
+    old = cli_main.build_parser
+    cli_main.build_parser = lambda: parser
+    try:
+        yield
+    finally:
+        cli_main.build_parser = old
+
+
+def run_cli(argv: list[str]) -> tuple[int, str, str]:
+    """Exit code, stdout and stderr of ``vhfit ARGV`` run in this process."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(argv)
+        except SystemExit as exc:  # argparse's --help / --version
+            code = exc.code if isinstance(exc.code, int) else 2
+    return code, out.getvalue(), err.getvalue()
+
+
+def check_cli_outcome(code: int, err: str, *, names: str | None = None) -> str:
+    """Exit 0, or exit 2 with one ``vhfit: error:`` line (warnings aside), no traceback."""
+    assert "Traceback" not in err, f"a traceback: {err!r}"
+    assert "(unexpected:" not in err, f"an unexpected error (a crash): {err!r}"
+    assert code in (0, 2), f"exit code {code}, stderr {err!r}"
+    if code == 0:
+        return "ok"
+    lines = [x for x in err.splitlines() if x.strip() and not x.startswith("warning:")]
+    assert len(lines) == 1 and lines[0].startswith("vhfit: error:"), f"stderr {err!r}"
+    msg = lines[0]
+    assert len(msg) < 800, f"error message of {len(msg)} characters"
+    if names is not None:
+        assert names in msg, f"the message does not name {names!r}: {msg!r}"
+    return "error"
+
+
+# ============================================================ results files
+def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
+    """A real ``vhfit fit`` of two small curves into ``tmp/name`` (seconds)."""
+    data = tmp / "data"
+    data.mkdir(exist_ok=True)
+    for rate, k in ((-1.0, 1.2), (-100.0, 1.5)):
+        eps = -np.linspace(0.0, 0.2, 6)
+        sig = k * eps * (1 - 2 * eps)
+        (data / f"r{abs(rate):g}.csv").write_text(
+            f"# strain_rate: {rate}\nstrain,stress_MPa\n"
+            + "".join(f"{float(e)!r},{float(s)!r}\n" for e, s in zip(eps, sig)))
+    out = tmp / name
+    code, _, err = run_cli(["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out",
+                            str(out), "--maxiter", "2", "--popsize", "8", "--prony", "1",
+                            "--no-plot", "-q", *extra])
+    assert code == 0, err
+    return out
+
+
+@pytest.fixture(scope="module")
+def results_bases(tmp_path_factory) -> list[tuple[str, dict]]:
+    """Results files of today's vhfit: one fit, and two fits (--for abaqus,lsdyna); each
+    also with a WLF shift entry (tests at several temperatures)."""
+    tmp = tmp_path_factory.mktemp("fuzz-results")
+    one = _fit_folder(tmp, "one", [])
+    two = _fit_folder(tmp, "two", ["--for", "abaqus,lsdyna"])
+    bases = []
+    for folder in (one, two):
+        res = json.loads((folder / "results.json").read_text(encoding="utf-8"))
+        bases.append((str(folder), res))
+        shifted = copy.deepcopy(res)
+        shifted["shift"] = {"law": "wlf", "constants": {"T_ref": 20.0, "C1": 17.4,
+                                                       "C2": 51.6},
+                            "T_ref": 20.0, "source": "law", "temperatures": [0.0, 20.0],
+                            "log_aT": [1.9, 0.0]}
+        bases.append((str(folder), shifted))
+    return bases
+
+
+#: Values a damaged or hand-edited results file may hold where something else belongs.
+HOSTILE_VALUES = [None, "", "abc", "0.1", 0, -1, 1e308, -1e308, float("nan"), float("inf"),
+                  True, [], [1, 2], [None], {}, {"a": 1}, [[1]], "mooney_rivlin", 2**70]
+#: Keys older (or newer) versions lack or add.
+OLD_FORMATS = [None, "vhfit-results-0", "vhfit-results-2", "", 1]
+
+
+def _paths(tree, prefix=()):
+    """Every (path, value) in a JSON tree."""
+    yield prefix, tree
+    if isinstance(tree, dict):
+        for k, v in tree.items():
+            yield from _paths(v, prefix + (k,))
+    elif isinstance(tree, list):
+        for i, v in enumerate(tree[:6]):
+            yield from _paths(v, prefix + (i,))
+
+
+def _set(tree, path, value):
+    node = tree
+    for k in path[:-1]:
+        node = node[k]
+    node[path[-1]] = value
+
+
+def _delete(tree, path):
+    node = tree
+    for k in path[:-1]:
+        node = node[k]
+    del node[path[-1]]
+
+
+#: Keys a results file is read by: mutations land on them more often.
+READ_KEYS = ("hyperelastic", "params", "n_prony", "formulation", "rmsape", "options", "g",
+             "g_inf", "bounds", "confidence", "history", "shift", "fits", "card_fits",
+             "cards", "inputs", "cli_options", "curve_names", "per_curve_rmsape",
+             "stop_reason", "nit", "nfev", "wall_time", "order_scan", "warnings",
+             "headlines", "stability")
+
+
+def results_case(rng: np.random.Generator, bases) -> dict:
+    """A results file: as written, from another version, or damaged; with its expectation."""
+    folder, base = bases[int(rng.integers(len(bases)))]
+    res = copy.deepcopy(base)
+    kind = int(rng.integers(12))
+    expect, what, raw = "any", "", None
+    if kind == 0:  # as written
+        expect, what = "same", "as written"
+    elif kind == 1:  # another version: another format tag, keys missing or added
+        fmt = OLD_FORMATS[int(rng.integers(len(OLD_FORMATS)))]
+        if fmt is None:
+            res.pop("format", None)
+        else:
+            res["format"] = fmt
+        gone = [k for k in res if k not in ("hyperelastic", "params") and rng.random() < 0.3]
+        for k in gone:
+            del res[k]
+        res[f"new_key_{int(rng.integers(100))}"] = HOSTILE_VALUES[
+            int(rng.integers(len(HOSTILE_VALUES)))]
+        what = f"format {fmt!r}, without {gone}"
+    elif kind in (2, 3, 4, 5):  # a value replaced by one of another type
+        paths = [p for p, _ in _paths(res) if p and (kind != 2 or p[0] in READ_KEYS)]
+        if kind in (3, 4):
+            paths = [p for p in paths if p[0] in ("params", "shift", "fits", "card_fits",
+                                                   "options", "hyperelastic", "n_prony",
+                                                   "formulation", "cards")] or paths
+        p = paths[int(rng.integers(len(paths)))]
+        v = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
+        _set(res, p, copy.deepcopy(v))
+        what = f"{'/'.join(map(str, p))} = {v!r}"
+    elif kind == 6:  # a key deleted
+        paths = [p for p, _ in _paths(res) if p and (p[0] in READ_KEYS or rng.random() < 0.1)]
+        p = paths[int(rng.integers(len(paths)))]
+        _delete(res, p)
+        what = f"no {'/'.join(map(str, p))}"
+        if p in (("params",), ("hyperelastic",)):
+            expect = "error"
+    elif kind == 7:  # a parameter renamed, added or its value changed
+        params = res["params"]
+        name = list(params)[int(rng.integers(len(params)))]
+        how = int(rng.integers(4))
+        if how == 0:
+            params[name + "x"] = params.pop(name)
+        elif how == 1:
+            params[str(rng.choice(["G2", "tau2", "G9", "mu", "C20", "tau0", "G123456789",
+                                   "tau99999999999"]))] = 0.1
+        elif how == 2:
+            params[name] = -abs(params[name]) - 1.0
+        else:
+            params[name] = float(rng.choice([0.0, 1e-300, 1e300, -0.0]))
+        what = f"params edited ({how}, {name})"
+    elif kind == 8:  # the model or formulation changed
+        key = str(rng.choice(["hyperelastic", "formulation"]))
+        res[key] = str(rng.choice(["ogden", "neo_hookean", "gent", "yeoh", "nonsense",
+                                   "lsdyna", "hereditary", "lsdyna_deviatoric", "Mooney-Rivlin",
+                                   ""]))
+        what = f"{key} = {res[key]!r}"
+    elif kind == 9:  # the shift entry damaged
+        sh = res.setdefault("shift", {"law": "wlf", "constants": {"T_ref": 20.0, "C1": 17.4,
+                                                                   "C2": 51.6}})
+        how = int(rng.integers(5))
+        if how == 0:
+            sh["law"] = str(rng.choice(["arrhenius", "polynomial", "WLF", "none", ""]))
+        elif how == 1:
+            sh["constants"] = {str(rng.choice(["C1", "C2", "T_ref", "E_a", "c1"])): 1.0}
+        elif how == 2:
+            sh["temperatures"], sh["log_aT"] = [0.0, 20.0, 40.0], ["a"]
+        elif how == 3:
+            sh["constants"] = dict(sh.get("constants") or {}, C2=-float(rng.uniform(0, 100)))
+        else:
+            sh["T_ref"] = str(rng.choice(["20", "warm", "nan"]))
+        what = f"shift damaged ({how})"
+    elif kind == 10:  # two fits: one damaged
+        if "fits" in res:
+            form = list(res["fits"])[int(rng.integers(len(res["fits"])))]
+            fit = res["fits"][form]
+            k = str(rng.choice(["params", "hyperelastic", "solvers"]))
+            fit[k] = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
+            what = f"fits/{form}/{k} damaged"
+        else:
+            res["fits"] = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
+            what = f"fits = {res['fits']!r}"
+    else:  # byte-level damage of the file
+        text = json.dumps(res).encode()
+        how = int(rng.integers(7))
+        if how == 0:  # truncated (a full disk, a copy cut short)
+            raw = text[: int(rng.integers(len(text)))]
+            expect = "error"
+        elif how == 1:  # bytes flipped
+            b = bytearray(text)
+            for _ in range(int(rng.integers(1, 4))):
+                b[int(rng.integers(len(b)))] = int(rng.integers(256))
+            raw = bytes(b)
+        elif how == 2:  # another encoding
+            raw = json.dumps(res).encode(str(rng.choice(["utf-16", "utf-8-sig"])))
+        elif how == 3:  # not a results file at all
+            raw = [b"", b"[]", b"null", b"42", b'"params"', b"strain,stress\n0,0\n",
+                   b"{}", b'{"params": {}, "hyperelastic": "mooney_rivlin"}'][
+                int(rng.integers(8))]
+            expect = "error"
+        elif how == 4:  # random bytes
+            raw = rng.bytes(int(rng.integers(1, 300)))
+            expect = "error"
+        elif how == 5:  # NaN / Infinity literals, as Python's json writes them
+            raw = text.replace(b'"rmsape": ', b'"rmsape": NaN, "x": ', 1)
+        elif how == 6 and rng.random() < 0.5:  # written by hand: indented
+            raw = json.dumps(res, indent=int(rng.integers(5))).encode()
+        elif how == 6:  # invalid UTF-8 inside a string
+            raw = text.replace(b"mooney_rivlin", b"mooney\xff\xferivlin", 1)
+        what = f"bytes damaged ({how})"
+    if raw is None:
+        raw = json.dumps(res).encode()
+    return {"raw": raw, "expect": expect, "what": what, "folder": folder, "base": base}
+
+
+def _explain_results(case) -> str:
+    return f"[{case['what']}; expect {case['expect']}] file:\n{case['raw'][:2000]!r}"
+
+
+def _results_file(case, tmp: Path) -> Path:
+    """The case written beside the real fit's cards (what ``check`` reads)."""
+    return write_fresh(Path(case["folder"]) / "fuzzed.json", case["raw"])
+
+
+def check_load(case, tmp: Path) -> str:
+    path = _results_file(case, tmp)
+    try:
+        cal = Calibration.load(path)
+    except ValueError as exc:
+        assert case["expect"] != "same", f"a results file as written is refused: {exc}"
+        _one_line_error(str(exc), names=path.name)
+        return "error"
+    assert case["expect"] != "error", "a file that is no results file was read"
+    assert isinstance(cal, Calibration)
+    assert list(cal.params) == list(cal.model.param_names)
+    assert not any(math.isnan(v) for v in cal.params.values()), cal.params
+    if case["expect"] == "same":
+        assert cal.params == case["base"]["params"]
+        assert cal.model.hyperelastic.name == case["base"]["hyperelastic"]
+    return "ok"
+
+
+@FUZZ
+@given(seed=SEEDS)
+def test_results_file_fuzz(results_bases, tmp_path_factory, seed):
+    tmp = tmp_path_factory.getbasetemp()
+    counts = _batch("results", seed, lambda rng: results_case(rng, results_bases),
+                    lambda c: check_load(c, tmp), _explain_results)
+    assert counts["ok"] > 0 and counts["error"] > 0
+
+
+#: Commands that read a results file, with their other arguments, and their share.
+RESULT_COMMANDS = [
+    (["export", "{path}", "--to", "abaqus"], 0.3),
+    (["export", "{path}", "--to", "lsdyna", "--poisson", "0.49"], 0.15),
+    (["export", "{path}", "--to", "json"], 0.1),
+    (["simulate", "--results", "{path}", "--rate", "-1", "--points", "4"], 0.33),
+    (["simulate", "--results", "{path}", "--rate", "0.5", "--points", "3",
+      "--deformation", "planar"], 0.1),
+    (["check", "{path}"], 0.02),
+]
+
+
+def check_cli_results(case, rng, tmp: Path) -> str:
+    path = _results_file(case, tmp)
+    k = rng.choice(len(RESULT_COMMANDS), p=[w for _, w in RESULT_COMMANDS])
+    argv = [a.replace("{path}", str(path)) for a in RESULT_COMMANDS[k][0]]
+    case["argv"] = argv
+    code, out, err = run_cli(argv)
+    outcome = check_cli_outcome(code, err)
+    if outcome == "ok":
+        assert case["expect"] != "error", "a file that is no results file was read"
+        assert out.strip(), "exit 0 but nothing written"
+    elif case["expect"] == "same":
+        raise AssertionError(f"a results file as written is refused: {err!r}")
+    return outcome
+
+
+@FUZZ
+@given(seed=SEEDS)
+def test_cli_results_fuzz(results_bases, tmp_path_factory, seed):
+    tmp = tmp_path_factory.getbasetemp()
+    rng = np.random.default_rng(seed ^ 0x5EED)
+    with _fast_parser():
+        counts = _batch("cli_results", seed, lambda r: results_case(r, results_bases),
+                        lambda c: check_cli_results(c, rng, tmp),
+                        lambda c: f"vhfit {' '.join(c.get('argv', []))}\n"
+                                  + _explain_results(c))
+    assert counts["ok"] > 0 and counts["error"] > 0
+
+
+# ====================================================== regressions found by fuzzing
+def test_results_file_damaged_is_a_one_line_value_error(tmp_path):
+    """Calibration.load: a truncated file, a missing entry or one of the wrong type is a
+    ValueError naming the file (found: JSONDecodeError without the file, KeyError,
+    TypeError, AttributeError)."""
+    good = {"hyperelastic": "mooney_rivlin", "n_prony": 0, "params": {"C10": 0.1, "C01": 0.0},
+            "rmsape": 1.0}
+    assert Calibration.load(write_fresh(tmp_path / "ok.json", json.dumps(good).encode())
+                            ).params == good["params"]
+    for name, text in [("cut.json", json.dumps(good)[:40]),
+                       ("norms.json", json.dumps({**good, "rmsape": None}).replace(
+                           ', "rmsape": null', "")),
+                       ("opts.json", json.dumps({**good, "options": [1, 2]})),
+                       ("bounds.json", json.dumps({**good, "bounds": {"C10": 0}})),
+                       ("shift.json", json.dumps({**good, "shift": {"law": "wlf"}}))]:
+        p = write_fresh(tmp_path / name, text.encode())
+        with pytest.raises(ValueError, match=re.escape(str(p))) as exc:
+            Calibration.load(p)
+        _one_line_error(str(exc.value), names=name)
+
+
+def test_results_file_with_a_huge_n_prony_is_refused_at_once(tmp_path):
+    """n_prony = 1e308 (or 2**70) made Calibration.load build a model of that many terms."""
+    for n in (1e308, 2**70, 3):
+        p = write_fresh(tmp_path / "n.json", json.dumps(
+            {"hyperelastic": "mooney_rivlin", "n_prony": n, "params": {"C10": 0.1, "C01": 0.0},
+             "rmsape": 1.0}).encode())
+        with pytest.raises(ValueError, match="n_prony"):
+            Calibration.load(p)
+
+
+@pytest.mark.parametrize("entry, value", [
+    ("fits", "abc"), ("fits", {"lsdyna": {"params": 1.0, "hyperelastic": "mooney_rivlin"}}),
+    ("card_fits", 12), ("cards", {"lsdyna": 1.5}), ("params", {"C10": [], "C01": 0.0}),
+    ("params", [1, 2]), ("inputs", [None]), ("shift", {"temperatures": [[None]]}),
+    ("cli_options", {"rate": -1.0}), ("hyperelastic", 3)])
+def test_cli_damaged_results_entry_is_exit_2_naming_it(tmp_path, entry, value):
+    """export/simulate/check on a results file whose entry has the wrong type: exit 2 and
+    one line naming the file and the entry (found: AttributeError, TypeError, exit 1)."""
+    res = {"hyperelastic": "mooney_rivlin", "n_prony": 0, "params": {"C10": 0.1, "C01": 0.0},
+           "rmsape": 1.0, entry: value}
+    p = write_fresh(tmp_path / "results.json", json.dumps(res).encode())
+    for argv in (["export", str(p), "--to", "abaqus"],
+                 ["simulate", "--results", str(p), "--rate", "-1"], ["check", str(p)]):
+        code, _, err = run_cli(argv)
+        assert check_cli_outcome(code, err, names=str(p)) == "error"
+        assert repr(entry) in err, err
+
+
+def test_cli_prony_term_of_a_huge_index_is_exit_2_at_once(tmp_path):
+    """A constant 'G123456789' made the CLI list 246913578 missing names (minutes, GBs)."""
+    res = {"hyperelastic": "mooney_rivlin", "params": {"C10": 0.1, "C01": 0.0,
+                                                       "G123456789": 1.0}}
+    p = write_fresh(tmp_path / "results.json", json.dumps(res).encode())
+    code, _, err = run_cli(["export", str(p), "--to", "abaqus"])
+    assert check_cli_outcome(code, err) == "error"
+    assert "1..123456789" in err and "3 constants" in err, err
+
+
+def test_export_of_prony_moduli_that_leave_no_long_term_weight_is_a_value_error():
+    """G1 = 1e300 over E_inf = 0.9 MPa: g_inf = 1 - sum(g_i) rounds to 0 (found: a
+    ZeroDivisionError in every card writer)."""
+    from vhfit.export import export
+    from vhfit.model import ViscoHyperelastic
+
+    m = ViscoHyperelastic("mooney_rivlin", 1)
+    for to in ("abaqus", "lsdyna", "ansys", "json"):
+        with pytest.raises(ValueError, match="g_inf = 0"):
+            export(m, {"C10": 0.1, "C01": 0.05, "G1": 1e300, "tau1": 0.01}, to=to)
+    assert "*VISCOELASTIC" in export(m, {"C10": 0.1, "C01": 0.05, "G1": 1e15, "tau1": 0.01},
+                                     to="abaqus").upper()
+
+
+# ====================================================================== budget
+def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
+    """Counts the inputs each reader's fuzz test really checked (runs it if it has not).
+
+    This test comes after the fuzz tests in the file, so in a whole run it only reads the
+    counts; it fails if a profile, a ``settings`` or a batch loop lowers the budget.
+    """
+    runs = {
+        "results": lambda: test_results_file_fuzz(results_bases, tmp_path_factory),
+        "cli_results": lambda: test_cli_results_fuzz(results_bases, tmp_path_factory),
+    }
+    for reader, run in runs.items():
+        if reader not in CHECKED:
+            run()
+        assert CHECKED[reader] >= 10_000, f"{reader}: only {CHECKED[reader]} inputs checked"
