@@ -133,7 +133,8 @@ def run_cli(argv: list[str]) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
-def check_cli_outcome(code: int, err: str, *, names: str | None = None) -> str:
+def check_cli_outcome(code: int, err: str, *, names: str | None = None, echo: int = 0
+                      ) -> str:
     """Exit 0, or exit 2 with one ``vhfit: error:`` line (warnings aside), no traceback."""
     assert "Traceback" not in err, f"a traceback: {err!r}"
     assert "(unexpected:" not in err, f"an unexpected error (a crash): {err!r}"
@@ -143,7 +144,7 @@ def check_cli_outcome(code: int, err: str, *, names: str | None = None) -> str:
     lines = [x for x in err.splitlines() if x.strip() and not x.startswith("warning:")]
     assert len(lines) == 1 and lines[0].startswith("vhfit: error:"), f"stderr {err!r}"
     msg = lines[0]
-    assert len(msg) < 800, f"error message of {len(msg)} characters"
+    assert len(msg) < 800 + echo, f"error message of {len(msg)} characters"
     if names is not None:
         assert names in msg, f"the message does not name {names!r}: {msg!r}"
     return "error"
@@ -419,6 +420,184 @@ def test_cli_results_fuzz(results_bases, tmp_path_factory, seed):
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
+# ==================================================== command-line option values
+#: Values typed where a number, a name or a window belongs.
+HOSTILE_TEXTS = ["", " ", "abc", "nan", "NaN", "inf", "-inf", "1e400", "-1e400", "0", "-0",
+                 "-1", "1.5", "1e-320", "0x10", "1_000", "\u0663", "\uff11", "1,5", "--", "-",
+                 "=", "None", "true", "1 2", "9" * 5000, ":", "1:", ":1", "2:1", "nan:1",
+                 "a:b", "wlf:", "wlf:1,2", "arrhenius:1e5", "wlf:1,2,3", "wlf:nan,1",
+                 "uniaxial", "Pure Shear", "biaxial", "abaqus", "ls-dyna,ansys", "abaqus,,",
+                 "hereditary", "lsdyna_deviatoric", "auto", "all", "C10=0:1", "x=1", "\x00",
+                 "--", "-5", "1e5:-1e5"]
+
+
+def _real(lo: float, hi: float, *, log: bool = False, signed: bool = False):
+    """A generator of (text, value) of a float in [lo, hi] (10**lo..10**hi with ``log``,
+    of either sign with ``signed``), in one of several spellings."""
+    def gen(rng):
+        v = 10 ** rng.uniform(lo, hi) if log else rng.uniform(lo, hi)
+        v = float(-v if signed and rng.random() < 0.3 else v)
+        text = [repr(v), f"{v:.3e}", f"{v:g}", f" {v!r} "][int(rng.integers(4))]
+        return text, float(text)
+    return gen
+
+
+def _whole_number(lo: int, hi: int, extra: tuple = ()):
+    def gen(rng):
+        if extra and rng.random() < 0.3:
+            return extra[int(rng.integers(len(extra)))]
+        n = int(rng.integers(lo, hi + 1))
+        return str(n), n
+    return gen
+
+
+def _pick(pairs):
+    return lambda rng: pairs[int(rng.integers(len(pairs)))]
+
+
+def _window_value(rng):
+    lo, hi = map(float, sorted(rng.uniform(-1, 1, 2)))
+    how = int(rng.integers(3))
+    if how == 0:
+        return f"{lo!r}:{hi!r}", (lo, hi)
+    if how == 1:
+        return f"{lo!r}:", (lo, None)
+    return f":{hi!r}", (None, hi)
+
+
+def _finite(v):
+    return isinstance(v, float) and math.isfinite(v)
+
+
+def _is_window(v):
+    return v is None or (len(v) == 2 and all(x is None or _finite(x) for x in v)
+                         and (None in v or v[0] < v[1]))
+
+
+DEFORMATION_NAMES = [("uniaxial", "uniaxial"), ("equibiaxial", "equibiaxial"),
+                     ("planar", "planar"), ("pure_shear", "planar"), ("Pure-Shear", "planar"),
+                     ("simple_shear", "simple_shear"), ("shear", "simple_shear"),
+                     ("biaxial", "biaxial"), (" Equibiaxial ", "equibiaxial")]
+
+
+class Opt:
+    """A command-line option: where it is taken, how valid values are spelled and what
+    they mean, and what any accepted value must satisfy."""
+
+    def __init__(self, flag, commands, dest, valid, ok, *, last=True):
+        self.flag, self.commands, self.dest = flag, commands, dest
+        self.valid, self.ok, self.last = valid, ok, last
+
+    def parsed(self, ns):
+        v = getattr(ns, self.dest)
+        return v[-1] if self.last and isinstance(v, list) else v
+
+
+FIT, SIM, EXP, CHK = ("fit",), ("simulate",), ("export",), ("check",)
+OPTIONS = [
+    Opt("--deformation", FIT + SIM + CHK, "deformation", _pick(DEFORMATION_NAMES),
+        lambda v: v in dict(DEFORMATION_NAMES).values()),
+    Opt("--tref", FIT, "tref", _real(-100, 300), _finite),
+    Opt("--shift", FIT, "shift", _pick([("wlf:17.44,51.6", ("wlf", (17.44, 51.6))),
+                                        ("WLF: 8.86 , 101.6", ("wlf", (8.86, 101.6))),
+                                        ("arrhenius:1e5", ("arrhenius", (1e5,))),
+                                        ("arrhenius:2e5,-273.15",
+                                         ("arrhenius", (2e5, -273.15)))]),
+        lambda v: v[0] in ("wlf", "arrhenius") and all(map(math.isfinite, v[1]))),
+    Opt("--formulation", FIT, "formulation",
+        _pick([(f, f) for f in ("hereditary", "lsdyna", "lsdyna_deviatoric")]),
+        lambda v: isinstance(v, str)),
+    Opt("--for", FIT, "targets", _pick([("abaqus", ["abaqus"]), ("LS-DYNA", ["lsdyna"]),
+                                        ("abaqus,ansys", ["abaqus", "ansys"]),
+                                        ("dyna, apdl", ["lsdyna", "ansys"])]),
+        lambda v: set(v) <= {"abaqus", "lsdyna", "ansys"}),
+    Opt("--rate", FIT + SIM + CHK, "rate", _real(-4, 4, log=True, signed=True), _finite),
+    Opt("--points", FIT + CHK, "points", _whole_number(2, 10**6, (("all", None),
+                                                                  ("None", None))),
+        lambda v: v is None or (isinstance(v, int) and v >= 2)),
+    Opt("--points", SIM, "points", _whole_number(2, 5000), lambda v: isinstance(v, int)
+        and v >= 2),
+    Opt("--prony", FIT, "prony", _whole_number(0, 12, (("auto", "auto"), ("AUTO", "auto"))),
+        lambda v: v == "auto" or (isinstance(v, int) and v >= 0)),
+    Opt("--popsize", FIT, "popsize", _whole_number(1, 10**4), lambda v: v >= 1),
+    Opt("--maxiter", FIT, "maxiter", _whole_number(1, 10**6), lambda v: v >= 1),
+    Opt("--workers", FIT, "workers", _whole_number(1, 64), lambda v: v >= 1),
+    Opt("--max-time", FIT, "max_time", _real(-3, 5, log=True), lambda v: v > 0),
+    Opt("--checkpoint-every", FIT, "checkpoint_every", _real(0.01, 100), lambda v: v > 0),
+    Opt("--target", FIT, "target", _real(-6, 2, log=True, signed=True), _finite),
+    Opt("--g-inf-min", FIT, "g_inf_min", _real(0, 0.5), _finite),
+    Opt("--seed", FIT, "seed", _whole_number(0, 2**62), lambda v: isinstance(v, int)),
+    Opt("--trim-strain", FIT + CHK, "trim_strain", _window_value, _is_window),
+    Opt("--trim-time", FIT + CHK, "trim_time", _window_value, _is_window),
+    Opt("--strain-max", SIM, "strain_max", _real(-0.9, 2), _finite),
+    Opt("--density", FIT + EXP, "density", _real(-12, -6, log=True), lambda v: v > 0),
+    Opt("--poisson", FIT + EXP, "poisson", _real(-0.99, 0.4999), lambda v: -1 < v < 0.5),
+    Opt("--bulk-modulus", FIT + EXP, "bulk_modulus", _real(1, 1e5), lambda v: v > 0),
+    Opt("--to", EXP, "to", _pick([(t, t) for t in ("abaqus", "lsdyna", "ansys", "json")]),
+        lambda v: v in ("abaqus", "lsdyna", "ansys", "json")),
+    Opt("--measure", FIT + SIM + CHK, "measure", _pick([("true", "true"),
+                                                        ("engineering", "engineering")]),
+        lambda v: v in ("true", "engineering")),
+    # ---- options landing later (i20-input): one line each, e.g.
+    # Opt("--bounds", FIT, "bounds", _pick([("C10=0:1", ...)]), lambda v: ...),
+    # Opt("--select", FIT + CHK, "select", _pick([("region=cortex", ...)]), lambda v: ...),
+    # Opt("--group-by", FIT + CHK, "group_by", _pick([("region", ...)]), lambda v: ...),
+    # Opt("--columns", FIT + CHK, "columns", _pick([("stress=S11", ...)]), lambda v: ...),
+    # (their hostile values: add any to HOSTILE_TEXTS, e.g. "C10=1:0", "=x", "stress=")
+]
+
+
+def option_case(rng: np.random.Generator, tmp: Path) -> dict:
+    """One option value on one command: a valid spelling (with its meaning) or a hostile
+    text; the rest of the command names a file that does not exist, so that an accepted
+    option is seen to pass the front door (the error is then about the file) and nothing
+    is computed."""
+    opt = OPTIONS[int(rng.integers(len(OPTIONS)))]
+    cmd = opt.commands[int(rng.integers(len(opt.commands)))]
+    if rng.random() < 0.4:
+        text, meaning = opt.valid(rng)
+    else:
+        text, meaning = HOSTILE_TEXTS[int(rng.integers(len(HOSTILE_TEXTS)))], "?"
+    missing = str(tmp / ("missing.csv" if cmd == "fit" else "missing.json"))
+    head = {"fit": ["fit", missing, "--out", str(tmp / "out")],
+            "simulate": ["simulate", "--results", missing, "--rate", "-1"],
+            "export": ["export", missing, "--to", "abaqus"],
+            "check": ["check", missing]}[cmd]
+    # '--flag=value': values starting with '-' are values, as a user writes them
+    argv = head + ([f"{opt.flag}={text}"] if rng.random() < 0.7 or text.startswith("-")
+                   else [opt.flag, text])
+    return {"opt": opt, "text": text, "meaning": meaning, "argv": argv, "missing": missing}
+
+
+def check_option(case, parser) -> str:
+    opt, argv = case["opt"], case["argv"]
+    code, _, err = run_cli(argv)
+    outcome = check_cli_outcome(code, err, echo=2 * len(case["text"]))  # it may echo it
+    assert outcome == "error", "a command ran on a missing file"
+    if case["missing"] in err:  # accepted: the option passed the front door
+        ns = parser.parse_args(cli_main.glue_windows(argv))
+        value = opt.parsed(ns)
+        assert opt.ok(value), f"{opt.flag} {case['text']!r} accepted as {value!r}"
+        if case["meaning"] != "?":
+            assert value == case["meaning"], f"{opt.flag} {case['text']!r} read as {value!r}"
+        return "ok"
+    assert case["meaning"] == "?", f"a valid {opt.flag} {case['text']!r} refused: {err!r}"
+    assert opt.flag in err, f"the message does not name {opt.flag}: {err!r}"
+    return "error"
+
+
+@FUZZ
+@given(seed=SEEDS)
+def test_cli_option_values_fuzz(tmp_path_factory, seed):
+    tmp = tmp_path_factory.getbasetemp()
+    with _fast_parser():
+        parser = cli_main.build_parser()
+        counts = _batch("cli_options", seed, lambda rng: option_case(rng, tmp),
+                        lambda c: check_option(c, parser),
+                        lambda c: f"vhfit {' '.join(map(repr, c['argv']))}")
+    assert counts["ok"] > 0 and counts["error"] > 0
+
+
 # ====================================================== regressions found by fuzzing
 def test_results_file_damaged_is_a_one_line_value_error(tmp_path):
     """Calibration.load: a truncated file, a missing entry or one of the wrong type is a
@@ -492,6 +671,15 @@ def test_export_of_prony_moduli_that_leave_no_long_term_weight_is_a_value_error(
                                      to="abaqus").upper()
 
 
+@pytest.mark.parametrize("argv", [["export", "r.json", "--to", "abaqus", "--density=--"],
+                                  ["fit", "a.csv", "--rate=--"], ["fit", "a.csv", "--shift=--"]])
+def test_cli_option_given_dash_dash_as_its_value_is_exit_2_naming_it(argv):
+    """'--density=--' was parsed as density = [] (argparse drops '--'), then crashed."""
+    code, _, err = run_cli(argv)
+    assert check_cli_outcome(code, err, names=argv[-1][:-3]) == "error"
+    assert "is not a value" in err
+
+
 # ====================================================================== budget
 def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
     """Counts the inputs each reader's fuzz test really checked (runs it if it has not).
@@ -502,6 +690,7 @@ def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
     runs = {
         "results": lambda: test_results_file_fuzz(results_bases, tmp_path_factory),
         "cli_results": lambda: test_cli_results_fuzz(results_bases, tmp_path_factory),
+        "cli_options": lambda: test_cli_option_values_fuzz(tmp_path_factory),
     }
     for reader, run in runs.items():
         if reader not in CHECKED:
