@@ -762,4 +762,9 @@ MUTANTS: list[Mutant] = [
       'src = ""',
       "a sweep's message about a missing column does not name its file",
       ("tests/test_fuzz_inputs.py::test_moduli_file_errors_name_the_file_and_the_fix",)),
+    M("fuzz_checkpoint_state_unchecked", "vhfit/calibration/_search.py",
+      "raise _checkpoint.damaged(ckpt, exc) from None",
+      "raise",
+      "a damaged checkpoint's KeyError/TypeError escapes calibrate(resume=True)",
+      ("tests/test_fuzz_inputs.py::test_damaged_checkpoint_is_a_one_line_value_error",)),
 ]
