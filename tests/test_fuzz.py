@@ -402,6 +402,7 @@ def hostile_csv(rng: np.random.Generator) -> CsvCase:
 
 def check_csv(case: CsvCase, path: Path) -> str:
     """Read ``case`` from ``path``; assert the outcome; return 'ok' or 'error'."""
+    path.unlink(missing_ok=True)  # a new file: rewriting one in place may flush it to disk
     path.write_bytes(case.data)
     w = _quiet()
     try:

@@ -15,7 +15,7 @@ import numpy as np
 from vhfit._io import atomic_write, dumps
 from vhfit.modes import get_deformation
 
-__all__ = ["fit_key", "save", "load", "FORMAT"]
+__all__ = ["fit_key", "save", "load", "damaged", "FORMAT"]
 
 FORMAT = "vhfit-checkpoint-2"
 
@@ -68,3 +68,14 @@ def load(path, key: str) -> tuple[dict, int, str | None]:
             "differ, or an older vhfit wrote it); delete it or drop --resume"
         )
     return data["solver"], int(data["evaluations"]), data.get("done")
+
+
+def damaged(path, exc: Exception) -> ValueError:
+    """The one-line error of a checkpoint that cannot be resumed (its own message if it
+    already names the file)."""
+    why = f"no {exc.args[0]!r} entry" if isinstance(exc, KeyError) else " ".join(
+        str(exc).split()) or type(exc).__name__
+    if why.startswith(f"checkpoint {path} "):
+        return ValueError(why)
+    return ValueError(f"checkpoint {path} is damaged and cannot be resumed ({why}); delete "
+                      "it to start afresh")

@@ -162,11 +162,16 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
             track.solver = solver
             finished = None
             if resume and ckpt is not None and os.path.exists(ckpt):
-                state, done_before, finished = _checkpoint.load(ckpt, key)
-                solver.load_state(state)
+                try:
+                    state, done_before, finished = _checkpoint.load(ckpt, key)
+                    solver.load_state(state)
+                    elapsed = float(state["elapsed"])
+                except (ValueError, KeyError, TypeError, AttributeError, IndexError,
+                        OverflowError) as exc:
+                    raise _checkpoint.damaged(ckpt, exc) from None
                 track.state, track.evaluations = state, done_before
                 objective.nfev = done_before
-                t0 -= float(state["elapsed"])
+                t0 -= elapsed
                 track.t0 = t0
             setup = time.perf_counter() - t_in  # the solver's clock counts the search only
             track.objective = objective

@@ -115,6 +115,10 @@ def count_prony(params: dict) -> int:
             if k.startswith(pre) and k[len(pre):].isdigit():
                 idx.add(int(k[len(pre):]))
     n = max(idx) if idx else 0
+    if n > len(params):  # (G1000000000 alone: a gap too long to list)
+        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
+                         f"{len(params)} constants are given: check the term numbers "
+                         "(give them with --param)")
     missing = [f"{p}{i}" for i in range(1, n + 1) for p in ("G", "tau") if f"{p}{i}" not in params]
     if missing:
         raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}: missing "

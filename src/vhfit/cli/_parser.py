@@ -253,6 +253,9 @@ def glue_windows(argv: list[str]) -> list[str]:
     out, i = [], 0
     while i < len(argv):
         a = argv[i]
+        if a.startswith("--") and a.endswith("=--"):  # argparse would take [] for it
+            raise UsageError(f"{a}: '--' is not a value; give {a[:-3]} a value "
+                             f"(e.g. {a[:-3]}=VALUE)")
         if a in ("--trim-strain", "--trim-time") and i + 1 < len(argv):
             out.append(f"{a}={argv[i + 1]}")
             i += 2

@@ -43,7 +43,8 @@ class _Loc:
         head = f"{self.what} {self.name!r}"
         col = self.headers.get(role) if role is not None else None
         if role is not None and col is None:  # not from a file: name the argument
-            return head + (f", {role}[{k}]" if k is not None else f", {role}=")
+            src = f" ({self.source})" if self.source else ""
+            return head + src + (f", {role}[{k}]" if k is not None else f", {role}=")
         parts = [self.source] if self.source else []
         if k is not None:
             parts.append(str(self.rows[k]) if self.rows is not None else f"row {k}")
@@ -389,7 +390,8 @@ class Relaxation(_Item):
         loc = _Loc("relaxation", "relaxation" if name is None else str(name), src, _headers,
                    _rows)
         t = _values(loc, "time", time)
-        _positive(loc, "time", t, "time", "times since the step are >= 0 s", strict=False)
+        _positive(loc, "time", t, "time", "times since the step are >= 0 s: fix or delete "
+                  "that row", strict=False)
         k = _kind(loc, kind)
         scale = _unit(loc, unit) * (3.0 if k == "G" else 1.0)
         e = _values(loc, "modulus", modulus, t.size)

@@ -67,7 +67,9 @@ class _MPlan:
 
 def _unit_and_name(header: str) -> tuple[str, str | None]:
     """(name, unit) with the unit of a last bracket group (``E(t) [MPa]``, ``f (Hz)``)."""
-    h = header.replace("\ufeff", "").strip().strip("\"'").strip()
+    h = header.replace("\ufeff", "").strip()
+    if len(h) > 1 and h[0] == h[-1] and h[0] in "\"'":  # quoted; E' and E'' keep theirs
+        h = h[1:-1].strip()
     m = re.match(r"^(?P<name>.+?)\s*[\[\(\{](?P<unit>[^\[\]\(\)\{\}]*)[\]\)\}]\s*$", h)
     if m and m["unit"].strip().lower() not in ("t", "ω", "w", "f"):  # E(t), G(ω)
         return m["name"], m["unit"].strip()
@@ -279,6 +281,9 @@ def _moduli_items(table: _Table, plan: _MPlan, units: Mapping[str, str] | None,
     if not plan.is_sweep and "relaxation" not in cols:
         raise DataError(f"{src}: moduli columns but no frequency column: add 'frequency_Hz' "
                         "(or 'omega_rad/s')")
+    if not plan.is_sweep and "time" not in cols:
+        raise DataError(f"{src}: moduli columns but no frequency or time column: add "
+                        "'frequency_Hz' (a sweep) or 'time_s' (a relaxation test)")
     values = {r: table.floats(c.index, sel) * _factor(c, units, src) for r, c in cols.items()}
     kinds = {c.kind for r, c in cols.items() if r in _MODULUS_ROLES}
     kind = meta.get("kind", "G" if kinds == {"G"} else "E")

@@ -109,7 +109,7 @@ def _clean_samples(eps, sig, t, where, equilibrium=False, e2=None, s2=None):
     if eps.size < 2:
         raise DataError(
             f"{where()}: only one distinct sample remains after merging duplicates: a "
-            "curve needs at least 2"
+            "curve needs at least 2; give the test's other samples"
         )
     return eps, sig, t, keep, e2, s2
 

@@ -169,8 +169,14 @@ class Material:
     def from_model(cls, model: ViscoHyperelastic, params) -> Material:
         """The card form of one vhfit parameter set (validated)."""
         x = model.check(params)
-        hyper, _, tau = model.split(x)
+        hyper, G, tau = model.split(x)
         g, _ = model.prony_g(x)
+        if not 1.0 - math.fsum(g) > 0:  # sum(G_i) > 1e16 E_inf: g_inf rounds to 0
+            raise ValueError(
+                f"Prony moduli {', '.join(f'{v:g}' for v in G)} MPa against a "
+                f"long-term modulus of {model.long_term_modulus(x):g} MPa leave g_inf = 0 in "
+                "float64, which no card can hold: check the constants (a G_i of 1e16 x E_inf "
+                "or more)")
         names = model.hyperelastic.param_names
         return cls(
             hyperelastic=model.hyperelastic.name,
