@@ -1127,7 +1127,7 @@ def test_cli_prony_term_of_a_huge_index_is_exit_2_at_once(tmp_path):
         p = write_fresh(tmp_path / "results.json", json.dumps(res).encode())
         code, _, err = run_cli(["export", str(p), "--to", "abaqus"])
         assert check_cli_outcome(code, err) == "error"
-        assert f"1..{index}" in err and "3 constants" in err, err
+        assert f"G{index}" in err, err  # named by the results file's one reader
 
 
 def test_export_of_prony_moduli_that_leave_no_long_term_weight_is_a_value_error():

@@ -97,18 +97,25 @@ def _n_prony(res: dict) -> int:
     """The number of Prony terms of a results entry: its ``n_prony``, which its
     parameters must match (``G1, tau1 ... GN, tauN``)."""
     n = res.get("n_prony", 0)
-    if isinstance(n, bool) or not isinstance(n, int) or n < 0:
-        raise ValueError(f"n_prony = {n!r} is not a whole number >= 0")
     found = sum(1 for k in res["params"] if re.fullmatch(r"tau\d+", str(k)))
-    if found != n:
-        raise ValueError(f"n_prony = {n} but the parameters hold {found} relaxation times")
-    return n
+    # compared before any model is built: n_prony = 2**70 would never finish building
+    if isinstance(n, bool) or not isinstance(n, (int, float)) or n != found:
+        raise ValueError(f"n_prony = {n!r} does not fit 'params', which hold {found} "
+                         "relaxation times")
+    return found
 
 
 def _shift_from(d) -> dict:
     """The ``shift`` fields of a Calibration from the results file's ``shift`` entry."""
     if not isinstance(d, dict):
         return {}
+    try:
+        return _shift_fields(d)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ValueError(f"entry 'shift' is not a shift law and table ({exc})") from None
+
+
+def _shift_fields(d: dict) -> dict:
     c, name = d.get("constants") or {}, d.get("law")
     if name == "wlf":
         law = WLF(float(c["C1"]), float(c["C2"]), float(c["T_ref"]))
@@ -433,9 +440,12 @@ class Calibration:
             raise ValueError(f"{path}: not a vhfit results file (no 'hyperelastic' and "
                              "'params'); give the results.json written by vhfit")
         fmt = res.get("format", RESULTS_FORMAT)
+        if not (isinstance(fmt, str) and fmt.startswith("vhfit-results-")):
+            raise ValueError(f"{path}: format {fmt!r} is not a vhfit results format; give "
+                             "the results.json written by vhfit")
         if fmt != RESULTS_FORMAT:
             raise ValueError(f"{path}: results format {fmt!r}, written by another version "
-                             f"of vhfit; this version reads {RESULTS_FORMAT!r}: fit again "
+                             f"of vhfit; this version reads {RESULTS_FORMAT!r}: rerun the fit "
                              "with this version, or read it with the version that wrote it")
         cal = cls.from_dict(res, where=str(path))
         fits = res.get("fits") or {}
@@ -445,7 +455,7 @@ class Calibration:
         cal.fits = {cal.model.formulation: cal}
         for form, entry in fits.items():
             if form != cal.model.formulation:
-                cal.fits[form] = cls.from_dict(entry, where=f"{path}: the '{form}' fit")
+                cal.fits[form] = cls.from_dict(entry, where=f"{path}: entry 'fits', '{form}'")
         cal.context = {k: v for k, v in res.items() if k not in _OWN_KEYS}
         return cal
 
@@ -493,8 +503,12 @@ class Calibration:
             raise ValueError(f"formulation {form!r} is not known to this vhfit (known: "
                              f"{', '.join(FORMULATIONS)}; a plug-in may register it)")
         params = res["params"]
-        if not isinstance(params, dict):
-            raise TypeError("'params' is not a mapping of name to value")
+        if not isinstance(params, dict) or not all(
+                isinstance(k, str) and isinstance(v, (int, float)) and not isinstance(v, bool)
+                for k, v in params.items()):
+            raise TypeError("entry 'params' is not a mapping of constant names to numbers")
+        if not isinstance(res["hyperelastic"], str):
+            raise TypeError("entry 'hyperelastic' is not a law's name")
         model = ViscoHyperelastic(res["hyperelastic"], _n_prony(res),
                                   rtol=float(options.get("rtol", 1e-6)), formulation=form)
         x = model.check(params)
