@@ -1127,7 +1127,7 @@ MUTANTS: list[Mutant] = [
       'else CalibrationSettings.from_dict(res["settings"])),', "else None),",
       "Calibration.load drops the settings of the results file",
       ("tests/test_calibration_settings.py",)),
-    M("i21s_cli_drops_seed", "vhfit/cli/_fit.py",
+    M("i21s_cli_drops_seed", "vhfit/cli/_settings.py",
       "method=args.method, seed=args.seed,", "method=args.method, seed=None,",
       "vhfit fit --seed does not reach the calibration",
       ("tests/test_calibration_settings.py::test_cli_records_its_options_as_settings",)),
