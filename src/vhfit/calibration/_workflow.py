@@ -242,22 +242,24 @@ def calibrate(
         rtol=rtol, de_options=de_options, checkpoint=checkpoint,
         checkpoint_every=checkpoint_every, resume=resume, check_rates=check_rates,
         formulation=formulation, shift_factors=shift_factors, T_ref=T_ref)
-    ref = shift_to_reference(curves, shift_factors=shift_factors, T_ref=T_ref)
+    s = settings
+    ref = shift_to_reference(curves, shift_factors=s.shift_factors, T_ref=s.T_ref)
     curves = ref.items  # tests at several temperatures: all at T_ref
     unidentified = viscous_evidence(curves)
-    default_reason = unidentified if n_prony is None else None
+    default_reason = unidentified if s.n_prony is None else None
+    n_prony = s.n_prony
     if n_prony is None:
         n_prony = 0 if unidentified else DEFAULT_N_PRONY
     rate_msgs: list[str] = []
-    if check_rates:
-        n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
-        rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], hyperelastic,
+    if s.check_rates:
+        n_check = s.max_prony if isinstance(n_prony, str) else int(n_prony)
+        rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], s.hyperelastic,
                                      n_check)
     if isinstance(n_prony, str):
-        cal = _order_scan(curves, settings, t0)
+        cal = _order_scan(curves, s, t0)
     else:
-        cal = _calibrate_n(curves, settings, int(n_prony), checkpoint=checkpoint,
-                           max_time=max_time, t0=t0)
+        cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
+                           max_time=s.max_time, t0=t0)
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
     warns, heads, options = rate_msgs + cal.warnings, list(cal.headlines), dict(cal.options)
