@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from vhfit import datasets, plot, tts
+from vhfit import datasets, plot
 from vhfit._io import atomic_write
 from vhfit.calibration import (
     Calibration,
@@ -52,7 +52,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
-from vhfit.cli._settings import fit_settings
+from vhfit.cli._settings import check_shift, fit_settings
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 from vhfit.modes import get_deformation
@@ -76,7 +76,7 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
     _check_card_flags(args)
     curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
     # temperatures without shift information: nothing written
-    shift_law, at_ref = _check_shift(curves, args)
+    shift_law, at_ref = check_shift(curves, args)
     with _out_folder(args, "vhfit-results") as out:
         return run_fit(curves, inputs, args, out, label=None, command=list(argv),
                        shift_law=shift_law, at_ref=at_ref)
@@ -184,36 +184,6 @@ def _check_card_flags(args) -> None:
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
         check_targets(args.targets, resolve_model_name(args.model))
-
-
-def _shift_law(args):
-    """The law of ``--shift`` at ``--tref`` (None without ``--shift``)."""
-    given = getattr(args, "shift", None)
-    if given is None:
-        return None
-    name, vals = given
-    text = f"{name}:{','.join(f'{v:g}' for v in vals)}"
-    if args.tref is None:
-        raise UsageError(f"--shift {text}: give --tref T, the reference temperature of the law")
-    try:
-        if name == "wlf":
-            return tts.WLF(C1=vals[0], C2=vals[1], T_ref=args.tref)
-        return tts.Arrhenius(vals[0], args.tref, *vals[1:])
-    except ValueError as exc:
-        raise UsageError(f"--shift {text}: {one_line(exc)}") from None
-
-
-def _check_shift(curves, args) -> tuple[Any, list | None]:
-    """Tests at several temperatures: their shift to --tref, checked before anything is
-    written. Returns the law of ``--shift`` (or None) and the tests at the reference for
-    the outputs (None when every test is at one temperature)."""
-    law = _shift_law(args)
-    try:
-        ref = tts.shift_to_reference(curves, shift_factors=law, T_ref=args.tref)
-    except ValueError as exc:
-        raise UsageError(f"{one_line(exc)} (command line: --shift wlf:C1,C2 --tref T)"
-                         ) from None
-    return law, (ref.items if ref.source != "none" else None)
 
 
 def _demo_check(out: Path) -> None:

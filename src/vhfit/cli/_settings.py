@@ -1,12 +1,15 @@
-"""The options of ``vhfit fit`` as a calibration's settings (:func:`fit_settings`)."""
+"""The options of ``vhfit fit`` as a calibration's settings (:func:`fit_settings`), and
+its time–temperature shift (``--shift``, ``--tref``: :func:`check_shift`)."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from vhfit import tts
 from vhfit.calibration import CalibrationSettings
+from vhfit.cli._common import UsageError, one_line
 
-__all__ = ["fit_settings"]
+__all__ = ["fit_settings", "check_shift"]
 
 
 def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = None,
@@ -57,3 +60,33 @@ def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = No
         polish=not args.no_polish, g_inf_min=args.g_inf_min, max_time=args.max_time,
         checkpoint=checkpoint, checkpoint_every=args.checkpoint_every, resume=args.resume,
         **kw)
+
+
+def _shift_law(args):
+    """The law of ``--shift`` at ``--tref`` (None without ``--shift``)."""
+    given = getattr(args, "shift", None)
+    if given is None:
+        return None
+    name, vals = given
+    text = f"{name}:{','.join(f'{v:g}' for v in vals)}"
+    if args.tref is None:
+        raise UsageError(f"--shift {text}: give --tref T, the reference temperature of the law")
+    try:
+        if name == "wlf":
+            return tts.WLF(C1=vals[0], C2=vals[1], T_ref=args.tref)
+        return tts.Arrhenius(vals[0], args.tref, *vals[1:])
+    except ValueError as exc:
+        raise UsageError(f"--shift {text}: {one_line(exc)}") from None
+
+
+def check_shift(curves, args) -> tuple[Any, list | None]:
+    """Tests at several temperatures: their shift to --tref, checked before anything is
+    written. Returns the law of ``--shift`` (or None) and the tests at the reference for
+    the outputs (None when every test is at one temperature)."""
+    law = _shift_law(args)
+    try:
+        ref = tts.shift_to_reference(curves, shift_factors=law, T_ref=args.tref)
+    except ValueError as exc:
+        raise UsageError(f"{one_line(exc)} (command line: --shift wlf:C1,C2 --tref T)"
+                         ) from None
+    return law, (ref.items if ref.source != "none" else None)
