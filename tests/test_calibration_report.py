@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibration import calibrate
+from vhfit.calibration import CalibrationSettings, calibrate
 from vhfit.calibration._report import (
     confidence,
     finish,
@@ -36,6 +36,7 @@ from vhfit.calibration._report import (
     slack_warnings,
     time_window_warnings,
 )
+from vhfit.calibration._search import Search
 from vhfit.calibration._space import Problem
 from vhfit.diagnostics import rate_sensitivity
 
@@ -208,9 +209,11 @@ def report(x, model=MR1, curves=CURVES, g_inf_min=0.0, stability_range=(0.2, 5.0
     n = model.n_prony
     prob = Problem(model, curves, np.array([[-6.0, 3.0]] * n), {}, g_inf_min)
     err = float(prob.errors(np.asarray(x)[None, :])[0])
-    return finish(prob, curves, model, np.array(x, dtype=float), err, 1, 1, "maxiter",
-                  {"nit": [], "best": [], "mean": [], "time": []}, time.perf_counter(),
-                  0.0, stability_range, uncertainty, {})
+    found = Search(np.zeros(0), 1, 1, "maxiter", {"nit": [], "best": [], "mean": [], "time": []},
+                   time.perf_counter())
+    settings = CalibrationSettings(model.hyperelastic.name, prune_tol=0.0,
+                                   stability_range=stability_range, uncertainty=uncertainty)
+    return finish(prob, curves, model, np.array(x, dtype=float), err, found, 1, settings, {})
 
 
 def floor_msgs(cal):

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import vhfit
+from vhfit.calibration import CalibrationSettings
 from vhfit.calibration._report import (
     CORRELATION_TOL,
     NEGLIGIBLE,
@@ -25,6 +26,7 @@ from vhfit.calibration._report import (
     finish,
 )
 from vhfit.calibration._result import Calibration
+from vhfit.calibration._search import Search
 from vhfit.calibration._space import Problem
 
 EPS = np.linspace(-0.05, -0.5, 10)
@@ -61,9 +63,10 @@ def report(law, x, curves, uncertainty=True):
     err = float(prob.errors(x[None, :])[0])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return finish(prob, curves, model, x, err, 1, 1, "maxiter",
-                      {"nit": [], "best": [], "mean": [], "time": []}, time.perf_counter(),
-                      0.0, (0.2, 5.0), uncertainty, {})
+        found = Search(x, 1, 1, "maxiter", {"nit": [], "best": [], "mean": [], "time": []},
+                       time.perf_counter())
+        return finish(prob, curves, model, x, err, found, 1,
+                      CalibrationSettings(law, prune_tol=0.0, uncertainty=uncertainty), {})
 
 
 def degenerate(cal):

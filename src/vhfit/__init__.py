@@ -11,7 +11,13 @@ The public API::
 
 from vhfit import export, formulations, hyperelastic, report, spectrum, tts, viscoelastic
 from vhfit._version import __version__
-from vhfit.calibration import Calibration, CalibrationError, CalibrationWarning, calibrate
+from vhfit.calibration import (
+    Calibration,
+    CalibrationError,
+    CalibrationSettings,
+    CalibrationWarning,
+    calibrate,
+)
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
@@ -31,6 +37,7 @@ __all__ = [
     "Batch",
     "Calibration",
     "CalibrationError",
+    "CalibrationSettings",
     "CalibrationWarning",
     "Curve",
     "DataError",

@@ -3,7 +3,8 @@
 The public face is :func:`vhfit.calibrate` and its result, :class:`Calibration`.
 Inside, one module per concern:
 
-* ``_arguments`` — the front door: every argument checked before any computation;
+* ``_settings`` — the front door: :class:`CalibrationSettings`, every argument checked
+  once, before any computation, and read by the rest;
 * ``_identify`` — which data identify a Prony series (the default N);
 * ``_bounds`` — τ ranges from the rates (Eq. 22) and the moduli's search limits;
 * ``_space`` — the fitted problem and the two search spaces (``separable``, ``full``);
@@ -22,7 +23,9 @@ from vhfit.calibration._result import (
     CalibrationWarning,
     set_html_report,
 )
+from vhfit.calibration._settings import CalibrationSettings, RecordedCallable
 from vhfit.calibration._workflow import CalibrationError, calibrate
 
-__all__ = ["calibrate", "Calibration", "CalibrationWarning", "CalibrationError", "auto_bounds",
-           "RESULTS_FORMAT", "default_n_prony", "viscous_evidence", "set_html_report"]
+__all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
+           "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
+           "default_n_prony", "viscous_evidence", "set_html_report"]

@@ -323,12 +323,16 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
 
 
-def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
-            stability_range, uncertainty, options) -> Calibration:
+def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dict
+           ) -> Calibration:
+    """The result of one search (``found``, a ``Search``) ending at ``x`` with error ``err``
+    after ``nfev`` evaluations: terms sorted, merged and pruned, g, intervals, checks and
+    warnings, as ``settings`` ask; ``options`` is the record of how the fit ran."""
     msgs: list[str] = []
     heads: list[str] = []
     nh = model.hyperelastic.n_params
-    prob, model, x, err = _reduce_terms(prob, curves, model, x, err, prune_tol, msgs)
+    prob, model, x, err = _reduce_terms(prob, curves, model, x, err, settings.prune_tol,
+                                        msgs)
     params = model.as_dict(x)
     E_inf = model.long_term_modulus(x)
     if model.n_prony and E_inf > 0:
@@ -344,7 +348,7 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
         msgs.append(heads[-1])
     conf: dict = {}
     cov = None
-    if uncertainty:
+    if settings.uncertainty:
         cov = covariance(prob, x)
         conf, unident = confidence(prob, x, cov=cov)
         if unident:
@@ -359,7 +363,7 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
     msgs += time_window_warnings(model, x, curves)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)
-    stab = drucker(model.hyperelastic, x[:nh], stability_range)
+    stab = drucker(model.hyperelastic, x[:nh], settings.stability_range)
     if not stab.stable:
         msgs.append(stab.describe())
     for m in msgs:
@@ -370,9 +374,10 @@ def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
     return Calibration(
         model=model, params=params, rmsape=err,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
-        nit=int(nit), nfev=int(nfev), wall_time=time.perf_counter() - t0, stop_reason=str(stop),
-        g=[float(v) for v in g], g_inf=float(g_inf), bounds=bounds, history=history,
-        confidence=conf, stability=stab, warnings=msgs, headlines=heads, options=options,
-        curve_names=[str(c.name) for c in curves],
-        curves=list(curves),
+        nit=int(found.nit), nfev=int(nfev), wall_time=time.perf_counter() - found.t0,
+        stop_reason=str(found.stop), g=[float(v) for v in g], g_inf=float(g_inf),
+        bounds=bounds, history=found.history, confidence=conf, stability=stab,
+        warnings=msgs, headlines=heads, options=options,
+        curve_names=[str(c.name) for c in curves], curves=list(curves),
+        settings=settings,
     )

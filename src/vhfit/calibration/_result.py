@@ -6,18 +6,18 @@ import json
 import platform
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
 
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.calibration._settings import CalibrationSettings, shift_law
 from vhfit.data import TestItem
 from vhfit.formulations import FORMULATIONS
 from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
-from vhfit.tts import WLF, Arrhenius, PolynomialShift
 
 __all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report"]
 
@@ -116,17 +116,7 @@ def _shift_from(d) -> dict:
 
 
 def _shift_fields(d: dict) -> dict:
-    c, name = d.get("constants") or {}, d.get("law")
-    if name == "wlf":
-        law = WLF(float(c["C1"]), float(c["C2"]), float(c["T_ref"]))
-    elif name == "arrhenius":
-        law = Arrhenius(float(c["E_a"]), float(c["T_ref"]),
-                        float(c.get("absolute_zero", -273.15)))
-    elif name == "polynomial":
-        coef = [float(c[f"c{k}"]) for k in range(1, len(c))]
-        law = PolynomialShift(tuple(coef), float(c["T_ref"]))
-    else:
-        law = None
+    law = shift_law(d.get("law"), d.get("constants") or {})
     table = dict(zip(map(float, d.get("temperatures", [])), map(float, d.get("log_aT", []))))
     T_ref = d.get("T_ref")
     return {"shift": law, "shift_table": table, "shift_source": d.get("source"),
@@ -139,7 +129,7 @@ _OWN_KEYS = frozenset((
     "hyperelastic", "formulation", "n_prony", "param_names", "units", "params", "g", "g_inf",
     "rmsape", "per_curve_rmsape", "curve_names", "nit", "nfev", "wall_time", "stop_reason",
     "bounds", "confidence", "stability", "order_scan", "warnings", "headlines", "options",
-    "shift", "history", "fits"))
+    "shift", "history", "fits", "settings"))
 
 
 class CalibrationWarning(UserWarning):
@@ -147,9 +137,10 @@ class CalibrationWarning(UserWarning):
 
 
 
-@dataclass
+@dataclass(frozen=True)
 class Calibration:
-    """Result of :func:`calibrate`.
+    """Result of :func:`calibrate`: built once, complete, and not changed afterwards (a
+    variant is made with :func:`dataclasses.replace`).
 
     Attributes
     ----------
@@ -198,6 +189,9 @@ class Calibration:
     curves : list
         The curves (at ``T_ref``) it was fitted to, for its report and plots; not saved
         in the results file (empty after :meth:`load`).
+    settings : CalibrationSettings or None
+        How the fit was made: :func:`calibrate`'s arguments, checked (None for a result
+        built by hand or read from a results file written before they were recorded).
     """
 
     model: ViscoHyperelastic
@@ -223,6 +217,7 @@ class Calibration:
     shift_table: dict = field(default_factory=dict)
     shift_source: str | None = None
     T_ref: float | None = None
+    settings: CalibrationSettings | None = field(default=None, repr=False, compare=False)
     #: formulation -> fit, of a results file that holds several (:meth:`load`)
     fits: dict = field(default_factory=dict, repr=False, compare=False)
     #: the results file's entries that are not the fit's own (inputs, options, cards)
@@ -358,7 +353,8 @@ class Calibration:
 
     def save(self, path, *, status: str = "complete", curves: Sequence | None = None,
              extra: dict | None = None) -> None:
-        """Write the results file (JSON) atomically: :meth:`to_dict` plus its context.
+        """Write the results file (JSON) atomically: :meth:`to_dict` plus its context, and
+        the settings it was made with (``"settings"``: :meth:`CalibrationSettings.to_dict`).
 
         Parameters
         ----------
@@ -381,6 +377,8 @@ class Calibration:
             "timestamp": datetime.now(timezone.utc).isoformat(timespec="seconds"),
             "history": self.history,
         })
+        if self.settings is not None:
+            res["settings"] = self.settings.to_dict()
         res.update(extra or {})
         atomic_write(path, dumps(res, indent=2) + "\n")
 
@@ -447,16 +445,19 @@ class Calibration:
             raise ValueError(f"{path}: results format {fmt!r}, written by another version "
                              f"of vhfit; this version reads {RESULTS_FORMAT!r}: rerun the fit "
                              "with this version, or read it with the version that wrote it")
-        cal = cls.from_dict(res, where=str(path))
+        own = cls.from_dict(res, where=str(path))
         fits = res.get("fits") or {}
         if not isinstance(fits, dict):
             raise ValueError(f"{path}: 'fits' is not a mapping of formulation to fit; give "
                              "the results.json written by vhfit")
-        cal.fits = {cal.model.formulation: cal}
+        others = {}
         for form, entry in fits.items():
-            if form != cal.model.formulation:
-                cal.fits[form] = cls.from_dict(entry, where=f"{path}: entry 'fits', '{form}'")
-        cal.context = {k: v for k, v in res.items() if k not in _OWN_KEYS}
+            if form != own.model.formulation:
+                others[form] = cls.from_dict(entry, where=f"{path}: entry 'fits', '{form}'")
+        every: dict = {}  # filled below: the loaded result is its own first fit
+        cal = replace(own, fits=every,
+                      context={k: v for k, v in res.items() if k not in _OWN_KEYS})
+        every.update({cal.model.formulation: cal, **others})
         return cal
 
     @classmethod
@@ -530,6 +531,8 @@ class Calibration:
             headlines=list(res.get("headlines", [])), options=options,
             curve_names=list(res.get("curve_names", [])),
             **_shift_from(res.get("shift")),
+            settings=(None if res.get("settings") is None
+                      else CalibrationSettings.from_dict(res["settings"])),
         )
 
     def fitted_curves(self, curves: Sequence, points: int = 200) -> list[dict[str, np.ndarray]]:

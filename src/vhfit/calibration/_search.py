@@ -120,14 +120,19 @@ def _history(solver, setup: float = 0.0) -> dict:
             "mean": h.mean[1:].tolist(), "time": (h.time[1:] + setup).tolist()}
 
 
-def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, stall, callback,
-               de_options, checkpoint, checkpoint_every, resume, max_time, t0,
-               polish: bool = False) -> Search:
+def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | None,
+               t0: float) -> Search:
     """Differential evolution over ``space`` until a stopping criterion is met.
 
-    ``polish``: a polish follows the search, which may then stop as soon as a polish of
-    its best member reaches the target (:class:`_EarlyFinish`).
+    ``settings`` (a :class:`CalibrationSettings`) gives the search's seed, population,
+    stopping tests, workers, callback, solver options and checkpoint period;
+    ``checkpoint`` and ``max_time`` are this search's own (one of a scan over N). With
+    ``settings.polish`` a polish follows the search, which may then stop as soon as a
+    polish of its best member reaches the target (:class:`_EarlyFinish`).
     """
+    s = settings
+    seed, workers, popsize, maxiter = s.seed, s.workers, s.popsize, s.maxiter
+    tol, target, de_options = s.effective_tol, s.target, s.de_options
     dbounds = space.bounds()
     if not dbounds:  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
         return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
@@ -143,10 +148,10 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
     key = _checkpoint.fit_key(space.prob, space.method, seed, popsize, tol, target, de_options)
     ckpt = None if checkpoint is None else str(checkpoint)
     left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
-    crits, reasons = stop_criteria(tol, target, stall, left)
+    crits, reasons = stop_criteria(tol, target, s.stall, left)
     t_in = t0
-    track = _Tracker(callback, n_prony, ckpt, key, checkpoint_every, t0)
-    if polish:
+    track = _Tracker(s.callback, n_prony, ckpt, key, s.checkpoint_every, t0)
+    if s.polish:
         track.finish = _EarlyFinish(space, target)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
@@ -161,7 +166,7 @@ def run_search(space, *, n_prony, seed, workers, popsize, maxiter, tol, target, 
         with solver:
             track.solver = solver
             finished = None
-            if resume and ckpt is not None and os.path.exists(ckpt):
+            if s.resume and ckpt is not None and os.path.exists(ckpt):
                 try:
                     state, done_before, finished = _checkpoint.load(ckpt, key)
                     solver.load_state(state)

@@ -6,16 +6,23 @@ import os
 import time
 import warnings
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 import numpy as np
 
-from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._search import CalibrationError, run_search
+from vhfit.calibration._settings import (
+    DEFAULT_DECADES_ABOVE,
+    DEFAULT_DECADES_BELOW,
+    DEFAULT_TAU_STRATEGY,
+    DEFAULT_TOL,
+    CalibrationSettings,
+)
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import TestItem, is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
@@ -23,10 +30,6 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
 __all__ = ["calibrate", "CalibrationError"]
-
-DEFAULT_TAU_STRATEGY = "free"
-DEFAULT_DECADES_BELOW = 3  # one decade of margin below Eq. 22: real τ_1 can sit just under it
-DEFAULT_DECADES_ABOVE = 1
 
 
 def _as_curves(curves) -> list:
@@ -229,103 +232,96 @@ def calibrate(
     """
     t0 = time.perf_counter()
     curves = _as_curves(curves)
-    check_arguments(locals())
-    ref = shift_to_reference(curves, shift_factors=shift_factors, T_ref=T_ref)
-    curves = ref.items  # tests at several temperatures: all at T_ref
-    common = dict(
-        tau_strategy=tau_strategy, bounds=bounds, objective=objective, method=method, seed=seed,
-        workers=workers,
-        popsize=popsize, maxiter=maxiter, tol=tol, target=target, stall=stall, polish=polish,
-        g_inf_min=g_inf_min, decades_below=decades_below, decades_above=decades_above,
+    settings = CalibrationSettings(  # every argument checked here, before any computation
+        hyperelastic, n_prony, tau_strategy=tau_strategy, bounds=bounds, objective=objective,
+        method=method, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter, tol=tol,
+        target=target, stall=stall, polish=polish, g_inf_min=g_inf_min, max_time=max_time,
+        max_prony=max_prony, order_tol=order_tol, prune_tol=prune_tol,
+        decades_below=decades_below, decades_above=decades_above,
         stability_range=stability_range, uncertainty=uncertainty, callback=callback,
-        rtol=rtol, de_options=de_options, prune_tol=prune_tol,
-        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
-        formulation=formulation,
-    )
+        rtol=rtol, de_options=de_options, checkpoint=checkpoint,
+        checkpoint_every=checkpoint_every, resume=resume, check_rates=check_rates,
+        formulation=formulation, shift_factors=shift_factors, T_ref=T_ref)
+    s = settings
+    ref = shift_to_reference(curves, shift_factors=s.shift_factors, T_ref=s.T_ref)
+    curves = ref.items  # tests at several temperatures: all at T_ref
     unidentified = viscous_evidence(curves)
-    default_reason = unidentified if n_prony is None else None
+    default_reason = unidentified if s.n_prony is None else None
+    n_prony = s.n_prony
     if n_prony is None:
         n_prony = 0 if unidentified else DEFAULT_N_PRONY
     rate_msgs: list[str] = []
-    if check_rates:
-        n_check = max_prony if isinstance(n_prony, str) else int(n_prony)
-        rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], hyperelastic,
+    if s.check_rates:
+        n_check = s.max_prony if isinstance(n_prony, str) else int(n_prony)
+        rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], s.hyperelastic,
                                      n_check)
     if isinstance(n_prony, str):
-        cal = _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common)
+        cal = _order_scan(curves, s, t0)
     else:
-        cal = _calibrate_n(curves, hyperelastic, int(n_prony), max_time=max_time, t0=t0,
-                           **common)
+        cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
+                           max_time=s.max_time, t0=t0)
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
-    cal.warnings[:0] = rate_msgs
+    warns, heads, options = rate_msgs + cal.warnings, list(cal.headlines), dict(cal.options)
     if default_reason:
-        cal.options["n_prony_reason"] = f"no Prony terms by default: {default_reason}"
+        options["n_prony_reason"] = f"no Prony terms by default: {default_reason}"
     elif unidentified and cal.n_prony > 0:
         msg = (f"the data cannot separate elastic from viscous response ({unidentified}): "
                f"the {cal.n_prony} Prony term(s) are not identified by them; add tests at "
                "other rates, a hold or an unloading, or fit n_prony=0")
         warnings.warn(msg, CalibrationWarning, stacklevel=2)
-        cal.warnings.insert(0, msg)
-        cal.headlines.insert(0, msg)
-    return _with_shift(cal, ref)
+        warns.insert(0, msg)
+        heads.insert(0, msg)
+    return replace(cal, warnings=warns, headlines=heads, options=options, **_shift_of(ref))
 
 
-def _with_shift(cal: Calibration, ref) -> Calibration:
-    """The result with the time–temperature shift its tests were put at T_ref with."""
+def _shift_of(ref) -> dict:
+    """The result's fields of the time–temperature shift its tests were put at T_ref with."""
     if ref.source != "none":
-        cal.shift, cal.shift_table = ref.law, dict(ref.log_aT)
-        cal.shift_source, cal.T_ref = ref.source, ref.T_ref
-    return cal
+        return dict(shift=ref.law, shift_table=dict(ref.log_aT), shift_source=ref.source,
+                    T_ref=ref.T_ref)
+    return {}
 
 
-def _order_scan(curves, hyperelastic, max_prony, order_tol, max_time, t0, common):
-    results = []
-    for n in range(1, max_prony + 1):
+def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration:
+    """N = 1..max_prony, each a calibration; the smallest N within order_tol of the best."""
+    max_time, order_tol, results = settings.max_time, settings.order_tol, []
+    for n in range(1, settings.max_prony + 1):
         left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
         if left is not None and left <= 0:
             break
-        opts = dict(common)
-        if opts.get("checkpoint") is not None:  # one checkpoint per N of the scan
-            opts["checkpoint"] = f"{opts['checkpoint']}.N{n}"
-        results.append(_calibrate_n(curves, hyperelastic, n, max_time=left, t0=time.perf_counter(),
-                                    **opts))
+        ckpt = settings.checkpoint
+        if ckpt is not None:  # one checkpoint per N of the scan
+            ckpt = f"{ckpt}.N{n}"
+        results.append(_calibrate_n(curves, settings, n, checkpoint=ckpt, max_time=left,
+                                    t0=time.perf_counter()))
         if results[-1].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
             break
     best = min(r.rmsape for r in results)
     chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
-    chosen.order_scan = [
-        {"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
-        for n, r in enumerate(results)
-    ]
-    chosen.options["n_prony"] = "auto"
-    chosen.options["n_prony_chosen"] = results.index(chosen) + 1
-    chosen.options["order_rule"] = (
-        f"smallest N whose RMSAPE is within {order_tol:.0%} of the best over N = 1..{len(results)}"
-    )
-    chosen.wall_time = time.perf_counter() - t0
-    return chosen
+    return replace(
+        chosen,
+        order_scan=[{"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
+                    for n, r in enumerate(results)],
+        options={**chosen.options, "n_prony": "auto",
+                 "n_prony_chosen": results.index(chosen) + 1,
+                 "order_rule": f"smallest N whose RMSAPE is within {order_tol:.0%} of the best "
+                               f"over N = 1..{len(results)}"},
+        wall_time=time.perf_counter() - t0)
 
 
-
-def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objective, method,
-                 seed, workers, popsize, maxiter, tol, target, stall, polish, g_inf_min,
-                 decades_below, decades_above, stability_range, uncertainty, callback, rtol,
-                 de_options, prune_tol, checkpoint, checkpoint_every, resume, formulation,
-                 max_time, t0) -> Calibration:
-    """One calibration with N Prony terms: bounds, global search, polish, report."""
-    model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol, formulation=formulation)
-    tau_b, auto = search_bounds(model, curves, tau_strategy, decades_below, decades_above,
-                                bounds)
-    prob = Problem(model, curves, tau_b, auto, g_inf_min, objective)
-    space = SPACES[method](prob)
-    if method == "full" and tol == DEFAULT_TOL:
-        tol = 1e-5  # the paper's best-mean gap of 0.001 %
-    found = run_search(
-        space, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter,
-        tol=tol, target=target, stall=stall, callback=callback, de_options=de_options,
-        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
-        max_time=max_time, t0=t0, polish=polish)
+def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpoint, max_time,
+                 t0) -> Calibration:
+    """One calibration with N Prony terms: bounds, global search, polish, report
+    (``checkpoint`` and ``max_time``: this one's, of a scan over N)."""
+    s = settings
+    model = ViscoHyperelastic(s.hyperelastic, n_prony, rtol=s.rtol, formulation=s.formulation)
+    tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
+                                s.decades_above, s.bounds)
+    prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
+    space = SPACES[s.method](prob)
+    found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
+                       t0=t0)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
@@ -337,17 +333,15 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
     nfev = found.nfev
     if found.polished is not None:  # the search ended by this polish of its best member
         x, err = found.polished
-    elif polish and found.stop != "interrupted":
+    elif s.polish and found.stop != "interrupted":
         x, err, n_pol = polish_fit(prob, x)
         nfev += n_pol
-    return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,
-                  found.t0, prune_tol, stability_range, uncertainty, dict(
-                      hyperelastic=model.hyperelastic.name, n_prony=n_prony,
-                      tau_strategy=str(tau_strategy), objective=prob.objective.kind,
-                      method=method, seed=seed,
-                      popsize=popsize or space.popsize, maxiter=maxiter or space.maxiter,
-                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
-                      stability_range=[float(v) for v in stability_range]))
+    return finish(prob, curves, model, x, err, found, nfev, s, dict(
+        hyperelastic=model.hyperelastic.name, n_prony=n_prony,
+        tau_strategy=str(s.tau_strategy), objective=prob.objective.kind, method=s.method,
+        seed=s.seed, popsize=s.popsize or space.popsize, maxiter=s.maxiter or space.maxiter,
+        tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
+        rtol=s.rtol, stability_range=[float(v) for v in s.stability_range]))
 
 
 def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:

@@ -21,7 +21,7 @@ _DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "tri
                  "columns", "units", "group_by", "select")
 
 
-def cmd_check(args) -> int:
+def cmd_check(args, argv=()) -> int:
     """``vhfit check RESULTS.json [--data FILE...] [--card FILE...]``."""
     cal = load_calibration(args.results)
     res = cal.context

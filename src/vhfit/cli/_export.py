@@ -10,7 +10,7 @@ from vhfit.export import export, get_solver, solvers
 __all__ = ["cmd_export"]
 
 
-def cmd_export(args) -> int:
+def cmd_export(args, argv=()) -> int:
     """``vhfit export RESULTS.json --to SOLVER``."""
     cal = load_calibration(args.results)
     # several fits (vhfit fit --for A,B): the card of a solver from its own fit

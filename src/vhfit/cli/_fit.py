@@ -18,16 +18,18 @@ import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from vhfit import datasets, plot, tts
+from vhfit import datasets, plot
 from vhfit._io import atomic_write
 from vhfit.calibration import (
     Calibration,
     CalibrationError,
+    CalibrationSettings,
     CalibrationWarning,
     calibrate,
     default_n_prony,
@@ -51,6 +53,7 @@ from vhfit.cli._common import (
 )
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.cli._report import write_fit_report
+from vhfit.cli._settings import check_shift, fit_settings
 from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
 from vhfit.modes import get_deformation
@@ -65,19 +68,22 @@ DEMO_STRATEGY = "semifree"
 
 
 # ================================================================== commands
-def cmd_fit(args) -> int:
-    """``vhfit fit CURVES...``."""
+def cmd_fit(args, argv: Sequence[str] = ()) -> int:
+    """``vhfit fit CURVES...`` (``argv``: the command line, for the results and the resume
+    hint)."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
     _check_fit_flags(args)
     _check_card_flags(args)
     curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
-    _check_shift(curves, args)  # temperatures without shift information: nothing written
+    # temperatures without shift information: nothing written
+    shift_law, at_ref = check_shift(curves, args)
     with _out_folder(args, "vhfit-results") as out:
-        return run_fit(curves, inputs, args, out, label=None, command=args._argv)
+        return run_fit(curves, inputs, args, out, label=None, command=list(argv),
+                       shift_law=shift_law, at_ref=at_ref)
 
 
-def cmd_demo(args) -> int:
+def cmd_demo(args, argv: Sequence[str] = ()) -> int:
     """``vhfit demo``: the bundled synthetic SEBS set, end to end."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
@@ -85,15 +91,15 @@ def cmd_demo(args) -> int:
     _check_fit_flags(args)
     _check_card_flags(args)
     with _out_folder(args, "vhfit-demo") as out:
-        return _run_demo(args, out)
+        return _run_demo(args, out, list(argv))
 
 
-def _run_demo(args, out: Path) -> int:
+def _run_demo(args, out: Path, command: list[str]) -> int:
     path = datasets.sebs_path()
     curves = datasets.load_sebs()
     inputs = [{"path": str(path), "sha256": _sha256(path), "bundled": "vhfit.datasets.sebs"}]
     if args.out is None:
-        args._argv = list(args._argv) + ["--out", str(out)]
+        command = command + ["--out", str(out)]
     args.model, args.prony, args.strategy = "mooney_rivlin", args.prony, DEMO_STRATEGY
     if not args.quiet:
         print(
@@ -102,7 +108,7 @@ def _run_demo(args, out: Path) -> int:
             f"Table 5 parameters; calibrating Mooney-Rivlin + {args.prony} Prony terms",
             file=sys.stderr,
         )
-    code = run_fit(curves, inputs, args, out, label=datasets.SEBS_LABEL, command=args._argv,
+    code = run_fit(curves, inputs, args, out, label=datasets.SEBS_LABEL, command=command,
                    demo=True)
     if code == EXIT_OK:
         _demo_check(out)
@@ -179,36 +185,6 @@ def _check_card_flags(args) -> None:
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
         check_targets(args.targets, resolve_model_name(args.model))
-
-
-def _shift_law(args):
-    """The law of ``--shift`` at ``--tref`` (None without ``--shift``)."""
-    given = args.shift
-    if given is None:
-        return None
-    name, vals = given
-    text = f"{name}:{','.join(f'{v:g}' for v in vals)}"
-    if args.tref is None:
-        raise UsageError(f"--shift {text}: give --tref T, the reference temperature of the law")
-    try:
-        if name == "wlf":
-            return tts.WLF(C1=vals[0], C2=vals[1], T_ref=args.tref)
-        return tts.Arrhenius(vals[0], args.tref, *vals[1:])
-    except ValueError as exc:
-        raise UsageError(f"--shift {text}: {one_line(exc)}") from None
-
-
-def _check_shift(curves, args) -> None:
-    """Tests at several temperatures: their shift to --tref, checked before anything is
-    written (the tests at the reference are kept in ``args._at_ref`` for the outputs)."""
-    law = _shift_law(args)
-    try:
-        ref = tts.shift_to_reference(curves, shift_factors=law, T_ref=args.tref)
-    except ValueError as exc:
-        raise UsageError(f"{one_line(exc)} (command line: --shift wlf:C1,C2 --tref T)"
-                         ) from None
-    args._shift_law = law
-    args._at_ref = ref.items if ref.source != "none" else None
 
 
 def _demo_check(out: Path) -> None:
@@ -320,14 +296,21 @@ def _data_choices(args) -> dict[str, Any]:
 
 # ================================================================ the fit job
 def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
-            demo: bool = False) -> int:
-    """Calibrate, then write every output into ``out`` (also when interrupted)."""
+            demo: bool = False, shift_law=None, at_ref: list | None = None) -> int:
+    """Calibrate, then write every output into ``out`` (also when interrupted).
+
+    ``shift_law``: the law of ``--shift`` (None: the tests' own overlap, or one
+    temperature); ``at_ref``: the tests at the reference temperature, for the outputs
+    (None: ``curves`` are).
+    """
     model = resolve_model_name(args.model)
     strategy = args.strategy
     if strategy not in tau_strategies():
         raise UsageError(
             f"--strategy {strategy!r}: choose one of {', '.join(tau_strategies())}"
         )
+    settings = fit_settings(args, model=model, strategy=strategy,
+                            checkpoint=str(out / CHECKPOINT), shift_law=shift_law)
     if args.resume and not any(out.glob(CHECKPOINT + "*")):
         raise UsageError(
             f"--resume: no checkpoint in {out} (the fit ended, or never started there); "
@@ -359,7 +342,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             # a resumed scan starts mid-way: N cannot be counted from the generations then
             progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
                                 first_n=None if args.resume else 1)
-            fits[form] = cal = _search(curves, args, out, model, strategy, progress, sigs,
+            fits[form] = cal = _search(curves, settings, args, out, progress, sigs,
                                        command, form)
             interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
             if interrupted:
@@ -367,7 +350,8 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         cal = next(iter(fits.values()))
         sigs.writing = True
         files = _write_outputs(fits, plan, curves, inputs, args, out, label=label,
-                               command=command, interrupted=interrupted, demo=demo)
+                               command=command, interrupted=interrupted, demo=demo,
+                               at_ref=at_ref)
     _show_warnings(caught, [w for c in fits.values() for w in c.warnings])
     print(files.pop("_summary"))
     print("")
@@ -388,7 +372,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
     return EXIT_OK
 
 
-def _search(curves, args, out: Path, model: str, strategy: str, progress: Progress,
+def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Progress,
             sigs: Signals, command: list[str], formulation: str = "hereditary") -> Calibration:
     """The calibration itself, with progress, signals and a checkpoint in ``out`` (one
     checkpoint per formulation: ``checkpoint.json`` for the first)."""
@@ -397,24 +381,10 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
         sigs.check()  # raises KeyboardInterrupt (caught by calibrate) after a signal
         return False
 
-    kw = dict(
-        hyperelastic=model, n_prony=args.prony, tau_strategy=strategy, method=args.method,
-        seed=args.seed, workers=args.workers, popsize=args.popsize, maxiter=args.maxiter,
-        target=args.target, polish=not args.no_polish, g_inf_min=args.g_inf_min,
-        max_time=args.max_time, callback=callback, checkpoint=str(out / _checkpoint(formulation)),
-        checkpoint_every=args.checkpoint_every, resume=args.resume,
-    )
-    if args.prony == "auto":
-        kw["max_prony"] = args.max_prony
-    if formulation != "hereditary":  # the default, left out: the call is today's
-        kw["formulation"] = formulation
-    # getattr default: set by cmd_fit only (not demo); goes with the settings object
-    if getattr(args, "_shift_law", None) is not None:
-        kw["shift_factors"] = args._shift_law
-    if args.tref is not None:
-        kw["T_ref"] = args.tref
+    settings = replace(settings, formulation=formulation, callback=callback,
+                       checkpoint=str(out / _checkpoint(formulation)))
     try:
-        cal = calibrate(curves, **kw)
+        cal = calibrate(curves, **settings.keywords())
     except KeyboardInterrupt:
         progress.close()
         raise FitFailed(
@@ -465,12 +435,12 @@ def _resume_cmd(command: list[str]) -> str:
 
 # ================================================================== outputs
 def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
-                   interrupted, demo) -> dict[str, str]:
+                   interrupted, demo, at_ref=None) -> dict[str, str]:
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
-    first fit of ``plan`` is the results' own, the others are listed under ``fits``."""
+    first fit of ``plan`` is the results' own, the others are listed under ``fits``
+    (``at_ref``: the tests at the reference temperature, if shifted)."""
     cal = next(iter(fits.values()))
-    # getattr default: set by cmd_fit only (not demo); goes with the settings object
-    raw, curves = curves, getattr(args, "_at_ref", None) or curves  # tests at T_ref
+    raw, curves = curves, at_ref or curves  # tests at T_ref
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
     head = [f"data: {label}"] if label else []
@@ -532,6 +502,8 @@ def _fit_record(cal: Calibration) -> dict:
     d = cal.to_dict()
     d.pop("history", None)
     d["formulation"] = cal.model.formulation
+    if cal.settings is not None:
+        d["settings"] = cal.settings.to_dict()
     return d
 
 

@@ -39,10 +39,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE
-        args._argv = argv
         with warnings.catch_warnings():
             warnings.showwarning = _show_warning  # one line, no source excerpt
-            return int(args.func(args))
+            return int(args.func(args, argv))
     except UsageError as exc:
         if debug:
             raise

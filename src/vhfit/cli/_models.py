@@ -12,7 +12,7 @@ from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 __all__ = ["cmd_models"]
 
 
-def cmd_models(args) -> int:
+def cmd_models(args, argv=()) -> int:
     """``vhfit models``: registered models, τ strategies, plug-ins."""
     builtin = set(hyperelastic.available())
     plugins = load_plugins()

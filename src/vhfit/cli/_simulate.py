@@ -20,7 +20,7 @@ from vhfit.modes import get_deformation
 __all__ = ["cmd_simulate", "parse_params"]
 
 
-def cmd_simulate(args) -> int:
+def cmd_simulate(args, argv=()) -> int:
     """``vhfit simulate``: stress of a given material along given loadings, to CSV."""
     if args.results is None and args.model is None:
         raise UsageError("simulate needs a material: --results RESULTS.json, or --model NAME "
