@@ -11,7 +11,13 @@ The public API::
 
 from vhfit import export, formulations, hyperelastic, spectrum, tts, viscoelastic
 from vhfit._version import __version__
-from vhfit.calibration import Calibration, CalibrationError, CalibrationWarning, calibrate
+from vhfit.calibration import (
+    Calibration,
+    CalibrationError,
+    CalibrationWarning,
+    calibrate,
+    calibrate_for,
+)
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
@@ -43,6 +49,7 @@ __all__ = [
     "Relaxation",
     "ViscoHyperelastic",
     "calibrate",
+    "calibrate_for",
     "calibrate_many",
     "export",
     "formulations",

@@ -11,13 +11,16 @@ Inside, one module per concern:
 * ``_checkpoint`` — the saved search state, resumed exactly;
 * ``_polish`` — bounded least squares on all parameters afterwards;
 * ``_report`` — pruning, uncertainty, stability and warnings; the result;
-* ``_result`` — :class:`Calibration`, its summary and its results file.
+* ``_result`` — :class:`Calibration`, its summary and its results file;
+* ``_for`` — :func:`calibrate_for`: one fit per formulation that the solvers need.
 """
 
 from vhfit.calibration._bounds import auto_bounds
+from vhfit.calibration._for import calibrate_for, plan_formulations, start_options
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import RESULTS_FORMAT, Calibration, CalibrationWarning
 from vhfit.calibration._workflow import CalibrationError, calibrate
 
 __all__ = ["calibrate", "Calibration", "CalibrationWarning", "CalibrationError", "auto_bounds",
-           "RESULTS_FORMAT", "default_n_prony", "viscous_evidence"]
+           "RESULTS_FORMAT", "default_n_prony", "viscous_evidence", "calibrate_for",
+           "plan_formulations", "start_options"]
