@@ -482,7 +482,7 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     written["fitted_curves.csv"] = "data and model stress per curve"
     moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
     if moduli:  # frequency sweeps and relaxation tests
-        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli)))
+        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli), interrupted))
         written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
 
     cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
