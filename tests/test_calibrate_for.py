@@ -94,3 +94,22 @@ def test_bad_arguments_are_refused():
         vhfit.calibrate_for(["abaqus"], curves, formulation="lsdyna")
     with pytest.raises(ValueError, match="solver 'radioss'"):
         vhfit.calibrate_for(["radioss"], curves)
+
+
+def test_a_pruned_first_fit_seeds_each_tau_in_the_slot_whose_range_holds_it():
+    """semifree τ ranges: one per term. A first fit with one term (as after pruning) puts
+    its τ into the slot whose range holds it, the other slot at the middle of its own."""
+    curves = ramps("hereditary")
+    first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
+    kw = dict(formulation="lsdyna", n_prony=2, tau_strategy="semifree", seed=0)
+    init = start_options(first, curves, **kw)["de_options"]["init"]
+    spread = init[16:]  # the Sobol half covers each coordinate's range
+    lo, hi = spread.min(axis=0), spread.max(axis=0)
+    assert hi[1] <= lo[2] + 1e-9  # two ranges of log10 τ, the second above the first
+    for slot in (1, 2):  # put the first fit's τ inside each range in turn
+        t = lo[slot] + 0.3 * (hi[slot] - lo[slot])
+        first.params["tau1"] = 10.0 ** t
+        z0 = start_options(first, curves, **kw)["de_options"]["init"][0]
+        assert z0[slot] == pytest.approx(t, rel=1e-12)
+        other = 3 - slot
+        assert lo[other] < z0[other] < hi[other] and z0[other] != pytest.approx(t)

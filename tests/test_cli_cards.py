@@ -133,6 +133,8 @@ def test_default_fit_serves_every_solver_from_its_own_fit(default_run):
                                 "lsdyna": "lsdyna", "ansys": "hereditary"}
     assert res["fits"]["lsdyna"]["solvers"] == ["lsdyna"]
     assert res["fits"]["lsdyna"]["formulation"] == "lsdyna"
+    # the LS-DYNA fit started from the hereditary one: half its population, seeded
+    assert res["fits"]["lsdyna"]["options"]["popsize"] == res["options"]["popsize"] // 2
     for s, c in check.items():
         assert c["formulation"] == c["fit_formulation"] == res["card_fits"][s]
         assert c["rmsape"] <= 1.05 * c["fit_rmsape"] + 0.01 and not c["exceeds"], s
@@ -186,6 +188,22 @@ def test_formulation_makes_one_fit_serve_all_and_flags_lsdyna(one_fit_run):
     assert "$ WARNING: LS-DYNA card" in card
     assert "formulation 'hereditary' (this fit serves abaqus, lsdyna, ansys)" in " ".join(
         ln.lstrip("$ ") for ln in card.splitlines())
+
+
+def test_an_unconverged_fit_says_so_first_in_every_card_and_material_json(data, tmp_path):
+    out = tmp_path / "o"
+    res = fit(data, out, "--maxiter", "1", "--for", "abaqus,ansys", "--no-polish")
+    assert res["stop_reason"] == "maxiter" and res["status"] == "complete"
+    for f, prefix in (("abaqus.inp", "**"), ("ansys.mac", "!")):
+        first = next(ln for ln in (out / f).read_text().splitlines() if ln.startswith(prefix))
+        assert first.startswith(f"{prefix} NOT CONVERGED: the search stopped at maxiter "
+                                "before it converged")
+    mat = json.loads((out / "material.json").read_text())
+    assert mat["status"] == "not_converged" and "maxiter" in mat["status_note"]
+    ok = fit(data, tmp_path / "ok", "--for", "abaqus")
+    assert ok["stop_reason"] != "maxiter"
+    assert json.loads((tmp_path / "ok" / "material.json").read_text())["status"] == "complete"
+    assert "CONVERGED" not in (tmp_path / "ok" / "abaqus.inp").read_text()
 
 
 def test_a_card_that_fails_its_check_is_not_written(data, tmp_path, monkeypatch):
