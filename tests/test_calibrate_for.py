@@ -66,8 +66,8 @@ def test_each_fit_equals_a_separate_calibrate_in_its_formulation(data_form):
             assert cal.rmsape > 0.1  # the other law cannot reproduce these data
             for k in P:
                 assert cal.params[k] == pytest.approx(alone.params[k], rel=1e-4)
-    # the seeded second search used half the population
-    assert fits["lsdyna"].options["popsize"] == 32 and fits["hereditary"].options[
+    # the seeded second search used 3/8 of the population
+    assert fits["lsdyna"].options["popsize"] == 24 and fits["hereditary"].options[
         "popsize"] == 64
 
 
@@ -76,13 +76,13 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
     first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
     opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
     init = opts["de_options"]["init"]
-    assert opts["popsize"] == 32 and init.shape == (32, 2)  # (C01 share, log10 tau1)
+    assert opts["popsize"] == 24 and init.shape == (24, 2)  # (C01 share, log10 tau1)
     z0 = [first.params["C01"] / (first.params["C10"] + first.params["C01"]),
           np.log10(first.params["tau1"])]
     np.testing.assert_allclose(init[0], z0, rtol=1e-12)
     assert np.all(init[:, 0] >= 0) and np.all(init[:, 0] <= 1)
     near = np.abs(init[:, 1] - z0[1]) < 1.0
-    assert near[:16].mean() > near[16:].mean()  # the cloud, then the Sobol half
+    assert near[:12].mean() > near[12:].mean()  # the cloud, then the Sobol half
     assert start_options(first, curves, formulation="lsdyna", n_prony="auto") == {}
     assert start_options(first, curves, formulation="lsdyna", n_prony=1,
                          de_options={"init": "sobol"}) == {}
@@ -103,7 +103,7 @@ def test_a_pruned_first_fit_seeds_each_tau_in_the_slot_whose_range_holds_it():
     first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
     kw = dict(formulation="lsdyna", n_prony=2, tau_strategy="semifree", seed=0)
     init = start_options(first, curves, **kw)["de_options"]["init"]
-    spread = init[16:]  # the Sobol half covers each coordinate's range
+    spread = init[12:]  # the Sobol half covers each coordinate's range
     lo, hi = spread.min(axis=0), spread.max(axis=0)
     assert hi[1] <= lo[2] + 1e-9  # two ranges of log10 τ, the second above the first
     for slot in (1, 2):  # put the first fit's τ inside each range in turn
