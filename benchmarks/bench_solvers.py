@@ -144,14 +144,17 @@ def second_fit(curves, n_prony: int, repeats: int = 3) -> dict:
         t2, second = _timed(seeded, repeats)
         t3, fresh = _timed(lambda: vhfit.calibrate(curves, formulation="lsdyna", **kw), repeats)
     return {"first_s": t1, "second_s": t2, "ratio": t2 / t1, "fresh_s": t3,
-            "second_rmsape": second.rmsape, "fresh_rmsape": fresh.rmsape}
+            "second_rmsape": second.rmsape, "fresh_rmsape": fresh.rmsape,
+            "evaluations": second.nfev / first.nfev}
 
 
 def second_fit_table(rows: dict) -> list[str]:
-    lines = ["| data | hereditary fit s | lsdyna fit from it s | ratio | fresh lsdyna fit s "
-             "| RMSAPE % from it | RMSAPE % fresh |", "|---|---:|---:|---:|---:|---:|---:|"]
+    lines = ["| data | hereditary fit s | lsdyna fit from it s | ratio | evaluations ratio "
+             "| fresh lsdyna fit s | RMSAPE % from it | RMSAPE % fresh |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|"]
     for name, r in rows.items():
         lines.append(f"| {name} | {r['first_s']:.3f} | {r['second_s']:.3f} | {r['ratio']:.2f} "
+                     f"| {r['evaluations']:.2f} "
                      f"| {r['fresh_s']:.3f} | {r['second_rmsape']:.6g} | "
                      f"{r['fresh_rmsape']:.6g} |")
     return lines
@@ -168,8 +171,10 @@ def main(argv=None) -> int:
     timing = {name: second_fit(curves, n) for name, (curves, n) in data_sets().items()}
     ratio = statistics.median(r["ratio"] for r in timing.values())
     print("\n".join(second_fit_table(timing)))
-    print(f"\nthe second fit adds {ratio:.0%} to the first's wall time (median over the data "
-          f"sets; goal <= 50 %): {'met' if ratio <= 0.5 else 'NOT met'}\n")
+    evals = statistics.median(r["evaluations"] for r in timing.values())
+    print(f"\nthe second fit adds {ratio:.0%} to the first's wall time and {evals:.0%} to its "
+          f"evaluations (medians over the data sets; goal <= 50 %): "
+          f"{'met' if ratio <= 0.5 else 'NOT met'}\n")
     if args.second_fit:
         return 0 if ratio <= 0.5 else 1
     results: dict = {}
