@@ -1146,4 +1146,8 @@ MUTANTS: list[Mutant] = [
       "        i = free[0]",
       "a pruned first fit's τ go to the wrong Prony slots of the seed",
       ("tests/test_calibrate_for.py",)),
+    M("i23cards_export_unmarked", "vhfit/cli/_export.py",
+      "    elif status:\n        text = mark(", "    elif False:\n        text = mark(",
+      "vhfit export of an unconverged fit's results writes a card that looks finished",
+      ("tests/test_cli_cards.py",)),
 ]

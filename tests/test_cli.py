@@ -420,6 +420,10 @@ def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy,
         "\n\n")[0]
     assert res["card_errors"]["lsdyna"] == "the 'lsdyna' fit was not run (interrupted)"
     assert set(res["cards"]) == {"abaqus", "ansys", "json"}
+    assert cli.main(["export", str(out / "results.json"), "--to", "ansys", "--out",
+                     str(tmp_path / "again.mac")]) == 0  # vhfit export says so as well
+    assert (tmp_path / "again.mac").read_text().startswith("! INTERRUPTED: written by an "
+                                                           "interrupted vhfit fit")
     assert (out / "checkpoint.json").is_file()
 
     again = run("fit", *args, "--out", out, "--resume", cwd=tmp_path)

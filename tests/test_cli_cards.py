@@ -200,6 +200,14 @@ def test_an_unconverged_fit_says_so_first_in_every_card_and_material_json(data, 
                                 "before it converged")
     mat = json.loads((out / "material.json").read_text())
     assert mat["status"] == "not_converged" and "maxiter" in mat["status_note"]
+    # vhfit export of these results says so too
+    assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna", "--out",
+                     str(tmp_path / "x.k")]) == 0
+    card = (tmp_path / "x.k").read_text().splitlines()
+    assert card[0] == "*KEYWORD" and card[1].startswith("$ NOT CONVERGED: the search stopped")
+    assert cli.main(["export", str(out / "results.json"), "--to", "json", "--out",
+                     str(tmp_path / "x.json")]) == 0
+    assert json.loads((tmp_path / "x.json").read_text())["status"] == "not_converged"
     ok = fit(data, tmp_path / "ok", "--for", "abaqus")
     assert ok["stop_reason"] != "maxiter"
     assert json.loads((tmp_path / "ok" / "material.json").read_text())["status"] == "complete"

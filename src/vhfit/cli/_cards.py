@@ -26,7 +26,8 @@ from vhfit.modes import get_deformation
 
 __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
-           "check_table", "unfinished", "mark", "UNCONVERGED", "fit_record", "other_fits"]
+           "check_table", "unfinished", "mark", "json_marked", "UNCONVERGED", "fit_record",
+           "other_fits"]
 
 JSON_FILE = "material.json"
 
@@ -238,7 +239,7 @@ def mark(text: str, prefix: str, line: str, width: int = 100) -> str:
     return "".join(rows[:at] + add + rows[at:])
 
 
-def _json_marked(text: str, line: str | None) -> str:
+def json_marked(text: str, line: str | None) -> str:
     """material.json with ``status`` (and ``status_note``) of the fit."""
     doc = json.loads(text)
     doc = {"status": "complete" if line is None else line.split(":")[0].lower().replace(
@@ -279,7 +280,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
         res.files[solver] = CARD_FILES[solver]
     first = next(iter(fits.values()))
     status = unfinished(first, interrupted)
-    atomic_write(out / CARD_FILES["json"], _json_marked(export(first, to="json"), status))
+    atomic_write(out / CARD_FILES["json"], json_marked(export(first, to="json"), status))
     res.files["json"] = CARD_FILES["json"]
     if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
            for c in curves):  # the solvers' test-data inputs (records with test_data)
