@@ -1122,7 +1122,7 @@ MUTANTS: list[Mutant] = [
       "the unfinished-fit line is not the card's first comment line",
       ("tests/test_cli_cards.py",)),
     M("i23cards_material_json_unmarked", "vhfit/cli/_cards.py",
-      '_json_marked(export(first, to="json"), status)', 'export(first, to="json")',
+      'json_marked(export(first, to="json"), status)', 'export(first, to="json")',
       "material.json of an unconverged fit has no status",
       ("tests/test_cli_cards.py",)),
     M("i23cards_no_headline", "vhfit/cli/_cards.py",
