@@ -135,6 +135,25 @@ def test_demo_end_to_end(demo):
     assert res["command"][:2] == ["vhfit", "demo"]
 
 
+def test_demo_writes_every_card_from_its_solvers_own_fit(demo):
+    """Each card passes its own check (the card's error within 1.05 x its fit's + 0.01
+    point), and the summary's first lines name per solver the file and that error."""
+    proc, out, _ = demo
+    res = json.loads((out / "results.json").read_text())
+    assert res["card_fits"] == {"abaqus": "hereditary", "lsdyna": "lsdyna",
+                                "ansys": "hereditary"}
+    assert res["fits"]["lsdyna"]["formulation"] == "lsdyna"
+    for s, c in res["card_check"].items():
+        fit = res["fits"][res["card_fits"][s]]
+        assert c["fit_rmsape"] == pytest.approx(fit["rmsape"], rel=1e-9, abs=1e-12)
+        assert c["rmsape"] <= 1.05 * c["fit_rmsape"] + 0.01 and not c["exceeds"], s
+    lines = (out / "summary.txt").read_text().splitlines()
+    assert proc.stdout.splitlines()[:3] == lines[:3]
+    for ln, s in zip(lines[:3], ("abaqus", "ansys", "lsdyna")):
+        assert ln.startswith(f"{s}: {res['cards'][s]}: ") and "will show RMSAPE" in ln
+    assert lines[3] == ""
+
+
 def test_demo_refuses_a_non_empty_out(demo):
     proc, out, _ = demo
     again = run("demo", "--out", out, cwd=out.parent)
@@ -174,11 +193,13 @@ def test_export_card_reimports_to_the_same_stresses(demo, solver, tmp_path, caps
     from vhfit import export
 
     res = json.loads((out / "results.json").read_text())
-    m1 = ViscoHyperelastic(res["hyperelastic"], res["n_prony"])
+    # each solver's card holds the constants of its own fit (LS-DYNA: the lsdyna fit's)
+    fit = res["fits"][res["card_fits"][solver]] if solver in res["card_fits"] else res
+    m1 = ViscoHyperelastic(res["hyperelastic"], fit["n_prony"])
     m2, p2 = getattr(export, f"from_{solver}")(card)
     eps = np.linspace(0.0, -0.6, 31)
     for rate in (-0.0018, -820.0):
-        s1 = m1.stress(res["params"], strain=eps, strain_rate=rate)
+        s1 = m1.stress(fit["params"], strain=eps, strain_rate=rate)
         s2 = m2.stress(p2, strain=eps, strain_rate=rate)
         assert np.max(np.abs(s2 - s1)) <= 1e-6 * np.max(np.abs(s1)), solver
     # the card written by the demo holds the same data (its comments add the card check)
@@ -402,10 +423,29 @@ def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy,
     res = json.loads((out / "results.json").read_text())
     assert res["status"] == "interrupted" and res["interrupted"] is True
     assert res["stop_reason"] == "interrupted" and 0 < res["nit"] < 600
-    assert "INTERRUPTED" in (out / "summary.txt").read_text()
+    summary = (out / "summary.txt").read_text()
+    assert "INTERRUPTED" in summary
     assert '<p class="interrupted">' in (out / "report.html").read_text(encoding="utf-8")
-    for f in ("fitted_curves.csv", "abaqus.inp", "lsdyna.k", "ansys.mac"):
-        assert (out / f).is_file()
+    # every file says so: the cards in their first comment line, material.json in a field
+    for f, prefix in (("abaqus.inp", "**"), ("ansys.mac", "!")):
+        first = next(ln for ln in (out / f).read_text().splitlines() if ln.startswith(prefix))
+        assert first.startswith(f"{prefix} INTERRUPTED: written by an interrupted vhfit fit")
+    mat = json.loads((out / "material.json").read_text())
+    assert mat["status"] == "interrupted" and "INTERRUPTED" in mat["status_note"]
+    head = [ln for ln in (out / "fitted_curves.csv").read_text().splitlines()
+            if ln.startswith("# model:")]
+    assert head[0].endswith("; INTERRUPTED")
+    # the LS-DYNA fit, after the interrupted one, never ran: no card, and the summary's
+    # first lines say so
+    assert not (out / "lsdyna.k").exists()
+    assert "lsdyna: no card: the 'lsdyna' fit was not run (interrupted)" in summary.split(
+        "\n\n")[0]
+    assert res["card_errors"]["lsdyna"] == "the 'lsdyna' fit was not run (interrupted)"
+    assert set(res["cards"]) == {"abaqus", "ansys", "json"}
+    assert cli.main(["export", str(out / "results.json"), "--to", "ansys", "--out",
+                     str(tmp_path / "again.mac")]) == 0  # vhfit export says so as well
+    assert (tmp_path / "again.mac").read_text().startswith("! INTERRUPTED: written by an "
+                                                           "interrupted vhfit fit")
     assert (out / "checkpoint.json").is_file()
 
     again = run("fit", *args, "--out", out, "--resume", cwd=tmp_path)
@@ -414,7 +454,15 @@ def test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_run(noisy,
     assert fin["status"] == "complete" and fin["nit"] == ref["nit"]
     assert fin["history"]["best"] == ref["history"]["best"]  # the same search, bit for bit
     assert fin["params"] == ref["params"]
-    assert not (out / "checkpoint.json").exists()
+    assert fin["fits"]["lsdyna"]["params"] == ref["fits"]["lsdyna"]["params"]
+    assert (out / "lsdyna.k").is_file() and "INTERRUPTED" not in (out / "abaqus.inp").read_text()
+    # --maxiter 600 and --target 0: the resumed search ends at its generation cap, which
+    # every card and material.json say (not converged), no longer "interrupted"
+    assert fin["stop_reason"] == "maxiter"
+    assert json.loads((out / "material.json").read_text())["status"] == "not_converged"
+    assert (out / "abaqus.inp").read_text().startswith("** NOT CONVERGED: the search stopped "
+                                                         "at maxiter")
+    assert not any(out.glob("checkpoint.json*"))
 
 
 # ================================================================== models

@@ -77,11 +77,13 @@ def test_default_bulk_modulus_gives_lsdyna_pr_and_explicit_d1(default_run):
     """K = 1000 mu_inst: LS-DYNA's K = 2 mu0 (1 + PR)/(3 (1 - 2 PR)) must give it, and
     the Abaqus/Explicit D1 = 2/K; the Standard card keeps D1 = 0 and says why."""
     out, res = default_run
-    mu0, mu_inst = moduli(res["params"])
+    mu0, mu_inst = moduli(res["fits"]["lsdyna"]["params"])  # the LS-DYNA card's own fit
     K = 1000 * mu_inst
     pr = float(data_lines((out / "lsdyna.k").read_text(), "$")[3][40:60])
     assert pr == pytest.approx((3 * K - 2 * mu0) / (6 * K + 2 * mu0), rel=1e-14)
     assert 2 * mu0 * (1 + pr) / (3 * (1 - 2 * pr)) == pytest.approx(K, rel=1e-9)
+    mu0, mu_inst = moduli(res["params"])  # the Abaqus cards: the hereditary fit
+    K = 1000 * mu_inst
     explicit = (out / "abaqus_explicit.inp").read_text()
     row = [float(v) for v in data_lines(explicit, "**")[4].split(",")]
     assert row[:2] == [res["params"]["C10"], res["params"]["C01"]]
@@ -119,12 +121,56 @@ def test_no_density_is_loud_in_cards_and_summary(data, tmp_path):
 
 
 # ================================================================ --for and the check
-def test_default_fit_checks_every_card_and_flags_lsdyna(default_run):
-    """One hereditary fit serves all cards; the LS-DYNA card, integrated in LS-DYNA's
-    formulation, misses the data by more than the margin at these rates."""
+def test_default_fit_serves_every_solver_from_its_own_fit(default_run):
+    """Without --for each solver's card comes from a fit in the formulation its solver
+    integrates: one hereditary fit (Abaqus, Ansys), one lsdyna fit (LS-DYNA); every card
+    passes its own check, and the summary's first lines say per solver which file and
+    which error its solver will show."""
     out, res = default_run
     check = res["card_check"]
     assert set(check) == {"abaqus", "abaqus_explicit", "lsdyna", "ansys"}
+    assert res["card_fits"] == {"abaqus": "hereditary", "abaqus_explicit": "hereditary",
+                                "lsdyna": "lsdyna", "ansys": "hereditary"}
+    assert res["fits"]["lsdyna"]["solvers"] == ["lsdyna"]
+    assert res["fits"]["lsdyna"]["formulation"] == "lsdyna"
+    # the LS-DYNA fit started from the hereditary one: 3/8 of its population, seeded
+    assert res["fits"]["lsdyna"]["options"]["popsize"] == res["options"]["popsize"] * 3 // 8
+    for s, c in check.items():
+        assert c["formulation"] == c["fit_formulation"] == res["card_fits"][s]
+        assert c["rmsape"] <= 1.05 * c["fit_rmsape"] + 0.01 and not c["exceeds"], s
+    assert check["abaqus"]["fit_rmsape"] == pytest.approx(res["rmsape"], rel=1e-9, abs=1e-12)
+    assert check["lsdyna"]["fit_rmsape"] == pytest.approx(res["fits"]["lsdyna"]["rmsape"],
+                                                          rel=1e-9, abs=1e-12)
+    assert res["card_check_warnings"] == [] and res["card_errors"] == {}
+    lines = (out / "summary.txt").read_text().splitlines()
+    head = lines[:lines.index("")]
+    # grouped by fit: the hereditary fit's cards, then the lsdyna fit's
+    assert [ln.split(":")[0] for ln in head] == ["abaqus", "abaqus_explicit", "ansys", "lsdyna"]
+    for ln in head:
+        key, file = ln.split(": ")[:2]
+        assert file == res["cards"][key] and (out / file).is_file()
+        shown = float(ln.split("will show RMSAPE ")[1].split(" %")[0])
+        assert shown == pytest.approx(check[key]["rmsape"], rel=1e-3)
+    assert "LS-DYNA will show" in head[3] and "'lsdyna'" in head[3]
+    card = " ".join(ln.lstrip("$ ") for ln in (out / "lsdyna.k").read_text().splitlines())
+    assert "WARNING: LS-DYNA card" not in card
+    assert "formulation 'lsdyna' (this fit serves lsdyna; each other solver has its own fit)" \
+        in card
+
+
+@pytest.fixture(scope="module")
+def one_fit_run(data, tmp_path_factory):
+    """--formulation hereditary: one fit for every card, as asked."""
+    out = tmp_path_factory.mktemp("one-fit") / "o"
+    return out, fit(data, out, "--formulation", "hereditary")
+
+
+def test_formulation_makes_one_fit_serve_all_and_flags_lsdyna(one_fit_run):
+    """The user's choice of one fit for all: the LS-DYNA card, integrated in LS-DYNA's
+    formulation, misses the data by more than the margin at these rates; it is written
+    (asked for) with the warning at its head and the summary's."""
+    out, res = one_fit_run
+    check = res["card_check"]
     for s in ("abaqus", "ansys"):
         assert check[s]["formulation"] == "hereditary"
         assert check[s]["rmsape"] == pytest.approx(res["rmsape"], rel=1e-9, abs=1e-12)
@@ -132,15 +178,58 @@ def test_default_fit_checks_every_card_and_flags_lsdyna(default_run):
     dyna = check["lsdyna"]
     assert dyna["formulation"] == "lsdyna" and dyna["fit_formulation"] == "hereditary"
     assert dyna["exceeds"] and dyna["rmsape"] > 1.05 * res["rmsape"] + 0.01
-    assert res["card_fits"] == {"abaqus": "hereditary", "abaqus_explicit": "hereditary",
-                                "lsdyna": "hereditary", "ansys": "hereditary"}
+    assert res["card_fits"] == {"abaqus": "hereditary", "lsdyna": "hereditary",
+                                "ansys": "hereditary"}
     summary = (out / "summary.txt").read_text()
-    head = summary.split("\n\n")[0]
+    assert summary.startswith("abaqus: abaqus.inp: Abaqus will show")
+    head = summary.split("\n\n")[1]
     assert "WARNING: LS-DYNA card" in head and "--for lsdyna" in head
     card = (out / "lsdyna.k").read_text()
     assert "$ WARNING: LS-DYNA card" in card
     assert "formulation 'hereditary' (this fit serves abaqus, lsdyna, ansys)" in " ".join(
         ln.lstrip("$ ") for ln in card.splitlines())
+
+
+def test_an_unconverged_fit_says_so_first_in_every_card_and_material_json(data, tmp_path):
+    out = tmp_path / "o"
+    res = fit(data, out, "--maxiter", "1", "--for", "abaqus,ansys", "--no-polish")
+    assert res["stop_reason"] == "maxiter" and res["status"] == "complete"
+    for f, prefix in (("abaqus.inp", "**"), ("ansys.mac", "!")):
+        first = next(ln for ln in (out / f).read_text().splitlines() if ln.startswith(prefix))
+        assert first.startswith(f"{prefix} NOT CONVERGED: the search stopped at maxiter "
+                                "before it converged")
+    mat = json.loads((out / "material.json").read_text())
+    assert mat["status"] == "not_converged" and "maxiter" in mat["status_note"]
+    # vhfit export of these results says so too
+    assert cli.main(["export", str(out / "results.json"), "--to", "lsdyna", "--out",
+                     str(tmp_path / "x.k")]) == 0
+    card = (tmp_path / "x.k").read_text().splitlines()
+    assert card[0] == "*KEYWORD" and card[1].startswith("$ NOT CONVERGED: the search stopped")
+    assert cli.main(["export", str(out / "results.json"), "--to", "json", "--out",
+                     str(tmp_path / "x.json")]) == 0
+    assert json.loads((tmp_path / "x.json").read_text())["status"] == "not_converged"
+    ok = fit(data, tmp_path / "ok", "--for", "abaqus")
+    assert ok["stop_reason"] != "maxiter"
+    assert json.loads((tmp_path / "ok" / "material.json").read_text())["status"] == "complete"
+    assert "CONVERGED" not in (tmp_path / "ok" / "abaqus.inp").read_text()
+
+
+def test_a_card_that_fails_its_check_is_not_written(data, tmp_path, monkeypatch):
+    """Without --formulation a card its solver would get wrong is no card: no file, the
+    reason in the summary's first lines and in results.json (card_errors)."""
+    import vhfit.export.check as chk
+
+    monkeypatch.setattr(chk, "MARGIN_ABSOLUTE", -1.0)  # no card can pass now
+    out = tmp_path / "o"
+    res = fit(data, out, "--for", "ansys,lsdyna")
+    assert not (out / "ansys.mac").exists() and not (out / "lsdyna.k").exists()
+    assert res["cards"] == {"json": "material.json"}
+    assert set(res["card_errors"]) == {"ansys", "lsdyna"}
+    assert all(c["exceeds"] for c in res["card_check"].values())
+    lines = (out / "summary.txt").read_text().splitlines()
+    assert lines[0].startswith("ansys: no card: no card written: Ansys card: Ansys will show")
+    assert lines[1].startswith("lsdyna: no card: no card written: LS-DYNA card: LS-DYNA will "
+                               "show RMSAPE")
 
 
 def test_for_lsdyna_and_abaqus_runs_two_fits_and_says_which_card_is_whose(data, tmp_path):
@@ -175,6 +264,15 @@ def test_vhfit_check_reproduces_the_fits_card_check(default_run, data, capsys):
     assert set(got) == set(res["card_check"])
     for k, v in got.items():
         assert v["rmsape"] == pytest.approx(res["card_check"][k]["rmsape"], rel=1e-12)
+    assert cli.main(["check", str(out / "results.json"), "--card",
+                     str(out / "lsdyna.k")]) == 0
+    text = capsys.readouterr().out
+    assert "lsdyna.k" in text and "WARNING" not in text  # its own fit: it passes
+
+
+def test_vhfit_check_flags_a_card_from_another_formulation(one_fit_run, capsys):
+    out, _ = one_fit_run
+    capsys.readouterr()
     assert cli.main(["check", str(out / "results.json"), "--card",
                      str(out / "lsdyna.k")]) == 0
     text = capsys.readouterr().out

@@ -17,6 +17,7 @@ from vhfit.calibration import (
     CalibrationSettings,
     CalibrationWarning,
     calibrate,
+    calibrate_for,
 )
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
@@ -50,6 +51,7 @@ __all__ = [
     "Relaxation",
     "ViscoHyperelastic",
     "calibrate",
+    "calibrate_for",
     "calibrate_many",
     "export",
     "formulations",

@@ -12,10 +12,12 @@ Inside, one module per concern:
 * ``_checkpoint`` — the saved search state, resumed exactly;
 * ``_polish`` — bounded least squares on all parameters afterwards;
 * ``_report`` — pruning, uncertainty, stability and warnings; the result;
-* ``_result`` — :class:`Calibration`, its summary and its results file.
+* ``_result`` — :class:`Calibration`, its summary and its results file;
+* ``_for`` — :func:`calibrate_for`: one fit per formulation that the solvers need.
 """
 
 from vhfit.calibration._bounds import auto_bounds
+from vhfit.calibration._for import calibrate_for, plan_formulations, start_options
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import (
     RESULTS_FORMAT,
@@ -28,4 +30,5 @@ from vhfit.calibration._workflow import CalibrationError, calibrate
 
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
-           "default_n_prony", "viscous_evidence", "set_html_report"]
+           "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
+           "plan_formulations", "start_options"]

@@ -265,8 +265,8 @@ class CalibrationSettings:
         """
         out = {k: _record(v) for k, v in self.keywords().items()}
         out["shift_factors"] = _record_shift(self.shift_factors)
-        # getattr default: the law is a registered name (str) or a Hyperelastic object
-        out["hyperelastic"] = str(getattr(self.hyperelastic, "name", self.hyperelastic))
+        law = self.hyperelastic  # a registered name or a Hyperelastic object
+        out["hyperelastic"] = law if isinstance(law, str) else str(law.name)
         return out
 
     @classmethod

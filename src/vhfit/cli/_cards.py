@@ -10,6 +10,8 @@ exceeds its fit's by more than the margin gets a warning, in the card and the su
 
 from __future__ import annotations
 
+import json
+import textwrap
 import warnings
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -24,7 +26,8 @@ from vhfit.modes import get_deformation
 
 __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
-           "check_table"]
+           "check_table", "unfinished", "mark", "json_marked", "UNCONVERGED", "fit_record",
+           "other_fits"]
 
 JSON_FILE = "material.json"
 
@@ -92,9 +95,10 @@ def card_jobs(solver: str, args) -> list[tuple[str, dict]]:
 def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
     """Formulation -> the solvers its fit serves (``"hereditary"`` first).
 
-    Without targets (no ``--for``): one ``"hereditary"`` fit for every solver. A
-    ``formulation`` (``--formulation``) makes one fit in it serve every chosen solver;
-    the card check then shows what each solver makes of it.
+    Every chosen solver (``--for``; without it, every registered solver) is served by a
+    fit in the formulation its record names, so each card reproduces the data in its
+    own solver. A ``formulation`` (``--formulation``) makes one fit in it serve every
+    chosen solver instead; the card check then shows what each solver makes of it.
     """
     every = solver_names()
     chosen = [s for s in every if s in targets] if targets else list(every)
@@ -103,7 +107,7 @@ def plan_fits(targets, formulation: str | None = None) -> dict[str, list[str]]:
     own = {s: get_solver(s).formulation for s in chosen}
     plan: dict[str, list[str]] = {}
     for s in sorted(chosen, key=lambda s: own[s] != "hereditary"):
-        plan.setdefault("hereditary" if not targets else own[s], []).append(s)
+        plan.setdefault(own[s], []).append(s)
     return {f: [s for s in every if s in v] for f, v in plan.items()}
 
 
@@ -153,6 +157,9 @@ class Cards:
     check: dict = field(default_factory=dict)  # solver -> CardCheck, or {"error": ...}
     warnings: list = field(default_factory=list)  # headline warnings of the check
     summary: list = field(default_factory=list)  # lines for summary.txt
+    headline: list = field(default_factory=list)  # the summary's first lines, per solver
+    fit_lines: list = field(default_factory=list)  # the summaries of the fits after the first
+    fits_record: dict = field(default_factory=dict)  # results.json "fits": every fit
 
     def check_dict(self) -> dict:
         """The ``card_check`` entry of results.json."""
@@ -205,25 +212,75 @@ def _texts(fits, plan, args) -> tuple[dict, Cards]:
     return out, res
 
 
-def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
+#: Stop reasons of a search that ended before converging (docs/cli.md): the card says so.
+UNCONVERGED = ("max_time", "maxiter", "callback")
+
+
+def unfinished(cal, interrupted: bool = False) -> str | None:
+    """The first comment line of a card from a search that did not finish, or None."""
+    stop = str(cal.stop_reason)
+    if interrupted or stop == "interrupted":
+        return ("INTERRUPTED: written by an interrupted vhfit fit (best constants so far, "
+                "not converged); continue it with --resume before using this card")
+    if stop in UNCONVERGED:
+        return (f"NOT CONVERGED: the search stopped at {stop} before it converged; the "
+                "constants may be far from the best (fit again with a larger --max-time "
+                "or --maxiter)")
+    return None
+
+
+def mark(text: str, prefix: str, line: str, width: int = 100) -> str:
+    """``text`` with ``line`` (wrapped, as comments with ``prefix``) before its first
+    comment line (at the top if it has none)."""
+    rows = text.splitlines(keepends=True)
+    at = next((i for i, r in enumerate(rows) if r.startswith(prefix)), 0)
+    add = [f"{prefix} {piece}\n" for piece in textwrap.wrap(
+        line, width - len(prefix) - 1, subsequent_indent="  ", break_on_hyphens=False)]
+    return "".join(rows[:at] + add + rows[at:])
+
+
+def json_marked(text: str, line: str | None) -> str:
+    """material.json with ``status`` (and ``status_note``) of the fit."""
+    doc = json.loads(text)
+    doc = {"status": "complete" if line is None else line.split(":")[0].lower().replace(
+        " ", "_"), **({"status_note": line} if line else {}), **doc}
+    return json.dumps(doc, indent=2) + "\n"
+
+
+def write_cards(fits: dict, plan: dict, curves, out: Path, args,
+                interrupted: bool = False) -> Cards:
     """Write the cards of ``plan`` (formulation -> solvers) from ``fits`` (formulation ->
     Calibration), check each against ``curves``, and write material.json and the Abaqus
-    test data of the first fit."""
+    test data of the first fit.
+
+    A card that fails its check is not written (its reason is in ``errors``) unless
+    ``--formulation`` chose the fit for every solver: then it is written with the check's
+    warning at its head. Every file of an interrupted run (``interrupted``) or of an
+    unconverged search starts with a comment saying so (:func:`unfinished`).
+    """
     texts, res = _texts(fits, plan, args)
+    forced = args.formulation is not None
     for solver, (text, kw, cal) in texts.items():
         try:
             res.check[solver] = check = check_cards({solver: text}, curves, fits=cal)[solver]
         except Exception as exc:  # the check reports, it never stops the outputs
             res.check[solver] = {"error": one_line(exc)}
         else:
+            if check.warning() and not forced:  # a card its own solver would get wrong
+                res.errors[solver] = f"no card written: {check.warning()}"
+                continue
             if check.warning():
                 res.warnings.append(check.warning())
                 kw = dict(kw, notes=[*kw["notes"], check.warning()])
                 text = export(cal, to=_solver(solver).name, **kw)
+        status = unfinished(cal, interrupted)
+        if status:
+            text = mark(text, _solver(solver).comment, status)
         atomic_write(out / CARD_FILES[solver], text)
         res.files[solver] = CARD_FILES[solver]
     first = next(iter(fits.values()))
-    atomic_write(out / CARD_FILES["json"], export(first, to="json"))
+    status = unfinished(first, interrupted)
+    atomic_write(out / CARD_FILES["json"], json_marked(export(first, to="json"), status))
     res.files["json"] = CARD_FILES["json"]
     if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
            for c in curves):  # the solvers' test-data inputs (records with test_data)
@@ -237,10 +294,61 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args) -> Cards:
             except ValueError as exc:
                 res.errors[key] = one_line(exc)
             else:
+                if status:
+                    text = mark(text, rec.comment, f"{status.split(':')[0]}: the fit of this "
+                                "folder did not finish; these test data are complete")
                 atomic_write(out / file, text)
                 res.files[key] = file
+    res.headline = _headline(res, plan)
+    res.fit_lines = other_fits(fits, plan)
+    res.fits_record = {f: {"solvers": plan[f], **fit_record(c)} for f, c in fits.items()}
     res.summary = _summary(res, curves, args, fits, plan)
     return res
+
+
+def _headline(res: Cards, plan: dict) -> list[str]:
+    """The summary's first lines: per solver card, its file and the error its solver will
+    show on the data, or why it has no card."""
+    lines = []
+    for k in _card_keys(res, plan):
+        c = res.check.get(k)
+        if k in res.files:
+            if isinstance(c, dict) or c is None:
+                what = f"not checked: {c['error']}" if c else "not checked"
+            else:
+                what = (f"{label(k)} will show RMSAPE {c.rmsape:.4g} % on the data (its fit, "
+                        f"in '{res.fits[k]}': {c.fit_rmsape:.4g} %)")
+            lines.append(f"{k}: {res.files[k]}: {what}")
+        elif k in res.errors:
+            lines.append(f"{k}: no card: {res.errors[k]}")
+    return lines + [""] if lines else []
+
+
+def _card_keys(res: Cards, plan: dict) -> list[str]:
+    """The card keys of the plan's solvers (their variants after each), in plan order."""
+    seen = [*res.files, *res.errors, *res.check]
+    keys = [k for solvers in plan.values() for s in solvers
+            for k in [s, *(v for v in seen if v.startswith(f"{s}_"))]]
+    return list(dict.fromkeys(keys))
+
+
+def fit_record(cal) -> dict:
+    """One fit of several in results.json: its constants and errors (no history)."""
+    d = cal.to_dict()
+    d.pop("history", None)
+    d["formulation"] = cal.model.formulation
+    if cal.settings is not None:
+        d["settings"] = cal.settings.to_dict()
+    return d
+
+
+def other_fits(fits: dict, plan: dict) -> list[str]:
+    """The summary's lines of every fit after the first (each solver's own fit)."""
+    lines = []
+    for form, other in list(fits.items())[1:]:
+        lines += ["", f"== the fit in the '{form}' formulation, for "
+                      f"{', '.join(plan[form])} ==", other.summary()]
+    return lines
 
 
 def check_table(check: dict, curve_names) -> list[str]:
@@ -281,8 +389,10 @@ def _summary(res: Cards, curves, args, fits, plan) -> list[str]:
         lines.append("solver cards: " + ", ".join(f"{k} -> {v}" for k, v in res.files.items()))
     for k, v in res.notes.items():
         lines += [f"note ({k} card): {n}" for n in v]
+    shown = set(_card_keys(res, plan))  # in the headline
     for k, v in res.errors.items():
-        lines.append(f"no {k} card: {v}")
+        if k not in shown:
+            lines.append(f"no {k} card: {v}")
     if args.density is None:
         lines.append("note: no --density: the cards carry no density (*DENSITY, RO, MP,DENS) "
                      "and say so; give --density RHO (tonne/mm^3, 1e-9 for 1000 kg/m^3) for "

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from vhfit.cli._cards import card_options, card_shift
+from vhfit.cli._cards import card_options, card_shift, json_marked, mark, unfinished
 from vhfit.cli._common import EXIT_OK, UsageError, emit, one_line
 from vhfit.cli._results import load_calibration
 from vhfit.export import export, get_solver, solvers
@@ -39,5 +39,10 @@ def cmd_export(args, argv=()) -> int:
         raise UsageError(f"--to {args.to}: {one_line(exc)}") from None
     if not text.endswith("\n"):
         text += "\n"
+    status = unfinished(fit, cal.context.get("status") == "interrupted")
+    if args.to == "json":  # an interrupted or unconverged fit says so first, as vhfit fit's
+        text = json_marked(text, status)
+    elif status:
+        text = mark(text, get_solver(args.to).comment, status)
     emit(text, args.out, what=f"{args.to} card")
     return EXIT_OK

@@ -33,6 +33,7 @@ from vhfit.calibration import (
     CalibrationWarning,
     calibrate,
     default_n_prony,
+    start_options,
 )
 from vhfit.cli import _moduli
 from vhfit.cli._cards import (
@@ -343,7 +344,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             progress = Progress(sys.stderr, quiet=args.quiet, scan=args.prony == "auto",
                                 first_n=None if args.resume else 1)
             fits[form] = cal = _search(curves, settings, args, out, progress, sigs,
-                                       command, form)
+                                       command, form, start=next(iter(fits.values()), None))
             interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
             if interrupted:
                 break
@@ -373,9 +374,11 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
 
 
 def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Progress,
-            sigs: Signals, command: list[str], formulation: str = "hereditary") -> Calibration:
-    """The calibration itself, with progress, signals and a checkpoint in ``out`` (one
-    checkpoint per formulation: ``checkpoint.json`` for the first)."""
+            sigs: Signals, command: list[str], formulation: str = "hereditary",
+            start: Calibration | None = None) -> Calibration:
+    """The calibration with progress, signals and a checkpoint in ``out`` (one per
+    formulation: ``checkpoint.json`` for the first); a fit after the first starts from
+    ``start`` (``start_options``)."""
     def callback(d):
         progress(d)
         sigs.check()  # raises KeyboardInterrupt (caught by calibrate) after a signal
@@ -384,7 +387,10 @@ def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Pr
     settings = replace(settings, formulation=formulation, callback=callback,
                        checkpoint=str(out / _checkpoint(formulation)))
     try:
-        cal = calibrate(curves, **settings.keywords())
+        kw = settings.keywords()
+        if start is not None:  # the next solver's fit starts from the first
+            kw.update(start_options(start, curves, **kw))
+        cal = calibrate(curves, **kw)
     except KeyboardInterrupt:
         progress.close()
         raise FitFailed(
@@ -451,10 +457,10 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     written["fitted_curves.csv"] = "data and model stress per curve"
     moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
     if moduli:  # frequency sweeps and relaxation tests
-        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli)))
+        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli), interrupted))
         written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
 
-    cards = write_cards(fits, plan, curves, out, args)
+    cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
@@ -463,11 +469,8 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
-    lines = head + [f"WARNING: {w}" for w in cards.warnings] + ["", cal.summary()]
-    for form, other in list(fits.items())[1:]:
-        lines += ["", f"== the fit in the '{form}' formulation, for "
-                      f"{', '.join(plan[form])} ==", other.summary()]
-    lines += [""] + cards.summary
+    lines = (cards.headline + head + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
+             + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
     if plot_note:
         lines.append(plot_note)
     text = "\n".join(lines)
@@ -489,22 +492,12 @@ def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, l
         "card_check_warnings": cards.warnings,
     }
     if len(plan) > 1:
-        extra["fits"] = {f: {"solvers": plan[f], **_fit_record(c)} for f, c in fits.items()}
+        extra["fits"] = cards.fits_record
     cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
              extra=extra)
     written[RESULTS] = "results"
     written["_summary"] = text
     return written
-
-
-def _fit_record(cal: Calibration) -> dict:
-    """One fit of several in results.json: its constants and errors (no history)."""
-    d = cal.to_dict()
-    d.pop("history", None)
-    d["formulation"] = cal.model.formulation
-    if cal.settings is not None:
-        d["settings"] = cal.settings.to_dict()
-    return d
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,

@@ -16,10 +16,11 @@ def is_moduli_fit(fit: dict) -> bool:
     return "strain" not in fit
 
 
-def fitted_moduli_csv(items, fits) -> str:
+def fitted_moduli_csv(items, fits, interrupted: bool = False) -> str:
     """One row per data point and per fine-grid point of each sweep or relaxation test."""
     buf = io.StringIO()
-    buf.write("# vhfit fitted moduli: frequency sweeps and relaxation tests, data and model\n")
+    buf.write("# vhfit fitted moduli: frequency sweeps and relaxation tests, data and model"
+              + ("; INTERRUPTED (best so far, not converged)" if interrupted else "") + "\n")
     buf.write("# kind=point: data (modulus_data) and model; kind=fine: model on a fine grid; "
               "quantity: storage, loss (at frequency_hz) or relaxation (at time_s)\n")
     buf.write("# units: Hz, s, MPa; E-type moduli (shear data were multiplied by 3)\n")

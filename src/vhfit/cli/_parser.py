@@ -403,8 +403,8 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                    metavar="SOLVER[,SOLVER]",
                    help=f"fit for these solvers ({', '.join(every)}; repeatable): each "
                         "solver's card comes from a fit in the formulation it integrates "
-                        f"({own}), and only their cards are written (default: one "
-                        "hereditary fit, every card)")
+                        f"({own}), and only their cards are written (default: every "
+                        "solver, each from its own formulation's fit)")
     p.add_argument("--formulation", metavar="NAME",
                    help=f"fit in this viscoelastic formulation ({', '.join(FORMULATIONS)} "
                         "or a registered one) for every card written, instead of each "

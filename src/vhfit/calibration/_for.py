@@ -1,0 +1,264 @@
+"""Fits for several solvers at once: one per viscoelastic formulation they integrate.
+
+Each solver integrates a Prony series in its own finite-strain law
+(:data:`vhfit.formulations.SOLVER_FORMULATIONS`, filled from the solver records of
+:mod:`vhfit.export`); constants fitted in one law are wrong in another (docs/export.md,
+"Card check"). :func:`calibrate_for` runs one :func:`vhfit.calibrate` per formulation the
+solvers need. The first is an ordinary search; each further one starts from it
+(:func:`start_options`): half of a population of 3/8 the size is a cloud around the
+first fit's search vector, half a Sobol sequence over the whole box, so that the search
+keeps its reach (the other law's optimum may lie in another basin) at under half the
+evaluations of a fresh one.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._result import Calibration
+from vhfit.calibration._space import SPACES, Problem
+from vhfit.calibration._workflow import (
+    DEFAULT_DECADES_ABOVE,
+    DEFAULT_DECADES_BELOW,
+    DEFAULT_TAU_STRATEGY,
+    _as_curves,
+    calibrate,
+)
+from vhfit.formulations import SOLVER_FORMULATIONS
+from vhfit.model import ViscoHyperelastic
+from vhfit.tts import shift_to_reference
+
+__all__ = ["calibrate_for", "plan_formulations", "start_options", "CLOUD_WIDTH",
+           "CLOUD_SHARE", "POPSIZE_SHARE", "MIN_POPSIZE"]
+
+#: Standard deviation of the cloud around the first fit, as a fraction of each search
+#: bound's span.
+CLOUD_WIDTH = 0.1
+#: Share of the seeded population that is the cloud (the rest: a Sobol sequence).
+CLOUD_SHARE = 0.5
+#: Population of a seeded search, as a fraction of the first search's: on the data sets of
+#: ``benchmarks/bench_solvers.py`` (two seeds) 3/8 reached the fresh search's optimum
+#: everywhere with a median of 0.38 x the first fit's evaluations (1/2: 0.42; 5/16: 0.44).
+POPSIZE_SHARE = 0.375
+#: Smallest population of a seeded search.
+MIN_POPSIZE = 16
+
+
+def plan_formulations(solvers: Iterable[str]) -> dict[str, list[str]]:
+    """Formulation -> the solvers its fit serves, in the order the solvers are given.
+
+    Parameters
+    ----------
+    solvers : iterable of str
+        Registered solver names (:data:`vhfit.formulations.SOLVER_FORMULATIONS`).
+
+    Returns
+    -------
+    dict
+        Formulation name -> list of solver names.
+
+    Raises
+    ------
+    ValueError
+        An unknown solver, or none at all.
+
+    Examples
+    --------
+    >>> from vhfit.calibration import plan_formulations
+    >>> plan_formulations(["abaqus", "lsdyna", "ansys"])
+    {'hereditary': ['abaqus', 'ansys'], 'lsdyna': ['lsdyna']}
+    """
+    if isinstance(solvers, str):
+        solvers = [solvers]
+    plan: dict[str, list[str]] = {}
+    for s in solvers:
+        key = str(s).lower()
+        if key not in SOLVER_FORMULATIONS:
+            raise ValueError(f"solver {s!r}: unknown; choose among "
+                             f"{', '.join(SOLVER_FORMULATIONS)}")
+        served = plan.setdefault(SOLVER_FORMULATIONS[key], [])
+        if key not in served:
+            served.append(key)
+    if not plan:
+        raise ValueError("calibrate_for needs at least one solver, e.g. ['abaqus', 'lsdyna']")
+    return plan
+
+
+def _search_vector(space, x: np.ndarray) -> np.ndarray:
+    """The search vector of ``space`` whose parameters are the full vector ``x`` (τ for
+    Prony terms that ``x`` lacks: the middle of their range)."""
+    prob, nh = space.prob, space.prob.hm.n_params
+    n = prob.model.n_prony
+    logtau = np.mean(prob.tau_b, axis=1)
+    g = np.zeros(n)
+    free = list(range(n))
+    for gi, t in zip(x[nh::2], np.log10(x[nh + 1::2])):  # a pruned fit has fewer terms:
+        if not free:  # each goes to the slot whose τ range holds it, else the nearest
+            break
+        lo, hi = prob.tau_b[free, 0], prob.tau_b[free, 1]
+        i = free[int(np.argmin(np.maximum(lo - t, 0) + np.maximum(t - hi, 0)))]
+        free.remove(i)
+        logtau[i], g[i] = t, gi
+    if space.method == "full":
+        z = np.empty(nh + 2 * n)
+        z[:nh], z[nh::2], z[nh + 1::2] = x[:nh], g, logtau
+        return z
+    amp = [x[k] for k in space.amp]
+    z = []
+    if space.beta:
+        z.append(amp[1] / (amp[0] + amp[1]))
+    elif len(space.amp) > 1 and not space.exact:
+        z += amp
+    z += [x[k] for k in space.other]
+    z += [logtau[i] for i in space.free_tau]
+    return np.asarray(z, dtype=np.float64)
+
+
+def start_options(first: Calibration, curves, **kwargs) -> dict:
+    """Keywords of :func:`vhfit.calibrate` that start its search from a fit made in
+    another formulation.
+
+    The population is :data:`POPSIZE_SHARE` of the first search's (at least
+    :data:`MIN_POPSIZE`): a cloud of
+    :data:`CLOUD_SHARE` of it around the first fit's search vector (that vector itself,
+    and normal deviates of :data:`CLOUD_WIDTH` of each bound's span), the rest a
+    scrambled Sobol sequence over the whole box. Everything else — bounds, stopping
+    criteria, polish, report — is the ordinary calibration's.
+
+    Parameters
+    ----------
+    first : Calibration
+        The fit to start from (same law and number of Prony terms).
+    curves : sequence
+        The curves of both fits (as given to :func:`vhfit.calibrate`).
+    **kwargs
+        The keywords of the new fit (those of :func:`vhfit.calibrate`), its
+        ``formulation`` among them.
+
+    Returns
+    -------
+    dict
+        ``popsize`` and ``de_options`` (with an ``init`` population) to add to the
+        call; empty when there is nothing to start from (an order scan ``n_prony="auto"``,
+        an ``init`` of the caller's own, or a law with nothing to search).
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> from vhfit.calibration import start_options
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> true = dict(C10=0.01, C01=0.005, G1=0.5, tau1=0.01)
+    >>> eps = np.linspace(-0.05, -0.5, 10)
+    >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+    ...           measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
+    >>> first = vhfit.calibrate(curves, n_prony=1, seed=0)
+    >>> opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
+    >>> opts["popsize"], opts["de_options"]["init"].shape
+    (24, (24, 2))
+    """
+    n_prony = kwargs.get("n_prony")
+    if n_prony is None:
+        n_prony = first.options.get("n_prony")
+    opts = dict(kwargs.get("de_options") or {})
+    if isinstance(n_prony, str) or "init" in opts or "x0" in opts:
+        return {}
+    method = kwargs.get("method", "separable")
+    ref = shift_to_reference(_as_curves(curves), shift_factors=kwargs.get("shift_factors"),
+                             T_ref=kwargs.get("T_ref"))
+    model = ViscoHyperelastic(first.model.hyperelastic.name, int(n_prony),
+                              rtol=kwargs.get("rtol", 1e-6),
+                              formulation=kwargs.get("formulation", "hereditary"))
+    tau_b, auto = search_bounds(
+        model, ref.items, kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY),
+        kwargs.get("decades_below", DEFAULT_DECADES_BELOW),
+        kwargs.get("decades_above", DEFAULT_DECADES_ABOVE), kwargs.get("bounds", "auto"))
+    space = SPACES[method](Problem(model, ref.items, tau_b, auto,
+                                   kwargs.get("g_inf_min", 1e-6),
+                                   kwargs.get("objective", "rmsape")))
+    b = np.array(space.bounds(), dtype=np.float64).reshape(-1, 2)
+    if not len(b):
+        return {}
+    lo, hi = b[:, 0], b[:, 1]
+    z0 = np.clip(_search_vector(space, first.x), lo, hi)
+    popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
+    rng = np.random.default_rng(kwargs.get("seed"))
+    k = max(1, int(round(CLOUD_SHARE * popsize)))
+    cloud = z0 + rng.normal(size=(k, len(z0))) * (CLOUD_WIDTH * (hi - lo))
+    cloud[0] = z0
+    from scipy.stats import qmc  # scipy.stats is slow to import: only here
+
+    with warnings.catch_warnings():  # any prefix of a Sobol sequence fills the box
+        warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
+        rest = qmc.Sobol(len(z0), seed=rng).random(popsize - k)
+    init = np.clip(np.vstack([cloud, lo + rest * (hi - lo)]), lo, hi)
+    return {"popsize": popsize, "de_options": {**opts, "init": init}}
+
+
+def calibrate_for(solvers: Sequence[str], curves, **kwargs) -> dict[str, Calibration]:
+    """Calibrate once per viscoelastic formulation that the given solvers integrate.
+
+    The first formulation (that of the first solver) is an ordinary
+    :func:`vhfit.calibrate`; each further one starts its search from the first fit
+    (:func:`start_options`), which costs well under a fresh search and reaches the same
+    optimum. Write each solver's card from the fit of its formulation
+    (``vhfit.export.export(fits[SOLVER_FORMULATIONS[s]], to=s)``).
+
+    Parameters
+    ----------
+    solvers : sequence of str
+        Solver names (``"abaqus"``, ``"lsdyna"``, ``"ansys"`` or a registered one).
+    curves : Curve, path, or sequence of them
+        The data, as for :func:`vhfit.calibrate`.
+    **kwargs
+        Keywords of :func:`vhfit.calibrate` for every fit (not ``formulation``: the
+        solvers choose it). A ``checkpoint`` path gets ``.FORMULATION`` appended for each
+        fit after the first.
+
+    Returns
+    -------
+    dict
+        Formulation -> :class:`Calibration`, in the order of the solvers (which solvers
+        each serves: :func:`plan_formulations`).
+
+    Raises
+    ------
+    ValueError
+        An unknown solver, a ``formulation`` keyword, or a bad argument of calibrate.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
+    >>> true = dict(C10=0.01, C01=0.005, G1=0.5, tau1=0.01)
+    >>> eps = np.linspace(-0.05, -0.5, 10)
+    >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+    ...           measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
+    >>> fits = vhfit.calibrate_for(["abaqus", "lsdyna"], curves, n_prony=1, seed=0)
+    >>> list(fits), fits["hereditary"].rmsape < 1e-3
+    (['hereditary', 'lsdyna'], True)
+    >>> fits["lsdyna"].model.formulation
+    'lsdyna'
+    """
+    if "formulation" in kwargs:
+        raise ValueError("calibrate_for: the solvers choose each fit's formulation; drop "
+                         "formulation= (or call calibrate(..., formulation=) for one fit)")
+    plan = plan_formulations(solvers)
+    curves = _as_curves(curves)
+    fits: dict[str, Calibration] = {}
+    first = None
+    for form in plan:
+        kw = dict(kwargs, formulation=form)
+        if first is not None:
+            if kw.get("checkpoint") is not None:
+                kw["checkpoint"] = f"{kw['checkpoint']}.{form}"
+            kw.update(start_options(first, curves, **kw))
+        fits[form] = cal = calibrate(curves, **kw)
+        if first is None:
+            first = cal
+        if cal.stop_reason == "interrupted":  # Ctrl-C ends them all
+            break
+    return fits

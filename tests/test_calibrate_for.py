@@ -1,0 +1,115 @@
+"""``vhfit.calibrate_for``: one fit per formulation the solvers integrate, each further
+fit started from the first (``start_options``), reaching what a separate
+``calibrate(..., formulation=)`` reaches.
+
+Data: noise-free compression ramps of Mooney-Rivlin + 1 Prony term generated in the
+hereditary formulation, and the same constants generated in LS-DYNA's: each fit in the
+data's own formulation is exact (RMSAPE ~0), the other is not — so the two fits are
+distinguishable and the exact one is a reference independent of the search.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit.calibration import plan_formulations, start_options
+
+P = dict(C10=0.2, C01=0.1, G1=1.8, tau1=0.01)
+RATES = (-1.0, -30.0, -1000.0)
+
+
+def ramps(formulation: str) -> list:
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1, formulation=formulation)
+    eps = np.linspace(0.0, -0.5, 21)
+    return [vhfit.Curve(strain=eps, strain_rate=r, measure="engineering",
+                        stress=m.stress(P, strain=eps, strain_rate=r, measure="engineering"))
+            for r in RATES]
+
+
+def quiet(fn, *a, **k):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*a, **k)
+
+
+def test_plan_formulations_groups_solvers_by_their_formulation():
+    assert plan_formulations(["lsdyna", "abaqus", "ansys", "abaqus"]) == {
+        "lsdyna": ["lsdyna"], "hereditary": ["abaqus", "ansys"]}
+    assert plan_formulations("ansys") == {"hereditary": ["ansys"]}
+    with pytest.raises(ValueError, match="solver 'radioss': unknown; choose among abaqus"):
+        plan_formulations(["radioss"])
+    with pytest.raises(ValueError, match="at least one solver"):
+        plan_formulations([])
+
+
+@pytest.mark.parametrize("data_form", ["hereditary", "lsdyna"])
+def test_each_fit_equals_a_separate_calibrate_in_its_formulation(data_form):
+    curves = ramps(data_form)
+    kw = dict(n_prony=1, seed=3, uncertainty=False)
+    fits = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna", "ansys"], curves, **kw)
+    assert list(fits) == ["hereditary", "lsdyna"]
+    for form, cal in fits.items():
+        assert cal.model.formulation == form
+        alone = quiet(vhfit.calibrate, curves, formulation=form, **kw)
+        # the data's own formulation: exact (both reach the generating constants);
+        # the other: the same optimum, to the search's tolerance and the polish's
+        assert cal.rmsape == pytest.approx(alone.rmsape, rel=1e-6, abs=1e-8)
+        if form == data_form:
+            assert cal.rmsape < 1e-6
+            for k, v in P.items():
+                assert cal.params[k] == pytest.approx(v, rel=1e-6)
+        else:
+            assert cal.rmsape > 0.1  # the other law cannot reproduce these data
+            for k in P:
+                assert cal.params[k] == pytest.approx(alone.params[k], rel=1e-4)
+    # the seeded second search used 3/8 of the population
+    assert fits["lsdyna"].options["popsize"] == 24 and fits["hereditary"].options[
+        "popsize"] == 64
+
+
+def test_start_options_seed_half_the_population_around_the_first_fit():
+    curves = ramps("hereditary")
+    first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
+    opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
+    init = opts["de_options"]["init"]
+    assert opts["popsize"] == 24 and init.shape == (24, 2)  # (C01 share, log10 tau1)
+    z0 = [first.params["C01"] / (first.params["C10"] + first.params["C01"]),
+          np.log10(first.params["tau1"])]
+    np.testing.assert_allclose(init[0], z0, rtol=1e-12)
+    assert np.all(init[:, 0] >= 0) and np.all(init[:, 0] <= 1)
+    near = np.abs(init[:, 1] - z0[1]) < 1.0
+    assert near[:12].mean() > near[12:].mean()  # the cloud, then the Sobol half
+    assert start_options(first, curves, formulation="lsdyna", n_prony="auto") == {}
+    assert start_options(first, curves, formulation="lsdyna", n_prony=1,
+                         de_options={"init": "sobol"}) == {}
+
+
+def test_bad_arguments_are_refused():
+    curves = ramps("hereditary")
+    with pytest.raises(ValueError, match="drop formulation="):
+        vhfit.calibrate_for(["abaqus"], curves, formulation="lsdyna")
+    with pytest.raises(ValueError, match="solver 'radioss'"):
+        vhfit.calibrate_for(["radioss"], curves)
+
+
+def test_a_pruned_first_fit_seeds_each_tau_in_the_slot_whose_range_holds_it():
+    """semifree τ ranges: one per term. A first fit with one term (as after pruning) puts
+    its τ into the slot whose range holds it, the other slot at the middle of its own."""
+    curves = ramps("hereditary")
+    first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
+    kw = dict(formulation="lsdyna", n_prony=2, tau_strategy="semifree", seed=0)
+    init = start_options(first, curves, **kw)["de_options"]["init"]
+    spread = init[12:]  # the Sobol half covers each coordinate's range
+    lo, hi = spread.min(axis=0), spread.max(axis=0)
+    assert hi[1] <= lo[2] + 1e-9  # two ranges of log10 τ, the second above the first
+    for slot in (1, 2):  # put the first fit's τ inside each range in turn
+        t = lo[slot] + 0.3 * (hi[slot] - lo[slot])
+        first.params["tau1"] = 10.0 ** t
+        z0 = start_options(first, curves, **kw)["de_options"]["init"][0]
+        assert z0[slot] == pytest.approx(t, rel=1e-12)
+        other = 3 - slot
+        assert lo[other] < z0[other] < hi[other] and z0[other] != pytest.approx(t)
