@@ -9,6 +9,7 @@ what they test.
 
 from __future__ import annotations
 
+import dataclasses
 import html
 import json
 import re
@@ -276,15 +277,14 @@ def test_a_result_read_back_brings_its_recorded_context(cal, tmp_path):
     """What vhfit fit recorded in results.json (``context`` of a loaded result) stands in
     for the arguments not given: command, status, card check, versions."""
     cal.save(tmp_path / "results.json")
-    loaded = vhfit.Calibration.load(tmp_path / "results.json")
-    loaded.context = {
+    loaded = dataclasses.replace(vhfit.Calibration.load(tmp_path / "results.json"), context={
         "command": ["vhfit", "fit", "<x>.csv"], "status": "interrupted",
         "card_check": {"lsdyna": {"rmsape": 9.0, "per_curve": [8.0, 10.0],
                                   "formulation": "lsdyna", "fit_formulation": "hereditary",
                                   "fit_rmsape": 1.0, "allowed": 1.1, "exceeds": True}},
         "card_check_warnings": ["LS-DYNA card: recorded warning"],
         "versions": {"numpy": "0.0-recorded"}, "data_label": "label <i>",
-    }
+    })
     text = report.build_report(loaded, figures=False)
     assert html.escape(shlex.join(["vhfit", "fit", "<x>.csv"])) in text
     assert '<p class="interrupted">' in text
