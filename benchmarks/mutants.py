@@ -1281,4 +1281,11 @@ MUTANTS: list[Mutant] = [
       "    elif status:\n        text = mark(", "    elif False:\n        text = mark(",
       "vhfit export of an unconverged fit's results writes a card that looks finished",
       ("tests/test_cli_cards.py",)),
+    # lead: card numbers in at most 20 characters (Abaqus' syntax; CalculiX cuts at 20)
+    M("card_number_width_ignored", "vhfit/export/_common.py",
+      "    if len(text) <= width:\n        return text\n    digits",
+      "    if True:\n        return text\n    digits",
+      "a card number longer than 20 characters is written whole (CalculiX reads "
+      "'4.575210514986395e-05' as 4.575)",
+      ("tests/test_export.py::test_abaqus_numbers_fit_in_20_characters_and_read_back",)),
 ]
