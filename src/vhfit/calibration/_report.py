@@ -319,14 +319,15 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
                                 formulation=model.formulation)
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
-                   prob.g_inf_min, prob.objective_spec)
+                   prob.g_inf_min, prob.objective_spec, prob.stability_range,
+                   prob.user_bounds)
     return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
 
 
 def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
-            stability_range, uncertainty, options) -> Calibration:
-    msgs: list[str] = []
-    heads: list[str] = []
+            stability_range, uncertainty, options, headlines=()) -> Calibration:
+    heads: list[str] = list(headlines)
+    msgs: list[str] = list(headlines)
     nh = model.hyperelastic.n_params
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, prune_tol, msgs)
     params = model.as_dict(x)

@@ -9,8 +9,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._arguments import DEFAULT_TOL, check_arguments
-from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._bounds import bound_hit_headlines, bound_hits, search_bounds, widen_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
@@ -80,7 +81,7 @@ def calibrate(
     prune_tol: float = 1e-6,
     decades_below: float = DEFAULT_DECADES_BELOW,
     decades_above: float = DEFAULT_DECADES_ABOVE,
-    stability_range: tuple[float, float] = (0.2, 5.0),
+    stability_range: tuple[float, float] | None = None,
     uncertainty: bool = True,
     callback: Callable | None = None,
     rtol: float = 1e-6,
@@ -155,8 +156,12 @@ def calibrate(
         Floor on g∞ (FE solvers reject g∞ = 0); a warning says when it is active.
     max_time : float, optional
         Seconds after which the search stops with the best result so far.
-    stability_range : (float, float)
-        Stretch range of the Drucker check.
+    stability_range : (float, float) or None
+        Stretch range (low < 1 < high) over which the fitted law must be Drucker-stable
+        in uniaxial, equibiaxial and planar tension and compression: the search covers
+        exactly the laws stable there with a positive initial modulus (docs/theory.md
+        §11). None (default): the data's largest principal log strain plus 25 %, in
+        tension and compression.
     uncertainty : bool
         Compute 95 % intervals from the Jacobian.
     callback : callable, optional
@@ -312,19 +317,55 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                  decades_below, decades_above, stability_range, uncertainty, callback, rtol,
                  de_options, prune_tol, checkpoint, checkpoint_every, resume, formulation,
                  max_time, t0) -> Calibration:
-    """One calibration with N Prony terms: bounds, global search, polish, report."""
+    """One calibration with N Prony terms: bounds, global search, polish, a second search
+    with widened bounds where a constant ended on one, report."""
     model = ViscoHyperelastic(hyperelastic, n_prony, rtol=rtol, formulation=formulation)
     tau_b, auto = search_bounds(model, curves, tau_strategy, decades_below, decades_above,
                                 bounds)
-    prob = Problem(model, curves, tau_b, auto, g_inf_min, objective)
-    space = SPACES[method](prob)
+    sr = (data_stability_range(curves) if stability_range is None
+          else (float(stability_range[0]), float(stability_range[1])))
+    user = set(bounds) if isinstance(bounds, dict) else set()
     if method == "full" and tol == DEFAULT_TOL:
         tol = 1e-5  # the paper's best-mean gap of 0.001 %
-    found = run_search(
-        space, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter,
-        tol=tol, target=target, stall=stall, callback=callback, de_options=de_options,
-        checkpoint=checkpoint, checkpoint_every=checkpoint_every, resume=resume,
-        max_time=max_time, t0=t0, polish=polish)
+    run = dict(method=method, n_prony=n_prony, seed=seed, workers=workers, popsize=popsize,
+               maxiter=maxiter, tol=tol, target=target, stall=stall, callback=callback,
+               de_options=de_options, checkpoint=checkpoint, checkpoint_every=checkpoint_every,
+               resume=resume, max_time=max_time, t0=t0, polish=polish)
+    prob = Problem(model, curves, tau_b, auto, g_inf_min, objective, sr, user)
+    found, x, err, nfev = _search_polish(prob, run)
+    hits = bound_hits(prob, x)
+    widened: dict = {}
+    if hits and found.stop not in ("interrupted", "max_time"):
+        wide = widen_bounds(prob, hits)
+        widened = {k: [float(v) for v in wide[k]] for k in hits if k in wide}
+        left = None if max_time is None else max_time - (time.perf_counter() - t0)
+        if widened and (left is None or left > 0):
+            prob2 = Problem(model, curves, tau_b, wide, g_inf_min, objective, sr, user)
+            run2 = dict(run, max_time=left, t0=time.perf_counter(),
+                        checkpoint=None if checkpoint is None else f"{checkpoint}.widened")
+            found2, x2, err2, nfev2 = _search_polish(prob2, run2)
+            nfev += nfev2
+            if err2 <= err:
+                prob, found, x, err = prob2, found2, x2, err2
+            hits = bound_hits(prob, x)
+    heads = bound_hit_headlines(prob, x, hits, widened)
+    return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,
+                  found.t0, prune_tol, sr, uncertainty, dict(
+                      hyperelastic=model.hyperelastic.name, n_prony=n_prony,
+                      tau_strategy=str(tau_strategy), objective=prob.objective.kind,
+                      method=method, seed=seed,
+                      popsize=popsize or SPACES[method].popsize,
+                      maxiter=maxiter or SPACES[method].maxiter,
+                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
+                      stability_range=[float(v) for v in sr],
+                      **({"widened_bounds": widened} if widened else {})), headlines=heads)
+
+
+def _search_polish(prob: Problem, run: dict):
+    """The global search over the method's space, then the polish: (found, x, err, nfev)."""
+    space = SPACES[run["method"]](prob)
+    checkpoint = run["checkpoint"]
+    found = run_search(space, **{k: v for k, v in run.items() if k != "method"})
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
@@ -336,17 +377,10 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
     nfev = found.nfev
     if found.polished is not None:  # the search ended by this polish of its best member
         x, err = found.polished
-    elif polish and found.stop != "interrupted":
+    elif run["polish"] and found.stop != "interrupted":
         x, err, n_pol = polish_fit(prob, x)
         nfev += n_pol
-    return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,
-                  found.t0, prune_tol, stability_range, uncertainty, dict(
-                      hyperelastic=model.hyperelastic.name, n_prony=n_prony,
-                      tau_strategy=str(tau_strategy), objective=prob.objective.kind,
-                      method=method, seed=seed,
-                      popsize=popsize or space.popsize, maxiter=maxiter or space.maxiter,
-                      tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
-                      stability_range=[float(v) for v in stability_range]))
+    return found, x, err, nfev
 
 
 def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
