@@ -283,21 +283,29 @@ def test_a_polynomial_law_without_prony_terms_needs_no_search():
 
 
 @pytest.mark.filterwarnings("ignore:Drucker-UNSTABLE")
-def test_exact_solve_keeps_linear_constants_at_their_lower_limits():
-    """Data that a negative C01 would fit better: the search keeps C01 ≥ 0 by default
-    and honours a user's negative lower limit."""
+def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
+    """Data of a law (C01 < 0) unstable in equibiaxial tension inside the data's stretch
+    range: the exact solve returns the best law stable there (C01 < 0 still, between the
+    truth and the non-negative proxy), the truth where the range allows it, and a user's
+    lower limit C01 >= 0 is honoured."""
     truth = dict(C10=0.3, C01=-0.05)
     m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
     eps = np.linspace(0.0, 1.0, 50)
     curves = [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=1.0),
                           strain_rate=1.0, measure="true")]
     cal = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False)
-    assert cal.params["C01"] == 0.0 and cal.params["C10"] > 0
-    free = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
-                           bounds={"C01": (-1.0, 1.0)})
-    assert free.params["C01"] == pytest.approx(-0.05, rel=5e-3)
-    assert free.params["C10"] == pytest.approx(0.3, rel=5e-3)
-    # no lower limit at all: the constant is split into a ± pair of columns
+    lo, hi = cal.options["stability_range"]
+    assert not vhfit.stability.drucker(m.hyperelastic, [0.3, -0.05], (lo, hi)).stable
+    assert cal.stability.stable and -0.05 < cal.params["C01"] < 0
+    pos = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                          bounds={"C01": (0.0, 1.0)})
+    assert pos.params["C01"] == 0.0 and pos.params["C10"] > 0
+    assert cal.rmsape < pos.rmsape
+    near = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                           stability_range=(0.8, 1.25))
+    assert near.params["C01"] == pytest.approx(-0.05, rel=1e-9)
+    assert near.params["C10"] == pytest.approx(0.3, rel=1e-9)
+    # no lower limit at all given: the same as the law's own (none)
     unbounded = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                                 bounds={"C01": (-np.inf, np.inf)})
-    assert unbounded.params == pytest.approx(free.params, rel=1e-9)
+    assert unbounded.params == pytest.approx(cal.params, rel=1e-9)

@@ -146,7 +146,7 @@ class SeparableSpace:
     #: with a polish after it, the search of a law with several linear constants and a
     #: nonlinear shape polishes its best member when its error first falls below each of
     #: these multiples of the target (see :meth:`finish_levels`)
-    FINISH_LEVELS = (1e4, 1e2)
+    FINISH_LEVELS = (1e4, 1e3, 1e2)
 
     def finish_levels(self, target: float) -> tuple[float, ...]:
         """Errors below which a polish of the search's best member is tried, largest first.

@@ -337,7 +337,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
     widened: dict = {}
     if hits and found.stop not in ("interrupted", "max_time"):
         wide = widen_bounds(prob, hits)
-        widened = {k: [float(v) for v in wide[k]] for k in hits if k in wide}
+        widened = {k: [float(v) for v in wide[k]] for k in hits if k not in user}
         left = None if max_time is None else max_time - (time.perf_counter() - t0)
         if widened and (left is None or left > 0):
             prob2 = Problem(model, curves, tau_b, wide, g_inf_min, objective, sr, user)

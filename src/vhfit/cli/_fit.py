@@ -378,6 +378,8 @@ def _search(curves, args, out: Path, model: str, strategy: str, progress: Progre
     )
     if args.prony == "auto":
         kw["max_prony"] = args.max_prony
+    if getattr(args, "stability_range", None) is not None:
+        kw["stability_range"] = args.stability_range
     if formulation != "hereditary":  # the default, left out: the call is today's
         kw["formulation"] = formulation
     if getattr(args, "_shift_law", None) is not None:
