@@ -301,6 +301,12 @@ def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
                           bounds={"C01": (0.0, 1.0)})
     assert pos.params["C01"] == 0.0 and pos.params["C10"] > 0
     assert cal.rmsape < pos.rmsape
+    # a negative lower limit of the user's, above the stable best's C01: it is the answer
+    low = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                          bounds={"C01": (-0.01, 1.0)})
+    assert cal.params["C01"] < -0.01
+    assert low.params["C01"] == pytest.approx(-0.01, abs=1e-12)
+    assert cal.rmsape < low.rmsape < pos.rmsape
     near = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                            stability_range=(0.8, 1.25))
     assert near.params["C01"] == pytest.approx(-0.05, rel=1e-9)
