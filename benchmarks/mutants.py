@@ -921,4 +921,13 @@ MUTANTS: list[Mutant] = [
       "heads = bound_hit_headlines(prob, x, hits, widened)", "heads = []",
       "a constant still on its bound is not named in the summary's first lines",
       ("tests/test_calibration_admissible.py",)),
+    M("unconstrained_fit_any", "vhfit/calibration/_workflow.py",
+      "if not (np.isfinite(e_u) and e_u < err * (1 - 1e-6)):",
+      "if not np.isfinite(e_u):",
+      "an unconstrained fit no better than the result is reported beside it",
+      ("tests/test_calibration_admissible.py",)),
+    M("unconstrained_fit_constrained", "vhfit/calibration/_workflow.py",
+      "solve_constants(x[None, :nh], constrained=False)", "solve_constants(x[None, :nh])",
+      "the 'unconstrained' fit reported is the constrained one",
+      ("tests/test_calibration_admissible.py",)),
 ]

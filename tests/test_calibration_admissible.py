@@ -176,6 +176,12 @@ def test_an_unstable_unconstrained_best_gives_way_to_the_best_stable_fit():
     assert cal.rmsape <= best * (1 + 1e-3)
     # and it is worse than the unstable unconstrained one (the constraint is active)
     assert cal.rmsape > mr_rmsape(curves, *c_free) * (1 + 1e-3)
+    # which is reported beside it: its error, constants and where it is unstable
+    free = cal.options["unconstrained_fit"]
+    assert free["rmsape"] == pytest.approx(mr_rmsape(curves, *c_free), rel=1e-6)
+    assert [free["params"]["C10"], free["params"]["C01"]] == pytest.approx(c_free, rel=1e-6)
+    assert free["stability"].startswith("Drucker-UNSTABLE")
+    assert any(w.startswith("without the stability constraint") for w in cal.warnings)
 
 
 # ----------------------------------------------------------- signs the proxy excluded

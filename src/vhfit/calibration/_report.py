@@ -325,9 +325,9 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
 
 
 def finish(prob, curves, model, x, err, nit, nfev, stop, history, t0, prune_tol,
-            stability_range, uncertainty, options, headlines=()) -> Calibration:
+            stability_range, uncertainty, options, headlines=(), notes=()) -> Calibration:
     heads: list[str] = list(headlines)
-    msgs: list[str] = list(headlines)
+    msgs: list[str] = list(headlines) + list(notes)
     nh = model.hyperelastic.n_params
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, prune_tol, msgs)
     params = model.as_dict(x)

@@ -225,7 +225,8 @@ class SeparableSpace:
             err[p] = rn
         return amps, err
 
-    def solve_constants(self, hyper) -> tuple[np.ndarray, np.ndarray]:
+    def solve_constants(self, hyper, constrained: bool = True
+                        ) -> tuple[np.ndarray, np.ndarray]:
         """Without Prony terms: the linear constants of every individual by least squares.
 
         ``hyper`` (P, n_h) holds the other constants. By linearity the stress of each
@@ -236,6 +237,8 @@ class SeparableSpace:
         :func:`vhfit.calibration._admissible.lsi`), each at or above its lower limit
         where the law or the user's bounds set one. Returns the constants (P, n_h) and
         the errors (P,); +inf where the law is invalid or the result has no stiffness.
+        ``constrained=False``: plain least squares, no inequality at all (the best
+        unconstrained fit, reported beside the result).
         """
         prob, amp = self.prob, self.amp
         P, m = hyper.shape[0], len(amp)
@@ -249,8 +252,11 @@ class SeparableSpace:
         names = [prob.hm.param_names[k] for k in amp]
         lo = np.array([prob.bounds[n][0] if (n in prob.user_bounds or nn) else -np.inf
                        for n, nn in zip(names, self.nonneg)])
+        if not constrained:
+            lo[:] = -np.inf
         bounded = np.flatnonzero(np.isfinite(lo))
-        rows = np.zeros((P, 0, m)) if prob.adm is None else prob.adm.rows(hyper)
+        rows = (np.zeros((P, 0, m)) if prob.adm is None or not constrained
+                else prob.adm.rows(hyper))
         ys = prob.y * prob.scale
         out = np.array(hyper, dtype=np.float64, copy=True)
         err = np.full(P, np.inf)
@@ -270,7 +276,8 @@ class SeparableSpace:
             err[p] = rn
         with np.errstate(all="ignore"):
             mu0 = prob.hm.initial_shear_modulus(out)
-        err[~(mu0 > 0)] = np.inf
+        if constrained:
+            err[~(mu0 > 0)] = np.inf
         err[~np.isfinite(err)] = np.inf
         # no least squares solution: no constants either (not decode's placeholder 1)
         out[np.ix_(~np.isfinite(err), amp)] = np.nan

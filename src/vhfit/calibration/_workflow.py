@@ -349,6 +349,7 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                 prob, found, x, err = prob2, found2, x2, err2
             hits = bound_hits(prob, x)
     heads = bound_hit_headlines(prob, x, hits, widened)
+    free = unconstrained_fit(prob, x, err) if method == "separable" and n_prony == 0 else None
     return finish(prob, curves, model, x, err, found.nit, nfev, found.stop, found.history,
                   found.t0, prune_tol, sr, uncertainty, dict(
                       hyperelastic=model.hyperelastic.name, n_prony=n_prony,
@@ -358,7 +359,33 @@ def _calibrate_n(curves, hyperelastic, n_prony, *, tau_strategy, bounds, objecti
                       maxiter=maxiter or SPACES[method].maxiter,
                       tol=tol, target=target, polish=polish, g_inf_min=g_inf_min, rtol=rtol,
                       stability_range=[float(v) for v in sr],
-                      **({"widened_bounds": widened} if widened else {})), headlines=heads)
+                      **({"widened_bounds": widened} if widened else {}),
+                      **({"unconstrained_fit": free[0]} if free else {})),
+                  headlines=heads, notes=[free[1]] if free else [])
+
+
+def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
+    """The best fit without the stability inequalities, for the nonlinear constants of
+    ``x`` (no Prony terms: one least squares solve), when it is lower than ``err``:
+    (record, sentence) — its error, constants and Drucker report — else None."""
+    from vhfit.stability import drucker
+
+    nh = prob.hm.n_params
+    c, e = SPACES["separable"](prob).solve_constants(x[None, :nh], constrained=False)
+    e_u = float(e[0])
+    if not (np.isfinite(e_u) and e_u < err * (1 - 1e-6)):
+        return None
+    rep = drucker(prob.hm, c[0], prob.stability_range)
+    if rep.stable:
+        return None
+    params = {n: float(v) for n, v in zip(prob.hm.param_names, c[0])}
+    lo, hi = prob.stability_range
+    text = (f"without the stability constraint the best {prob.hm.name} fit reaches "
+            f"{e_u:.4g} % (this fit: {err:.4g} %) with "
+            + ", ".join(f"{k} = {v:.4g}" for k, v in params.items())
+            + f", but it is {rep.describe()}: the data ask for a law unstable within "
+            f"{lo:.3g} <= λ <= {hi:.3g} (stability_range= / --stability-range set it)")
+    return {"rmsape": e_u, "params": params, "stability": rep.describe()}, text
 
 
 def _search_polish(prob: Problem, run: dict):
