@@ -925,7 +925,10 @@ MUTANTS: list[Mutant] = [
       "if not (np.isfinite(e_u) and e_u < err * (1 - 1e-6)):",
       "if not np.isfinite(e_u):",
       "an unconstrained fit no better than the result is reported beside it",
-      ("tests/test_calibration_admissible.py",)),
+      ("tests/test_calibration_admissible.py", "tests/test_laws.py"),
+      equivalent="an unconstrained solution no lower than the constrained one satisfies "
+                 "the inequalities (it is the constrained one), so it is stable and the "
+                 "next check returns None all the same"),
     M("unconstrained_fit_constrained", "vhfit/calibration/_workflow.py",
       "solve_constants(x[None, :nh], constrained=False)", "solve_constants(x[None, :nh])",
       "the 'unconstrained' fit reported is the constrained one",

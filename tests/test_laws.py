@@ -311,6 +311,8 @@ def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
                            stability_range=(0.8, 1.25))
     assert near.params["C01"] == pytest.approx(-0.05, rel=1e-9)
     assert near.params["C10"] == pytest.approx(0.3, rel=1e-9)
+    assert "unconstrained_fit" not in near.options  # the constraint is not active there
+    assert "unconstrained_fit" in cal.options  # it is here
     # no lower limit at all given: the same as the law's own (none)
     unbounded = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                                 bounds={"C01": (-np.inf, np.inf)})
