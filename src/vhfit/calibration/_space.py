@@ -146,7 +146,7 @@ class SeparableSpace:
     #: with a polish after it, the search of a law with several linear constants and a
     #: nonlinear shape polishes its best member when its error first falls below each of
     #: these multiples of the target (see :meth:`finish_levels`)
-    FINISH_LEVELS = (1e4, 1e3, 1e2)
+    FINISH_LEVELS = (1e4, 3e3, 1e3, 3e2, 1e2)
 
     def finish_levels(self, target: float) -> tuple[float, ...]:
         """Errors below which a polish of the search's best member is tried, largest first.
@@ -155,8 +155,12 @@ class SeparableSpace:
         with 2+ terms) DE's approach crawls along curved valleys in (shape, log τ) that
         the polish — least squares on all parameters — crosses in a few iterations: on
         the multi-mode recovery of an Ogden-2 material a polish from where the error is
-        still ~1e4 times the target reaches 1e-12 %. Each level is tried once; a polish
-        that misses the target costs its evaluations and the search goes on. Every
+        still ~1e4 times the target reaches 1e-12 %; in the signed admissible space the
+        search's approach is slower, so the levels are half a decade apart (on the Ogden-2
+        recoveries of benchmarks/bench_admissible.py and bench_modes, seeds 0-2, this cut
+        the evaluations by a third against levels a decade apart). Each level is tried
+        once; a polish that misses the target costs its evaluations and the search goes
+        on. Every
         other law: none.
         """
         if self.other and len(self.amp) > 1 and not self.exact:
