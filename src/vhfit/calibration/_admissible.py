@@ -196,7 +196,7 @@ def angle_range(adm: Admissible, nonneg) -> tuple[float, float]:
     Every inequality g · (cos θ, sin θ) ≥ 0 is an arc of length π; their intersection is
     one arc (empty: (nan, nan)).
     """
-    X = np.zeros((1, adm.hm.n_params))
+    X = np.array([adm.hm.example], dtype=np.float64)  # nonlinear constants: any valid
     G = adm.rows(X)[0]  # (3n + 1, 2), the μ0 row last
     theta0 = math.atan2(G[-1, 1], G[-1, 0])
     G = np.vstack([G] + [np.eye(2)[k][None, :] for k in range(2) if nonneg[k]])

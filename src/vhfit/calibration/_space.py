@@ -10,7 +10,8 @@ their differential evolution (``popsize``, ``maxiter``, ``de_options``):
   the law's shape (ratios of its linear constants, and its nonlinear constants such
   as Ogden's α, λm, Jm) and log10 τ_i; each evaluation solves the moduli exactly by
   non-negative least squares (variable projection). Without Prony terms every linear
-  constant is solved that way and only the nonlinear ones are searched.
+  constant is solved by least squares under the Drucker inequalities and only the
+  nonlinear ones are searched. Both cover the admissible set (docs/theory.md §11).
 * :class:`FullSpace`: the paper's all-parameter search (hyperelastic constants, G_i,
   log10 τ_i).
 """
@@ -86,14 +87,14 @@ class SeparableSpace:
     The law's constants split into the linear ones (``Hyperelastic.linear_params``: σ_h is
     linear in them) and the rest (α, λm, Jm, ...), which are always searched.
 
-    * With Prony terms, DE searches the shape of the linear constants — a fraction
-      between two non-negative ones, or the constants themselves (a redundant scale)
-      when there are more or they may be negative; one is fixed to 1 — and log10 τ;
-      NNLS solves (E∞, G_i) for every individual.
+    * With Prony terms, DE searches the shape of the linear constants — a direction
+      (cos θ, sin θ) of two on their admissible arc, or the constants themselves (a
+      redundant scale, signed where the law allows) when there are more — and log10 τ;
+      NNLS solves (E∞, G_i) for every individual; inadmissible shapes get +inf.
     * Without Prony terms the long-term stress is linear in the linear constants
-      themselves: least squares (each at least its lower search limit) solves all of
-      them exactly for every individual, and DE searches only the other constants
-      (nothing at all for the polynomial laws).
+      themselves: least squares under the Drucker inequalities (and the lower limits
+      the law or the user set) solves all of them exactly for every individual, and DE
+      searches only the other constants (nothing at all for the polynomial laws).
     """
 
     method = "separable"
