@@ -311,7 +311,19 @@ def solve_stable(prob: Problem, z0, lo, hi):
     return z
 
 
-def search(ds_name, model, cal, curves, starts: int, seed: int = 0, verbose=False) -> dict:
+def one_start(free: Problem, pen: Problem, z0, lo, hi) -> tuple[float, float]:
+    """The free local minimum from z0, and the best stable law found from it."""
+    z, e = solve(free, z0, lo, hi)
+    if math.isfinite(e) and free.stable(z):
+        return e, e  # a stable local minimum is a local minimum of the constrained problem
+    tries = [solve_stable(pen, z0, lo, hi)]  # a constrained search from z0
+    if math.isfinite(e):
+        tries.append(solve_stable(pen, z, lo, hi))  # repair: a stable law near the minimum
+    return e, min([free.error(t) for t in tries if free.stable(t)], default=math.inf)
+
+
+def search(ds_name, model, cal, curves, starts: int, budget: float, seed: int = 0,
+           verbose=False) -> dict:
     lo, hi, logs, stab_range = search_box(model, cal, curves)
     free = Problem(model, curves, logs, stab_range)
     pen = Problem(model, curves, logs, stab_range, penalty=True)
@@ -330,14 +342,20 @@ def search(ds_name, model, cal, curves, starts: int, seed: int = 0, verbose=Fals
     skipped = int(np.argmax(np.cumsum(ok) >= len(Z))) + 1 - len(Z) if len(Z) else len(cand)
     errs, serrs = [], []  # per start: its local minimum, its best stable law
     t0 = time.perf_counter()
-    for z0 in [*Z, z_cal]:
-        z, e = solve(free, z0, lo, hi)
-        tries = [z] if math.isfinite(e) and free.stable(z) else []
-        if math.isfinite(e) and not tries:  # repair: a stable law near this minimum
-            tries.append(solve_stable(pen, z, lo, hi))
-        tries.append(solve_stable(pen, z0, lo, hi))  # and a constrained search from z0
+    done = 0
+    for z0 in Z:
+        if done >= 4 and time.perf_counter() - t0 > budget:
+            break
+        e, se = one_start(free, pen, z0, lo, hi)
         errs.append(e)
-        serrs.append(min([free.error(t) for t in tries if free.stable(t)], default=math.inf))
+        serrs.append(se)
+        done += 1
+        if verbose:
+            print(f"    start {done}: {e:.6g} %, stable {se:.6g} % "
+                  f"({time.perf_counter() - t0:.0f} s)", flush=True)
+    e, se = one_start(free, pen, z_cal, lo, hi)  # vhfit's own constants as a start
+    errs.append(e)
+    serrs.append(se)
     if free.stable(z_cal):
         serrs[-1] = min(serrs[-1], e_cal)
     e_u, e_s = np.array(errs), np.array(serrs)
@@ -345,12 +363,12 @@ def search(ds_name, model, cal, curves, starts: int, seed: int = 0, verbose=Fals
         print("  start errors:", " ".join(f"{e:.6g}" for e in sorted(e_u[:-1])))
         print("  stable:      ", " ".join(f"{e:.6g}" for e in sorted(e_s[:-1])))
     best, sbest = float(e_u.min()), float(e_s.min())
-    h = max(1, len(Z) // 2)
-    return dict(best=best, stable=sbest, starts=len(Z), skipped=skipped,
+    h = max(1, done // 2)
+    return dict(best=best, stable=sbest, starts=done, skipped=skipped,
                 hits=int(np.sum(e_u[:-1] <= best * (1 + 1e-6))),
                 shits=int(np.sum(e_s[:-1] <= sbest * (1 + 1e-4))),
-                half=float(e_u[:h].min() / e_u[:-1].min()) if len(Z) else math.nan,
-                shalf=float(e_s[:h].min() / e_s[:-1].min()) if len(Z) else math.nan,
+                half=float(e_u[:h].min() / e_u[:-1].min()) if done else math.nan,
+                shalf=float(e_s[:h].min() / e_s[:-1].min()) if done else math.nan,
                 vhfit_stable=free.stable(z_cal), range=stab_range,
                 seconds=time.perf_counter() - t0)
 
@@ -367,17 +385,21 @@ def main(argv=None) -> int:
     ap.add_argument("--repeats", type=int, default=None, help="fits per median (3; quick 1)")
     ap.add_argument("--budget", type=float, default=30.0,
                     help="no further repeat once a dataset's fits took this long (s)")
+    ap.add_argument("--search-budget", type=float, default=None,
+                    help="seconds of multi-start per dataset (180; quick 20): no new start "
+                         "after that (at least 4 are run)")
     ap.add_argument("--verbose", action="store_true", help="print every start's error")
     a = ap.parse_args(argv)
     repeats = a.repeats or (1 if a.quick else 3)
     starts = a.starts if a.starts is not None else (4 if a.quick else 32)
+    budget = a.search_budget or (20.0 if a.quick else 180.0)
     chosen = [d for d in DATASETS if (d.quick or not a.quick)]
     if a.only:
         names = a.only.split(",")
         chosen = [d for d in DATASETS if d.name in names]
     print(f"vhfit {vhfit.__version__}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}; data {a.data}; "
-          f"{starts} starts, {repeats} repeat(s)")
+          f"up to {starts} starts or {budget:g} s of search a dataset, {repeats} repeat(s)")
     warm = [vhfit.Curve(strain=np.linspace(0.01, 0.2, 10), stress=np.linspace(0.01, 0.2, 10),
                         strain_rate=r) for r in (0.1, 1.0)]
     with warnings.catch_warnings():
@@ -399,7 +421,7 @@ def main(argv=None) -> int:
         t_fit, cpu = statistics.median(walls), statistics.median(cpus)
         n = cal.model.n_prony
         s = search(ds.name, vhfit.ViscoHyperelastic(ds.law, n), cal, curves, starts,
-                   verbose=a.verbose)
+                   budget, verbose=a.verbose)
         rows.append(dict(name=ds.name, law=ds.law, n=n, e=cal.rmsape, t=t_fit, cpu=cpu,
                          reps=len(walls), **s))
         print(f"  vhfit {cal.rmsape:.6g} % (N = {n}; wall {t_fit:.2f} s, cpu {cpu:.2f} s, "
