@@ -337,7 +337,8 @@ def search(ds_name, model, cal, curves, starts: int, budget: float, seed: int = 
     # Sobol points in order, skipping those where the model is not finite (e.g. λ^α
     # overflowing): a start there has no gradient to follow
     cand = qmc.scale(qmc.Sobol(lo.size, seed=seed).random(8 * max(starts, 1)), lo, hi)
-    ok = np.isfinite(free.obj(free.batch(free.params(cand))))
+    with np.errstate(all="ignore"):
+        ok = np.isfinite(free.obj(free.batch(free.params(cand))))
     Z = cand[ok][:starts]
     skipped = int(np.argmax(np.cumsum(ok) >= len(Z))) + 1 - len(Z) if len(Z) else len(cand)
     errs, serrs = [], []  # per start: its local minimum, its best stable law
