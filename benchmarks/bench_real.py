@@ -3,13 +3,14 @@ time, and the best error an independent multi-start search finds for the same la
 
 Run::
 
-    python benchmarks/bench_real.py              # every dataset, several minutes
-    python benchmarks/bench_real.py --quick      # 4 datasets, 1 repeat, 8 starts
-    python benchmarks/bench_real.py --only brain_cortex,treloar --starts 64
+    python benchmarks/bench_real.py              # 11 datasets, 10-25 minutes on 2 cores
+    python benchmarks/bench_real.py --quick      # 4 datasets, 1 repeat, 4 starts (< 1 min)
+    python benchmarks/bench_real.py --only brain_cortex,treloar --starts 64 --verbose
 
 The data are read at run time from ``--data`` (default: ``../shared/data`` beside the
-repository root, or ``$VHFIT_DATA``); nothing is copied into the project. A dataset
-whose files are missing is skipped and says so.
+repository root, or ``$VHFIT_DATA``; a checkout elsewhere passes ``--data``); nothing
+is copied into the project. A dataset whose files are missing is skipped and says so.
+The results and their reading are in docs/real-data.md.
 
 Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
 
