@@ -1288,4 +1288,13 @@ MUTANTS: list[Mutant] = [
       "a card number longer than 20 characters is written whole (CalculiX reads "
       "'4.575210514986395e-05' as 4.575)",
       ("tests/test_export.py::test_abaqus_numbers_fit_in_20_characters_and_read_back",)),
+    M("cli_pair_empty_value_accepted", "vhfit/cli/_parser.py",
+      "or not (empty or value.strip()):", "or False:",
+      "--select region= (no value) or --units stress= accepted",
+      ("tests/test_fuzz_inputs.py::test_cli_option_values_fuzz",)),
+    M("cli_group_by_empty_accepted", "vhfit/cli/_parser.py",
+      "        if not text.strip():\n            raise argparse.ArgumentTypeError(f\"{flag} {text!r}: give a column name",
+      "        if False:\n            raise argparse.ArgumentTypeError(f\"{flag} {text!r}: give a column name",
+      "--group-by '' accepted",
+      ("tests/test_fuzz_inputs.py::test_cli_option_values_fuzz",)),
 ]

@@ -900,7 +900,7 @@ HOSTILE_TEXTS = ["", " ", "abc", "nan", "NaN", "inf", "-inf", "1e400", "-1e400",
                  "a:b", "wlf:", "wlf:1,2", "arrhenius:1e5", "wlf:1,2,3", "wlf:nan,1",
                  "uniaxial", "Pure Shear", "biaxial", "abaqus", "ls-dyna,ansys", "abaqus,,",
                  "hereditary", "lsdyna_deviatoric", "auto", "all", "C10=0:1", "x=1", "\x00",
-                 "--", "-5", "1e5:-1e5"]
+                 "--", "-5", "1e5:-1e5", "=x", "stress=", "region=", "=", "a=b=c"]
 
 
 def _real(lo: float, hi: float, *, log: bool = False, signed: bool = False):
@@ -1010,12 +1010,20 @@ OPTIONS = [
     Opt("--measure", FIT + SIM + CHK, "measure", _pick([("true", "true"),
                                                         ("engineering", "engineering")]),
         lambda v: v in ("true", "engineering")),
-    # ---- options landing later (i20-input): one line each, e.g.
-    # Opt("--bounds", FIT, "bounds", _pick([("C10=0:1", ...)]), lambda v: ...),
-    # Opt("--select", FIT + CHK, "select", _pick([("region=cortex", ...)]), lambda v: ...),
-    # Opt("--group-by", FIT + CHK, "group_by", _pick([("region", ...)]), lambda v: ...),
-    # Opt("--columns", FIT + CHK, "columns", _pick([("stress=S11", ...)]), lambda v: ...),
-    # (their hostile values: add any to HOSTILE_TEXTS, e.g. "C10=1:0", "=x", "stress=")
+    # the readers' choices (--bounds does not exist yet: add it here when it lands)
+    Opt("--select", FIT + CHK, "select", _pick([("region=cortex", ("region", "cortex")),
+                                                (" set = 1 ", ("set", "1"))]),
+        lambda v: len(v) == 2 and all(isinstance(x, str) and x for x in v)),
+    Opt("--group-by", FIT + CHK, "group_by", _pick([("region", "region"),
+                                                   ("specimen", "specimen")]),
+        lambda v: isinstance(v, str) and v != ""),
+    Opt("--columns", FIT + CHK, "columns", _pick([("stress=S11", ("stress", "S11")),
+                                                  ("time=", ("time", "")),
+                                                  ("ignore=region", ("ignore", "region"))]),
+        lambda v: len(v) == 2 and isinstance(v[0], str) and v[0] != ""),
+    Opt("--units", FIT + CHK, "units", _pick([("stress=kPa", ("stress", "kPa")),
+                                              ("time=ms", ("time", "ms"))]),
+        lambda v: len(v) == 2 and isinstance(v[0], str) and v[0] != ""),
 ]
 
 

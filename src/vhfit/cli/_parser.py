@@ -147,11 +147,23 @@ def _shift(text: str) -> tuple[str, tuple[float, ...]]:
     return law, vals
 
 
-def _pair(flag: str, form: str) -> Callable[[str], tuple[str, str]]:
-    """``KEY=VALUE`` of a repeatable flag (``--columns stress=S11``) as (KEY, VALUE)."""
+def _column(flag: str) -> Callable[[str], str]:
+    """A column name given to ``flag``: not empty."""
+    def conv(text: str) -> str:
+        if not text.strip():
+            raise argparse.ArgumentTypeError(f"{flag} {text!r}: give a column name, e.g. "
+                                             f"{flag} region")
+        return text.strip()
+
+    return conv
+
+
+def _pair(flag: str, form: str, *, empty: bool = False) -> Callable[[str], tuple[str, str]]:
+    """``KEY=VALUE`` of a repeatable flag (``--columns stress=S11``) as (KEY, VALUE); an
+    empty VALUE only where it means something (``empty``: ``--columns time=`` ignores)."""
     def conv(text: str) -> tuple[str, str]:
         key, sep, value = text.partition("=")
-        if not sep or not key.strip():
+        if not sep or not key.strip() or not (empty or value.strip()):
             raise argparse.ArgumentTypeError(f"{flag} {text!r}: give {form}")
         return key.strip(), value.strip()
 
@@ -160,7 +172,8 @@ def _pair(flag: str, form: str) -> Callable[[str], tuple[str, str]]:
 
 def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
     """--columns, --units, --group-by and --select of the files' reader."""
-    p.add_argument("--columns", type=_pair("--columns", "ROLE=NAME, e.g. stress=stress_kPa"),
+    p.add_argument("--columns", type=_pair("--columns", "ROLE=NAME, e.g. stress=stress_kPa",
+                                           empty=True),
                    action="append", metavar="ROLE=NAME", default=default,
                    help="the column holding a role (strain, stretch, stress, time, rate, "
                         "temperature, frequency, storage, ...): overrides recognition; "
@@ -170,7 +183,8 @@ def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
                    action="append", metavar="ROLE=UNIT", default=default,
                    help="the unit of a role's column where its header has none or a wrong "
                         "one, e.g. stress=kPa (repeatable)")
-    p.add_argument("--group-by", action="append", metavar="COLUMN", default=default,
+    p.add_argument("--group-by", type=_column("--group-by"), action="append",
+                   metavar="COLUMN", default=default,
                    help="split each file into one curve per value of this column, e.g. "
                         "--group-by region (repeatable)")
     p.add_argument("--select", type=_pair("--select", "COLUMN=VALUE, e.g. region=cortex"),
