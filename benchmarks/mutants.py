@@ -1079,7 +1079,7 @@ MUTANTS: list[Mutant] = [
       "        if role not in _UNIT_ROLES:", "        if False:",
       "units={'stres': 'kPa'} is silently ignored",
       ("tests/test_data_ambiguous.py",)),
-    M("i20in_cli_choices_dropped", "vhfit/cli/_fit.py",
+    M("i20in_cli_choices_dropped", "vhfit/cli/_inputs.py",
       "    kw.update(_data_choices(args))\n", "",
       "--columns, --units, --group-by and --select never reach the reader",
       ("tests/test_data_ambiguous.py",)),
@@ -1293,8 +1293,10 @@ MUTANTS: list[Mutant] = [
       "--select region= (no value) or --units stress= accepted",
       ("tests/test_fuzz_inputs.py::test_cli_option_values_fuzz",)),
     M("cli_group_by_empty_accepted", "vhfit/cli/_parser.py",
-      "        if not text.strip():\n            raise argparse.ArgumentTypeError(f\"{flag} {text!r}: give a column name",
-      "        if False:\n            raise argparse.ArgumentTypeError(f\"{flag} {text!r}: give a column name",
+      "        if not text.strip():\n            raise argparse.ArgumentTypeError(f\"{flag} "
+      "{text!r}: give a column name",
+      "        if False:\n            raise argparse.ArgumentTypeError(f\"{flag} "
+      "{text!r}: give a column name",
       "--group-by '' accepted",
       ("tests/test_fuzz_inputs.py::test_cli_option_values_fuzz",)),
 ]

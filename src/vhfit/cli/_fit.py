@@ -8,10 +8,6 @@ solver cards, the plots and ``report.html``, through ``_report``) are written he
 
 from __future__ import annotations
 
-import csv
-import glob
-import hashlib
-import io
 import os
 import shlex
 import sys
@@ -20,11 +16,10 @@ from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from vhfit import datasets, plot
+from vhfit import datasets
 from vhfit._io import atomic_write
 from vhfit.calibration import (
     Calibration,
@@ -35,12 +30,10 @@ from vhfit.calibration import (
     default_n_prony,
     start_options,
 )
-from vhfit.cli import _moduli
 from vhfit.cli._cards import (
     CARD_FILES,
     check_targets,
     plan_fits,
-    write_cards,
 )
 from vhfit.cli._common import (
     EXIT_FAILED,
@@ -52,12 +45,11 @@ from vhfit.cli._common import (
     one_line,
     prepare_out,
 )
+from vhfit.cli._inputs import read_curves, sha256
+from vhfit.cli._outputs import write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
-from vhfit.cli._report import write_fit_report
 from vhfit.cli._settings import check_shift, fit_settings
-from vhfit.data import is_moduli, read_csv
 from vhfit.formulations import FORMULATIONS
-from vhfit.modes import get_deformation
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
            "DEMO_PRONY"]
@@ -98,7 +90,7 @@ def cmd_demo(args, argv: Sequence[str] = ()) -> int:
 def _run_demo(args, out: Path, command: list[str]) -> int:
     path = datasets.sebs_path()
     curves = datasets.load_sebs()
-    inputs = [{"path": str(path), "sha256": _sha256(path), "bundled": "vhfit.datasets.sebs"}]
+    inputs = [{"path": str(path), "sha256": sha256(path), "bundled": "vhfit.datasets.sebs"}]
     if args.out is None:
         command = command + ["--out", str(out)]
     args.model, args.prony, args.strategy = "mooney_rivlin", args.prony, DEMO_STRATEGY
@@ -200,101 +192,6 @@ def _demo_check(out: Path) -> None:
     print("\n".join(rows))
 
 
-# ============================================================ reading inputs
-def _sha256(path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
-def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
-    """The curves of the CSV files (globs expanded, trimmed) and their paths and digests."""
-    files = []
-    for p in paths:
-        matches = sorted(glob.glob(p)) if glob.has_magic(p) else [p]
-        if not matches:
-            raise UsageError(f"{p}: no file matches this pattern; check the path")
-        files += matches
-    for f in files:
-        if not os.path.exists(f):
-            raise UsageError(f"{f}: no such file; check the path (run 'vhfit demo' for an example)")
-        if os.path.isdir(f):
-            raise UsageError(f"{f}: is a folder; give the CSV files in it (e.g. {f}/*.csv)")
-    kw: dict[str, Any] = {}
-    if args.rate:
-        if len(args.rate) not in (1, len(files)):
-            raise UsageError(
-                f"--rate given {len(args.rate)} times for {len(files)} files: give one rate "
-                "for all files or one per file, in file order"
-            )
-        kw["rate"] = args.rate[0] if len(args.rate) == 1 else list(args.rate)
-    if args.measure:
-        kw["measure"] = args.measure
-    tests = args.deformation
-    if tests:
-        if len(tests) not in (1, len(files)):
-            raise UsageError(
-                f"--deformation given {len(tests)} times for {len(files)} files: give one "
-                "for all files or one per file, in file order"
-            )
-        kw["deformation"] = tests[0] if len(tests) == 1 else list(tests)
-    kw["n_points"] = args.points
-    kw.update(_data_choices(args))
-    curves = read_csv(files, **kw)
-    if not curves:
-        raise UsageError(f"{', '.join(files)}: no curves found; check the files' columns")
-    windows = {}
-    for what in ("strain", "time"):
-        given = getattr(args, f"trim_{what}") or []
-        if len(given) not in (0, 1, len(files)):
-            raise UsageError(
-                f"--trim-{what} given {len(given)} times for {len(files)} files: give one "
-                "window for all files or one per file, in file order (':' for no trim)")
-        windows[what] = {os.path.abspath(f): given[0 if len(given) == 1 else k]
-                         for k, f in enumerate(files)} if given else {}
-    if windows["strain"] or windows["time"]:
-        def trimmed(c):
-            src = os.path.abspath(c.source) if c.source else None
-            if c.is_moduli:  # a frequency sweep or relaxation test: no trim
-                return c
-            return c.trim(strain=windows["strain"].get(src), time=windows["time"].get(src))
-
-        curves = [trimmed(c) for c in curves]
-    inputs = [{"path": os.path.abspath(f), "sha256": _sha256(f)} for f in files]
-    return curves, inputs
-
-
-def _data_choices(args) -> dict[str, Any]:
-    """read_csv's ``columns=``, ``units=``, ``group_by=`` and ``select=`` from ``--columns``,
-    ``--units``, ``--group-by`` and ``--select`` (pairs as parsed, or as a results file
-    records them)."""
-    kw: dict[str, Any] = {}
-    columns: dict[str, Any] = {}
-    for role, name in args.columns or []:
-        if role.lower() == "ignore":
-            columns.setdefault("ignore", []).append(name)
-        elif role in columns:
-            raise UsageError(f"--columns {role}= given twice: give each role once")
-        else:
-            columns[role] = name or None
-    units: dict[str, str] = {}
-    for role, unit in args.units or []:
-        if role in units:
-            raise UsageError(f"--units {role}= given twice: give each role once")
-        units[role] = unit
-    select: dict[str, Any] = {}
-    for col, value in args.select or []:
-        select.setdefault(col, []).append(value)
-    select = {c: v[0] if len(v) == 1 else v for c, v in select.items()}
-    for key, val in (("columns", columns), ("units", units), ("select", select),
-                     ("group_by", list(args.group_by or []))):
-        if val:
-            kw[key] = val
-    return kw
-
-
 # ================================================================ the fit job
 def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
             demo: bool = False, shift_law=None, at_ref: list | None = None) -> int:
@@ -350,7 +247,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
                 break
         cal = next(iter(fits.values()))
         sigs.writing = True
-        files = _write_outputs(fits, plan, curves, inputs, args, out, label=label,
+        files = write_outputs(fits, plan, curves, inputs, args, out, label=label,
                                command=command, interrupted=interrupted, demo=demo,
                                at_ref=at_ref)
     _show_warnings(caught, [w for c in fits.values() for w in c.warnings])
@@ -438,141 +335,3 @@ def _resume_cmd(command: list[str]) -> str:
     cmd = [c for c in command if c not in ("--resume", "--force")]
     return shlex.join(["vhfit"] + cmd + ["--resume"])
 
-
-# ================================================================== outputs
-def _write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
-                   interrupted, demo, at_ref=None) -> dict[str, str]:
-    """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
-    first fit of ``plan`` is the results' own, the others are listed under ``fits``
-    (``at_ref``: the tests at the reference temperature, if shifted)."""
-    cal = next(iter(fits.values()))
-    raw, curves = curves, at_ref or curves  # tests at T_ref
-    written: dict[str, str] = {}
-    status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
-    head = [f"data: {label}"] if label else []
-    head.append(f"status: {status}")
-
-    fitted = cal.fitted_curves(curves)
-    atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
-    written["fitted_curves.csv"] = "data and model stress per curve"
-    moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
-    if moduli:  # frequency sweeps and relaxation tests
-        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli), interrupted))
-        written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
-
-    cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
-    written.update({f: f"{solver} card" for solver, f in cards.files.items()})
-    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
-    written.update({p: "plot" for p in plots.values()})
-    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
-                                     label=label, inputs=inputs, interrupted=interrupted)
-    written.update(page)
-    plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
-
-    lines = (cards.headline + head + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
-             + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
-    if plot_note:
-        lines.append(plot_note)
-    text = "\n".join(lines)
-    atomic_write(out / "summary.txt", text + "\n")
-    written["summary.txt"] = "this table"
-
-    extra = {
-        "data_label": label,
-        "inputs": inputs,
-        "command": ["vhfit"] + list(command),
-        "cli_options": _jsonable(vars(args)),
-        "seed": args.seed,
-        "files": {**written, RESULTS: "this file"},
-        "cards": cards.files,
-        "card_errors": cards.errors,
-        "card_notes": cards.notes,
-        "card_fits": cards.fits,
-        "card_check": cards.check_dict(),
-        "card_check_warnings": cards.warnings,
-    }
-    if len(plan) > 1:
-        extra["fits"] = cards.fits_record
-    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
-             extra=extra)
-    written[RESULTS] = "results"
-    written["_summary"] = text
-    return written
-
-
-def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
-                demo: bool) -> tuple[dict[str, str], str | None]:
-    """The plots that apply ({kind: file}) and a note on those not drawn."""
-    if skip:
-        return {}, "plots skipped (--no-plot)"
-    if not plot.have_matplotlib():
-        return {}, f"plots skipped: {plot.INSTALL_HINT}"
-    plots: dict[str, str] = {}
-    try:
-        if not all(is_moduli(c) for c in curves):
-            plot.plot_fit(cal, curves, out / "fit.png",
-                          title=None if not demo else
-                          f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
-                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
-            plots["fit"] = "fit.png"
-        if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
-            plot.plot_moduli_fit(cal, curves, out / "moduli.png")
-            plots["moduli"] = "moduli.png"
-        if cal.history and cal.history.get("nit"):
-            plot.plot_history(cal, out / "history.png")
-            plots["history"] = "history.png"
-        if cal.order_scan:
-            plot.plot_order_scan(cal, out / "order_scan.png")
-            plots["order_scan"] = "order_scan.png"
-    except Exception as exc:
-        return plots, f"plots failed: {one_line(exc)}"
-    return plots, None
-
-
-def _jsonable(d: dict) -> dict:
-    out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
-    for later in ("deformation", "formulation", "tref", "shift", "columns", "units",
-                  "group_by", "select"):
-        if out.get(later, "") is None:  # not given: the record is as before the flag
-            del out[later]
-    return out
-
-
-def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
-    buf = io.StringIO()
-    buf.write("# vhfit fitted curves: data and calibrated model, per curve\n")
-    if label:
-        buf.write(f"# data: {label}\n")
-    buf.write(f"# model: {cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s); "
-              f"RMSAPE {cal.rmsape:.6g} %" + ("; INTERRUPTED" if interrupted else "") + "\n")
-    buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
-              "kind=fine: model on a fine time grid (stress_data empty)\n")
-    buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
-    # other tests than the paper's add two columns: the test, and the loaded direction
-    tests = {get_deformation(c.deformation) for c in curves}
-    modes = not all(t.uniaxial for t in tests)
-    if modes:
-        strains = "".join(f"; {t.name}: strain = {t.strain_label}"
-                          for t in sorted(tests, key=lambda t: t.name) if t.shear)
-        buf.write("# deformation: the test; direction: 1, or 2 for the second stress of a "
-                  "test with two loaded directions; equilibrium curves: time = sample number, "
-                  f"strain_rate empty{strains}\n")
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
-                "stress_model"] + (["deformation", "direction"] if modes else []))
-    for c, f in zip(curves, fits):
-        if _moduli.is_moduli_fit(f):  # in fitted_moduli.csv
-            continue
-        name = str(c.name)
-        r = c.strain_rate
-        rate = "" if r is None else f"{float(r):g}"
-        meas = c.measure
-        dfm = [c.deformation] if modes else []
-        dirs = c.target_direction
-        for t, e, s, m, d in zip(f["time"], f["strain"], f["stress"], f["model"], dirs):
-            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"]
-                       + (dfm + [int(d)] if modes else []))
-        for t, e, m in zip(f["fine_time"], f["fine_strain"], f["fine_model"]):
-            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"]
-                       + (dfm + [1] if modes else []))
-    return buf.getvalue()

@@ -1,0 +1,167 @@
+"""What ``vhfit fit`` writes beside ``results.json``: the summary, the fitted curves, the
+solver cards (through ``_cards``), the plots and ``report.html`` (through ``_report``)."""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+
+from vhfit import plot
+from vhfit._io import atomic_write
+from vhfit.calibration import (
+    Calibration,
+)
+from vhfit.cli import _moduli
+from vhfit.cli._cards import (
+    write_cards,
+)
+from vhfit.cli._common import (
+    one_line,
+)
+from vhfit.cli._report import write_fit_report
+from vhfit.data import is_moduli
+from vhfit.modes import get_deformation
+
+__all__ = ["write_outputs"]
+
+RESULTS = "results.json"
+
+
+# ================================================================== outputs
+def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
+                   interrupted, demo, at_ref=None) -> dict[str, str]:
+    """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
+    first fit of ``plan`` is the results' own, the others are listed under ``fits``
+    (``at_ref``: the tests at the reference temperature, if shifted)."""
+    cal = next(iter(fits.values()))
+    raw, curves = curves, at_ref or curves  # tests at T_ref
+    written: dict[str, str] = {}
+    status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
+    head = [f"data: {label}"] if label else []
+    head.append(f"status: {status}")
+
+    fitted = cal.fitted_curves(curves)
+    atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
+    written["fitted_curves.csv"] = "data and model stress per curve"
+    moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
+    if moduli:  # frequency sweeps and relaxation tests
+        atomic_write(out / _moduli.FILE, _moduli.fitted_moduli_csv(*zip(*moduli), interrupted))
+        written[_moduli.FILE] = "data and model moduli per sweep or relaxation test"
+
+    cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
+    written.update({f: f"{solver} card" for solver, f in cards.files.items()})
+    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
+    written.update({p: "plot" for p in plots.values()})
+    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
+                                     label=label, inputs=inputs, interrupted=interrupted)
+    written.update(page)
+    plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
+
+    lines = (cards.headline + head + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
+             + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
+    if plot_note:
+        lines.append(plot_note)
+    text = "\n".join(lines)
+    atomic_write(out / "summary.txt", text + "\n")
+    written["summary.txt"] = "this table"
+
+    extra = {
+        "data_label": label,
+        "inputs": inputs,
+        "command": ["vhfit"] + list(command),
+        "cli_options": _jsonable(vars(args)),
+        "seed": args.seed,
+        "files": {**written, RESULTS: "this file"},
+        "cards": cards.files,
+        "card_errors": cards.errors,
+        "card_notes": cards.notes,
+        "card_fits": cards.fits,
+        "card_check": cards.check_dict(),
+        "card_check_warnings": cards.warnings,
+    }
+    if len(plan) > 1:
+        extra["fits"] = cards.fits_record
+    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
+             extra=extra)
+    written[RESULTS] = "results"
+    written["_summary"] = text
+    return written
+
+
+def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
+                demo: bool) -> tuple[dict[str, str], str | None]:
+    """The plots that apply ({kind: file}) and a note on those not drawn."""
+    if skip:
+        return {}, "plots skipped (--no-plot)"
+    if not plot.have_matplotlib():
+        return {}, f"plots skipped: {plot.INSTALL_HINT}"
+    plots: dict[str, str] = {}
+    try:
+        if not all(is_moduli(c) for c in curves):
+            plot.plot_fit(cal, curves, out / "fit.png",
+                          title=None if not demo else
+                          f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
+                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
+            plots["fit"] = "fit.png"
+        if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
+            plot.plot_moduli_fit(cal, curves, out / "moduli.png")
+            plots["moduli"] = "moduli.png"
+        if cal.history and cal.history.get("nit"):
+            plot.plot_history(cal, out / "history.png")
+            plots["history"] = "history.png"
+        if cal.order_scan:
+            plot.plot_order_scan(cal, out / "order_scan.png")
+            plots["order_scan"] = "order_scan.png"
+    except Exception as exc:
+        return plots, f"plots failed: {one_line(exc)}"
+    return plots, None
+
+
+def _jsonable(d: dict) -> dict:
+    out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
+    for later in ("deformation", "formulation", "tref", "shift", "columns", "units",
+                  "group_by", "select"):
+        if out.get(later, "") is None:  # not given: the record is as before the flag
+            del out[later]
+    return out
+
+
+def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
+    buf = io.StringIO()
+    buf.write("# vhfit fitted curves: data and calibrated model, per curve\n")
+    if label:
+        buf.write(f"# data: {label}\n")
+    buf.write(f"# model: {cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s); "
+              f"RMSAPE {cal.rmsape:.6g} %" + ("; INTERRUPTED" if interrupted else "") + "\n")
+    buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
+              "kind=fine: model on a fine time grid (stress_data empty)\n")
+    buf.write("# units: s, engineering strain, MPa (in each curve's measure)\n")
+    # other tests than the paper's add two columns: the test, and the loaded direction
+    tests = {get_deformation(c.deformation) for c in curves}
+    modes = not all(t.uniaxial for t in tests)
+    if modes:
+        strains = "".join(f"; {t.name}: strain = {t.strain_label}"
+                          for t in sorted(tests, key=lambda t: t.name) if t.shear)
+        buf.write("# deformation: the test; direction: 1, or 2 for the second stress of a "
+                  "test with two loaded directions; equilibrium curves: time = sample number, "
+                  f"strain_rate empty{strains}\n")
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["curve", "strain_rate", "measure", "kind", "time", "strain", "stress_data",
+                "stress_model"] + (["deformation", "direction"] if modes else []))
+    for c, f in zip(curves, fits):
+        if _moduli.is_moduli_fit(f):  # in fitted_moduli.csv
+            continue
+        name = str(c.name)
+        r = c.strain_rate
+        rate = "" if r is None else f"{float(r):g}"
+        meas = c.measure
+        dfm = [c.deformation] if modes else []
+        dirs = c.target_direction
+        for t, e, s, m, d in zip(f["time"], f["strain"], f["stress"], f["model"], dirs):
+            w.writerow([name, rate, meas, "point", f"{t:.9g}", f"{e:.9g}", f"{s:.9g}", f"{m:.9g}"]
+                       + (dfm + [int(d)] if modes else []))
+        for t, e, m in zip(f["fine_time"], f["fine_strain"], f["fine_model"]):
+            w.writerow([name, rate, meas, "fine", f"{t:.9g}", f"{e:.9g}", "", f"{m:.9g}"]
+                       + (dfm + [1] if modes else []))
+    return buf.getvalue()
