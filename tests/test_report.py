@@ -291,3 +291,23 @@ def test_a_result_read_back_brings_its_recorded_context(cal, tmp_path):
     assert "WARNING: LS-DYNA card: recorded warning" in text
     assert "lsdyna: EXCEEDS, card RMSAPE 9 % (allowed 1.1 %)" in text
     assert "0.0-recorded" in text and "label &lt;i&gt;" in text
+
+
+def test_shift_figure_is_the_plot_modules_shift_factor_plot():
+    """The report's shift-factor figure is drawn by vhfit.plot (one drawing, two users):
+    its points labelled as the factors applied to the tests, with the calibration's law."""
+    import io
+    from types import SimpleNamespace
+
+    from vhfit import plot, tts
+    from vhfit.report import _figures
+
+    law = tts.WLF(C1=8.86, C2=101.6, T_ref=20.0)
+    table = SimpleNamespace(temperatures=np.array([10.0, 20.0, 30.0]),
+                            log_aT=law.log_aT(np.array([10.0, 20.0, 30.0])), law=law)
+    fig = plot.plot_shift_factors(table, io.BytesIO(), label="applied to the tests")
+    texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert texts[0] == "applied to the tests" and texts[1].startswith(law.name)
+    cal = SimpleNamespace(shift_table=dict(zip(table.temperatures, table.log_aT)), shift=law)
+    drawn = _figures.shift_figure(cal)
+    assert drawn.note is None and drawn.uri.startswith("data:image/png;base64,")

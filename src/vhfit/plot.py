@@ -431,15 +431,19 @@ def plot_master_curve(master, spectrum=None, path=None):
     return _finish(fig, path)
 
 
-def plot_shift_factors(master, path=None, *, law=None):
+def plot_shift_factors(master, path=None, *, law=None, label: str = "from the sweeps"):
     """log10 a_T of each temperature with the fitted (or given) law as a line.
 
     Parameters
     ----------
     master : MasterCurve
-    path : path-like, optional
+        Or any object with ``temperatures``, ``log_aT`` and ``law`` (e.g. a calibration's
+        shift table and law).
+    path : path-like or file object, optional
     law : WLF, Arrhenius or PolynomialShift, optional
         Default the master curve's own ``law``.
+    label : str
+        Legend of the points: where the factors come from.
 
     Returns
     -------
@@ -449,7 +453,7 @@ def plot_shift_factors(master, path=None, *, law=None):
     fig, axes = _figure(path, 1, 1, figsize=(5.5, 4.0), layout="constrained")
     ax = axes[0, 0]
     T = np.asarray(master.temperatures)
-    ax.plot(T, master.log_aT, "o", color="k", mfc="none", label="from the sweeps")
+    ax.plot(T, master.log_aT, "o", color="k", mfc="none", label=label)
     if law is not None:
         fine = np.linspace(T.min(), T.max(), 200)
         consts = ", ".join(f"{k} = {v:.4g}" for k, v in law.constants().items())

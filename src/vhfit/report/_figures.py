@@ -14,6 +14,7 @@ import dataclasses
 import io
 import warnings
 from collections.abc import Callable
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -198,23 +199,11 @@ def moduli_figure(cal, curves) -> Figure:
 def shift_figure(cal) -> Figure:
     """log10 a_T of each temperature, and the calibration's law as a line."""
     def make(buf):
-        T = np.array(sorted(cal.shift_table), dtype=np.float64)
-        L = np.array([cal.shift_table[t] for t in sorted(cal.shift_table)], dtype=np.float64)
-        fig, axes = _bare(1, 1, (5.0, 3.6))
-        ax = axes[0, 0]
-        ax.plot(T, L, "o", mfc="none", color="k", label="applied to the tests")
-        law = cal.shift
-        if law is not None:
-            fine = np.linspace(T.min(), T.max(), 200)
-            consts = ", ".join(f"{k} = {v:.4g}" for k, v in law.constants().items())
-            ax.plot(fine, law.log_aT(fine), "-", color="C1", label=f"{law.name}: {consts}")
-        ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.set_xlabel("temperature")
-        ax.set_ylabel("log10 a_T")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-        _save(fig, buf)
-        return fig
+        T = sorted(cal.shift_table)
+        table = SimpleNamespace(temperatures=np.array(T, dtype=np.float64),
+                                log_aT=np.array([cal.shift_table[t] for t in T],
+                                                dtype=np.float64), law=cal.shift)
+        return plot.plot_shift_factors(table, buf, label="applied to the tests")
 
     return _draw("shift", "time–temperature shift factors", "", make)
 
