@@ -28,8 +28,8 @@ TOP = "vhfit"
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("infrastructure", ("vhfit._io", "vhfit._pools", "vhfit._version")),
     ("physics", ("vhfit.hyperelastic", "vhfit.viscoelastic", "vhfit.history", "vhfit.model",
-                 "vhfit.modes", "vhfit._plans", "vhfit.formulations", "vhfit._linear",
-                 "vhfit._kernels", "vhfit.stability", "vhfit._derivatives",
+                 "vhfit._batch", "vhfit.modes", "vhfit._plans", "vhfit.formulations",
+                 "vhfit._linear", "vhfit._kernels", "vhfit.stability", "vhfit._derivatives",
                  "vhfit._kirchhoff", "vhfit._deformation")),
     ("data", ("vhfit.data", "vhfit.datasets",
               "vhfit.tts")),

@@ -333,7 +333,6 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     nh = model.hyperelastic.n_params
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, settings.prune_tol,
                                         msgs)
-    params = model.as_dict(x)
     E_inf = model.long_term_modulus(x)
     if model.n_prony and E_inf > 0:
         g, g_inf = prony_g(E_inf, model.split(x)[1])
@@ -371,8 +370,8 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     tb = {f"tau{i + 1}": tuple(10.0 ** prob.tau_b[i]) for i in range(model.n_prony)}
     bounds = {**prob.bounds, **tb}
     bounds = {k: v for k, v in bounds.items() if k in model.param_names}
-    return Calibration(
-        model=model, params=params, rmsape=err,
+    return Calibration._make(
+        model, x, rmsape=err,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
         nit=int(found.nit), nfev=int(nfev), wall_time=time.perf_counter() - found.t0,
         stop_reason=str(found.stop), g=[float(v) for v in g], g_inf=float(g_inf),

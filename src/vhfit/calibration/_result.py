@@ -497,6 +497,17 @@ class Calibration:
                              "written by vhfit") from None
 
     @classmethod
+    def _make(cls, model: ViscoHyperelastic, x, **record) -> Calibration:
+        """The one place the library builds a Calibration, complete: the end of a fit
+        (``calibration._report.finish``) and each entry of a results file
+        (:meth:`from_dict`) both come here. The constants are read from ``x`` in the
+        model's order; a per-curve error list and the curve names must agree."""
+        per_curve, names = record.get("per_curve_rmsape", []), record.get("curve_names", [])
+        if per_curve and names and len(per_curve) != len(names):
+            raise ValueError(f"{len(per_curve)} per-curve errors for {len(names)} curves")
+        return cls(model=model, params=model.as_dict(x), **record)
+
+    @classmethod
     def _from_dict(cls, res: dict) -> Calibration:
         options = dict(res.get("options") or {})
         form = res.get("formulation", "hereditary")
@@ -516,8 +527,8 @@ class Calibration:
         lo_hi = options.get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],
                        tuple(lo_hi) if lo_hi else (0.2, 5.0))
-        return cls(
-            model=model, params=model.as_dict(x), rmsape=float(res["rmsape"]),
+        return cls._make(
+            model, x, rmsape=float(res["rmsape"]),
             per_curve_rmsape=list(res.get("per_curve_rmsape", [])),
             nit=int(res.get("nit", 0)), nfev=int(res.get("nfev", 0)),
             wall_time=float(res.get("wall_time", 0.0)),
