@@ -113,3 +113,19 @@ def test_a_pruned_first_fit_seeds_each_tau_in_the_slot_whose_range_holds_it():
         assert z0[slot] == pytest.approx(t, rel=1e-12)
         other = 3 - slot
         assert lo[other] < z0[other] < hi[other] and z0[other] != pytest.approx(t)
+
+
+def test_a_first_fit_merged_into_fewer_like_terms_seeds_the_law_asked_for():
+    """An ogden2 fit whose two terms were merged into ogden (tests/test_degenerate.py)
+    seeds the next formulation's ogden2 search with the merged term and an empty one
+    of the same exponent; a first fit of an unrelated law seeds nothing."""
+    curves = ramps("hereditary")
+    first = vhfit.Calibration(model=vhfit.ViscoHyperelastic("ogden", 1),
+                              params=dict(mu1=0.5, alpha1=3.0, G1=1.0, tau1=0.02),
+                              rmsape=1.0, per_curve_rmsape=[1.0] * 3, nit=1, nfev=1,
+                              wall_time=0.0, stop_reason="converged")
+    kw = dict(hyperelastic="ogden2", formulation="lsdyna", n_prony=1, seed=0)
+    z0 = start_options(first, curves, **kw)["de_options"]["init"][0]
+    # (mu2's share of the moduli, alpha1, alpha2, log10 tau1)
+    np.testing.assert_allclose(z0, [0.0, 3.0, 3.0, np.log10(0.02)], rtol=1e-12, atol=0)
+    assert start_options(first, curves, **dict(kw, hyperelastic="yeoh")) == {}

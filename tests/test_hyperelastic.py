@@ -317,6 +317,25 @@ def test_register_returns_the_function_and_infers_names(user_models):
     assert hyp.get(m) is m
 
 
+@pytest.mark.parametrize("term", [3, 4, -2, True, 1.5])
+def test_register_refuses_terms_that_do_not_divide_the_constants(term):
+    def two_terms(l1, l2, l3, mu1, alpha1, mu2, alpha2):
+        return 0.0 * l1
+
+    with pytest.raises(ValueError, match="like terms"):
+        hyp.register("_test_terms", term=term, fewer="ogden",
+                     units=("MPa", "1", "MPa", "1"))(two_terms)
+    assert "_test_terms" not in hyp.available()
+
+
+def test_ogden_laws_declare_their_like_terms():
+    # each n-term Ogden law leads, one term at a time, to the one-term law
+    for n in range(2, 7):
+        m = hyp.get("ogden" if n == 1 else f"ogden{n}")
+        assert m.term == 2 and hyp.get(m.fewer).n_params == m.n_params - 2
+    assert hyp.get("ogden").term == 0 and hyp.get("ogden").fewer is None
+
+
 def test_available_lists_the_built_ins():
     names = hyp.available()
     for n in ["mooney_rivlin", "neo_hooke", "yeoh", "polynomial2", "polynomial3",

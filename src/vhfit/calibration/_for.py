@@ -29,6 +29,7 @@ from vhfit.calibration._workflow import (
     calibrate,
 )
 from vhfit.formulations import SOLVER_FORMULATIONS
+from vhfit.hyperelastic import get as get_law
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
@@ -118,6 +119,24 @@ def _search_vector(space, x: np.ndarray) -> np.ndarray:
     return np.asarray(z, dtype=np.float64)
 
 
+def _in_law(first: Calibration, hm) -> np.ndarray | None:
+    """The first fit's parameters as constants of the law ``hm``: the first fit's own, or
+    those of a law of like terms that the first fit merged into fewer terms (the merged
+    terms come back with a zero modulus); None for any other law."""
+    own, x = first.model.hyperelastic, first.x
+    if own.name == hm.name:
+        return x
+    name = hm.fewer
+    while name is not None and name != own.name:
+        name = get_law(name).fewer
+    if name is None or not hm.term:
+        return None
+    empty = x[own.n_params - hm.term: own.n_params].copy()
+    empty[0] = 0.0
+    missing = (hm.n_params - own.n_params) // hm.term
+    return np.concatenate([x[:own.n_params]] + [empty] * missing + [x[own.n_params:]])
+
+
 def start_options(first: Calibration, curves, **kwargs) -> dict:
     """Keywords of :func:`vhfit.calibrate` that start its search from a fit made in
     another formulation.
@@ -132,7 +151,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     Parameters
     ----------
     first : Calibration
-        The fit to start from (same law and number of Prony terms).
+        The fit to start from (same law, or the same law with like terms merged).
     curves : sequence
         The curves of both fits (as given to :func:`vhfit.calibrate`).
     **kwargs
@@ -169,7 +188,11 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     method = kwargs.get("method", "separable")
     ref = shift_to_reference(_as_curves(curves), shift_factors=kwargs.get("shift_factors"),
                              T_ref=kwargs.get("T_ref"))
-    model = ViscoHyperelastic(first.model.hyperelastic.name, int(n_prony),
+    law = get_law(kwargs.get("hyperelastic", "mooney_rivlin"))
+    x_first = _in_law(first, law)
+    if x_first is None:
+        return {}
+    model = ViscoHyperelastic(law, int(n_prony),
                               rtol=kwargs.get("rtol", 1e-6),
                               formulation=kwargs.get("formulation", "hereditary"))
     tau_b, auto = search_bounds(
@@ -183,7 +206,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     if not len(b):
         return {}
     lo, hi = b[:, 0], b[:, 1]
-    z0 = np.clip(_search_vector(space, first.x), lo, hi)
+    z0 = np.clip(_search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
     rng = np.random.default_rng(kwargs.get("seed"))
     k = max(1, int(round(CLOUD_SHARE * popsize)))

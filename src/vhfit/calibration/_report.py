@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
 from vhfit.model import ViscoHyperelastic
@@ -99,12 +100,8 @@ def _partners(names, units, i: int) -> list[int]:
             and re.fullmatch(r"\D+" + m.group(2), n)]
 
 
-def _fewer_terms(name: str, n_moduli: int) -> str:
-    m = re.fullmatch(r"(ogden|reduced_polynomial)(\d*)", name)
-    if m and n_moduli > 1:
-        n = n_moduli - 1
-        return f"{m.group(1)}{'' if n == 1 and m.group(1) == 'ogden' else n}"
-    return "a law with fewer terms"
+def _fewer_terms(hm) -> str:
+    return hm.fewer or "a law with fewer terms"
 
 
 def _negligible(model, x, names, units, moduli) -> tuple[list[str], set[int]]:
@@ -173,7 +170,7 @@ def degenerate_warnings(model, x, conf: dict, cov0=None) -> list[str]:
                 out.append(
                     f"{what} cannot be told apart by the data ({how}): the two terms act as "
                     "one, only a combination of them is determined; use "
-                    f"{_fewer_terms(hm.name, len(moduli))}, or add tests (other modes, larger "
+                    f"{_fewer_terms(hm)}, or add tests (other modes, larger "
                     "strains) that separate them")
     out += zero_msgs
     # half-width of the interval (a τ's is not symmetric in s) wider than |value|; NaN
@@ -290,6 +287,82 @@ def merge_terms(G: np.ndarray, tau: np.ndarray, rtol: float = MERGE_RTOL
     return Gm, tm, [tuple(g) for g in groups]
 
 
+#: Two like terms are candidates to merge when their shape constants agree to this
+#: relative tolerance; the merge is kept only if the merged fit (polished) is no worse,
+#: or its stresses differ from the fit's by less than the model's accuracy ``rtol`` of
+#: the peak stress (the data cannot tell the two fits apart).
+LIKE_RTOL = 1e-3
+
+
+def _like_pair(terms: np.ndarray) -> tuple[int, int] | None:
+    """The first pair of terms (rows: first constant linear, the rest the shape) that act
+    as one: same shape constants, or one term whose linear constant is negligible."""
+    top = float(np.max(np.abs(terms[:, 0])))
+    for p in range(len(terms)):
+        for q in range(p + 1, len(terms)):
+            a, b = terms[p, 1:], terms[q, 1:]
+            same = np.all(np.abs(a - b) <= LIKE_RTOL * np.maximum(np.abs(a), np.abs(b)))
+            if same or min(abs(terms[p, 0]), abs(terms[q, 0])) < NEGLIGIBLE * top:
+                return p, q
+    return None
+
+
+def _same_stresses(s1: np.ndarray, s2: np.ndarray, rtol: float) -> bool:
+    """Whether two fits' stresses differ by less than ``rtol`` of the peak stress."""
+    return bool(np.max(np.abs(s2 - s1)) <= rtol * np.max(np.abs(s1)))
+
+
+def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
+    """Merge hyperelastic terms the data cannot tell apart into a law with fewer terms.
+
+    A law that is a sum of like terms (``Hyperelastic.term``; Ogden) loses one term per
+    merge: two terms with the same shape act as one with the sum of their linear
+    constants, and a term with a negligible linear constant is absent. The merged fit
+    is polished unless its stresses already differ from the fit's by less than
+    ``model.rtol`` of the peak stress; it is kept only when then no worse or within that
+    accuracy of the fit.
+    """
+
+    while True:
+        hm = model.hyperelastic
+        if not hm.term or hm.fewer is None:
+            return prob, model, x, err
+        nh, k = hm.n_params, hm.term
+        terms = x[:nh].reshape(-1, k)
+        pair = _like_pair(terms)
+        if pair is None:
+            return prob, model, x, err
+        p, q = pair
+        keep, drop = (p, q) if abs(terms[p, 0]) >= abs(terms[q, 0]) else (q, p)
+        merged = terms.copy()
+        merged[keep, 0] = terms[p, 0] + terms[q, 0]
+        merged = np.delete(merged, drop, axis=0)
+        fewer = ViscoHyperelastic(hm.fewer, model.n_prony, rtol=model.rtol,
+                                  formulation=model.formulation)
+        x2 = np.concatenate([merged.reshape(-1), x[nh:]])
+        # the search bounds of the constants kept (the law's own where none were searched)
+        bounds = {**dict(zip(fewer.hyperelastic.param_names, fewer.hyperelastic.bounds)),
+                  **prob.bounds}
+        prob2 = Problem(fewer, curves, prob.tau_b, bounds, prob.g_inf_min,
+                        prob.objective_spec)
+        s1 = prob.batch(x[None, :])[0]
+        same = _same_stresses(s1, prob2.batch(x2[None, :])[0], model.rtol)
+        if not same:  # the merged constants as they are change the fit: polish them
+            x2 = polish(prob2, x2)[0]
+            same = _same_stresses(s1, prob2.batch(x2[None, :])[0], model.rtol)
+        err2 = float(prob2.errors(x2[None, :])[0])
+        if not (err2 <= err or same):
+            return prob, model, x, err
+        names = model.param_names
+        a, b = names[k * p: k * p + k], names[k * q: k * q + k]
+        msgs.append(
+            f"the terms ({', '.join(a)}) and ({', '.join(b)}) act as one "
+            f"({', '.join(f'{n} = {v:.6g}' for n, v in zip(a + b, np.r_[terms[p], terms[q]]))})"
+            f": merged into {hm.fewer} (error {err:.6g} -> {err2:.6g})")
+        heads.append(msgs[-1])
+        prob, model, x, err = prob2, fewer, x2, err2
+
+
 def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     """Sort the Prony terms by τ, merge coincident ones, drop negligible ones."""
     nh = model.hyperelastic.n_params
@@ -330,7 +403,7 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     warnings, as ``settings`` ask; ``options`` is the record of how the fit ran."""
     msgs: list[str] = []
     heads: list[str] = []
-    nh = model.hyperelastic.n_params
+    prob, model, x, err = _merge_like_terms(prob, curves, model, x, err, msgs, heads)
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, settings.prune_tol,
                                         msgs)
     E_inf = model.long_term_modulus(x)
@@ -362,7 +435,8 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     msgs += time_window_warnings(model, x, curves)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)
-    stab = drucker(model.hyperelastic, x[:nh], settings.stability_range)
+    stab = drucker(model.hyperelastic, x[:model.hyperelastic.n_params],
+                   settings.stability_range)
     if not stab.stable:
         msgs.append(stab.describe())
     for m in msgs:

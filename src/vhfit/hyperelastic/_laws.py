@@ -90,7 +90,7 @@ def ogden(l1, l2, l3, mu1, alpha1):
 @register("ogden2", units=_OG["units"] * 2, bounds=_OG["bounds"] * 2,
           example=(0.1, 2.0, 0.01, -2.0), mu0=lambda m1, a1, m2, a2: m1 + m2,
           derivatives=_ogden_dW,
-          linear_params=("mu1", "mu2"))
+          linear_params=("mu1", "mu2"), fewer="ogden", term=2)
 def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
     """Ogden, two terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
     return _ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
@@ -100,7 +100,7 @@ def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
           example=(0.1, 2.0, 0.01, -2.0, 0.001, 5.0),
           mu0=lambda m1, a1, m2, a2, m3, a3: m1 + m2 + m3,
           derivatives=_ogden_dW,
-          linear_params=("mu1", "mu2", "mu3"))
+          linear_params=("mu1", "mu2", "mu3"), fewer="ogden2", term=2)
 def ogden3(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3):
     """Ogden, three terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
     return (_ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
@@ -116,7 +116,8 @@ def _ogden(n: int) -> dict:
     """Registration options of the n-term Ogden law (μp linear, μ0 = Σ μp)."""
     return dict(units=_OG["units"] * n, bounds=_OG["bounds"] * n, derivatives=_ogden_dW,
                 example=_OGDEN_EXAMPLE[: 2 * n], mu0=lambda *c: sum(c[0::2]),
-                linear_params=tuple(f"mu{p}" for p in range(1, n + 1)))
+                linear_params=tuple(f"mu{p}" for p in range(1, n + 1)),
+                fewer=f"ogden{n - 1}", term=2)
 
 
 # typical terms: a neo-Hooke-like main term, then small softening and stiffening ones
@@ -155,7 +156,8 @@ def _rpoly_dW(I1, I2, *C):
 def _rpoly(n: int) -> dict:
     """Registration options of the reduced polynomial of order n (Abaqus N = n)."""
     return dict(bounds=(_POS,) + (_FREE,) * (n - 1), derivatives=_rpoly_dW, linear=True,
-                example=(0.1, 0.005, 5e-4, 5e-5, 5e-6, 5e-7)[:n])
+                example=(0.1, 0.005, 5e-4, 5e-5, 5e-6, 5e-7)[:n],
+                fewer=f"reduced_polynomial{n - 1}" if n > 1 else None)
 
 
 @register("reduced_polynomial1", **_rpoly(1))

@@ -56,6 +56,14 @@ class Hyperelastic:
         separable calibration solves these by least squares and searches the rest.
     example : tuple of float
         A typical set of constants (docs, tests, starting points).
+    fewer : str or None
+        The registered law that is this one with its last term left out (``ogden3`` ->
+        ``ogden2``), the suggestion when the data cannot tell terms apart.
+    term : int
+        Constants per term when W is a sum of like terms, each linear in its first
+        constant (Ogden: ``mu_p, alpha_p``); 0 otherwise. Two such terms whose other
+        constants coincide act as one term with the sum of the first constants: a fit
+        merges them into :attr:`fewer` (docs/theory.md).
     """
 
     name: str
@@ -70,6 +78,8 @@ class Hyperelastic:
     mu0: Callable | None = None
     doc: str = field(default="", repr=False)
     linear_params: tuple[str, ...] = ()
+    fewer: str | None = None
+    term: int = 0
 
     @property
     def n_params(self) -> int:
@@ -233,6 +243,8 @@ def register(
     mu0: Callable | None = None,
     overwrite: bool = False,
     linear_params: Sequence[str] | None = None,
+    fewer: str | None = None,
+    term: int = 0,
 ) -> Callable[[Callable], Callable]:
     """Register a strain energy W by name (decorator).
 
@@ -259,6 +271,12 @@ def register(
         The constants σ_h is linear in when the others are fixed (checked numerically
         at registration). Default: all of them with ``linear=True``; otherwise the
         constants in MPa if σ_h is linear in them at the example constants, else none.
+    fewer : str, optional
+        The registered name of this law with its last term left out.
+    term : int
+        Constants per term when W is a sum of like terms, each linear in its first
+        constant (needs ``fewer``); two terms whose other constants coincide are then
+        merged into one by a fit.
 
     Returns
     -------
@@ -297,11 +315,17 @@ def register(
                 f"{name!r}: units, bounds and example need one entry per constant {list(params)}"
             )
         lp = _linear_names(name, params, u, linear, linear_params)
+        if term and (isinstance(term, bool) or not isinstance(term, int) or term < 1
+                     or n % term or n == term or fewer is None):
+            raise ValueError(f"{name!r}: term = {term!r} must divide its {n} constants into "
+                             "two or more like terms, and fewer= must name the law with one "
+                             "term less")
         model = Hyperelastic(
             name=name, param_names=params, units=u, bounds=b, kind=kind, energy=fn,
             derivatives=derivatives, example=ex,
             linear=bool(linear) or (linear_params is not None and lp == params),
             mu0=mu0, doc=inspect.getdoc(fn) or "", linear_params=lp,
+            fewer=fewer, term=int(term),
         )
         declared = bool(linear) or linear_params is not None
         if not _validate(model, strict=example is not None, declared=declared):
