@@ -131,8 +131,21 @@ def demo_console() -> str:
     lines = out.splitlines()
     head = lines[:next(k for k, ln in enumerate(lines) if ln.startswith("tau1")) + 1]
     check = _section(lines, "card check:", "  lsdyna ")
-    return "\n".join(["$ vhfit demo --out vhfit-demo", *err.splitlines(), *head, "...",
-                      *check])
+    return "\n".join(["$ vhfit demo --out vhfit-demo", *_progress(err.splitlines()), *head,
+                      "...", *check])
+
+
+def _progress(lines: list[str]) -> list[str]:
+    """stderr with each fit's progress reduced to its first and last generation line: the
+    lines between come every 2 s of wall time (when stderr is not a terminal), so their
+    number depends on the machine's speed."""
+    keep = []
+    for k, ln in enumerate(lines):
+        gen = ln.startswith("generation ")
+        if not gen or not (0 < k < len(lines) - 1 and lines[k - 1].startswith("generation ")
+                           and lines[k + 1].startswith("generation ")):
+            keep.append(ln)
+    return keep
 
 
 @generator("demo-headline", search=True)
