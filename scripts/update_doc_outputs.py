@@ -459,11 +459,12 @@ def recorded_fingerprint(root: Path = ROOT) -> dict | None:
 
 
 def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
-        out=sys.stdout) -> int:
+        out=None) -> int:
     """Check (or update) every generated block of ``pages`` under ``root``.
 
     Returns the number of stale blocks (check) or of rewritten blocks (update).
     """
+    out = out or sys.stdout
     exact = not check or recorded_fingerprint(root) == fingerprint()
     found, stale, seen = 0, [], set()
     for page in pages or PAGES:
