@@ -377,6 +377,25 @@ def dma_cold_hot() -> str:
     return _data_error(fit, COLD_HOT, prefix="DataError: ", width=88)
 
 
+@generator("paper-study-rate-warnings")
+def paper_study_rate_warnings() -> str:
+    """The rate-stiffening warnings on the gelatin stand-in of benchmarks/paper_study.py
+    (which writes them into docs/paper-study.md too)."""
+    from vhfit.diagnostics import rate_sensitivity
+
+    # benchmarks/ and tests/golden/ each have a module named cases: import this one's
+    saved = sys.modules.pop("cases", None)
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        import paper_study
+    finally:
+        sys.path.pop(0)
+        if saved is not None:
+            sys.modules["cases"] = saved
+    msgs = rate_sensitivity(paper_study.gelatin_reported_curves(), "mooney_rivlin", 5)
+    return "\n".join(msgs) if msgs else "(no warning)"
+
+
 # ============================================================ blocks in the pages
 @dataclass
 class Block:
@@ -443,12 +462,20 @@ def same(shown: str, new: str, *, exact: bool, numbers: bool = True) -> bool:
 
 
 def fingerprint() -> dict:
-    sys.path.insert(0, str(ROOT / "tests" / "golden"))
-    try:
-        from record import fingerprint as fp
-    finally:
-        sys.path.pop(0)
-    return fp()
+    """What a floating-point result depends on besides the code (the same as
+    tests/golden/record.py's): library versions, Python, the CPU numba compiles for."""
+    import hashlib
+    import platform
+
+    import llvmlite.binding as llvm
+    import numba
+    import numpy
+    import scipy
+
+    features = hashlib.sha256(llvm.get_host_cpu_features().flatten().encode()).hexdigest()
+    return {"numpy": numpy.__version__, "scipy": scipy.__version__, "numba": numba.__version__,
+            "python": platform.python_version(), "machine": platform.machine(),
+            "cpu": llvm.get_host_cpu_name(), "cpu_features": features[:16]}
 
 
 def recorded_fingerprint(root: Path = ROOT) -> dict | None:
