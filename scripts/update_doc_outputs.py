@@ -10,11 +10,19 @@ fenced block (both indented alike when the block sits in a list item)::
     abaqus: abaqus.inp: Abaqus will show RMSAPE ...
     ```
 
+or, for output that is itself markdown (a table), around it::
+
+    <!-- output: theory-verification-table -->
+    | τ1 (s) | ...
+    <!-- end output -->
+
 The generators are the functions registered in ``GENERATORS`` below. They run vhfit's
 command line (``python -m vhfit ...``) or its Python API on synthetic data only: the
 bundled demo (``vhfit demo``) and small files written here. One demo run serves every
 block taken from the demo. Blocks written by hand as illustrations are not marked and
-say so in the text around them.
+say so in the text around them. Tables of benchmark results (timings, long studies, data
+sets outside the project) are records of measured runs, not regenerated here: each is
+marked ``<!-- benchmark record: COMMAND -->`` naming the command that measured it.
 
 Usage::
 
@@ -31,10 +39,12 @@ Comparison rule (what makes a block stale)
   text (every word, symbol and line) must still match, whitespace runs aside; a number
   matches when it differs from the shown one by at most one unit of the last digit
   printed (of the coarser of the two), so a value that lands on the other side of a
-  rounding boundary passes and a change in any earlier digit fails. A seeded search,
-  though, may then follow another path (other generation counts, other digits of
-  constants the data do not pin down): in blocks from a search (``search=True``)
-  numbers are therefore not compared off the recording platform; the text still is.
+  rounding boundary passes and a change in any earlier digit fails. Some numbers,
+  though, depend on the platform beyond their last digit: a seeded search may follow
+  another path (other generation counts, other digits of constants the data do not pin
+  down), and an error at round-off level (1e-14) is round-off. In the blocks of such
+  generators (``platform=True``) numbers are therefore not compared off the recording
+  platform; the text still is.
 
 The update mode always compares exactly, rewrites only the blocks that differ (an
 unchanged block keeps its recorded times, so reruns do not churn the files), and
@@ -69,6 +79,8 @@ PAGES = ["README.md", *sorted(p.relative_to(ROOT).as_posix()
                               for p in (ROOT / "docs").glob("*.md"))]
 
 MARKER = re.compile(r"^(?P<indent>[ \t]*)<!-- output: (?P<name>[\w.-]+) -->\s*$")
+END_MARKER = "<!-- end output -->"
+RECORD = re.compile(r"^\s*<!-- benchmark record: (?P<command>.+?) -->\s*$")
 #: wall-clock times: shown as recorded, never compared
 VOLATILE = [re.compile(r"(?<=\bwall )\d[\d.e+-]*(?= s\b)"),
             re.compile(r"(?<=\belapsed )\d[\d.e+-]*(?= s\b)")]
@@ -80,15 +92,15 @@ NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?(?!
 @dataclass(frozen=True)
 class Generator:
     func: Callable[[], str]
-    search: bool  # from a stochastic search: numbers compared only on the same platform
+    platform: bool  # numbers reproducible on the recording platform only
 
 
 GENERATORS: dict[str, Generator] = {}
 
 
-def generator(name: str, *, search: bool = False):
+def generator(name: str, *, platform: bool = False):
     def deco(func):
-        GENERATORS[name] = Generator(functools.cache(func), search)
+        GENERATORS[name] = Generator(functools.cache(func), platform)
         return func
     return deco
 
@@ -124,7 +136,7 @@ def _section(lines: list[str], start: str, stop: str) -> list[str]:
     return lines[i:j + 1]
 
 
-@generator("demo-console", search=True)
+@generator("demo-console", platform=True)
 def demo_console() -> str:
     """What a terminal shows of ``vhfit demo`` (progress on stderr first), abridged."""
     out, err, _ = _demo()
@@ -148,20 +160,20 @@ def _progress(lines: list[str]) -> list[str]:
     return keep
 
 
-@generator("demo-headline", search=True)
+@generator("demo-headline", platform=True)
 def demo_headline() -> str:
     """The summary's first lines: what each solver will show."""
     out = _demo()[0].splitlines()
     return "\n".join(out[:out.index("")])
 
 
-@generator("demo-table", search=True)
+@generator("demo-table", platform=True)
 def demo_table() -> str:
     """The first fit's table of the demo's summary."""
     return "\n".join(_section(_demo()[0].splitlines(), "vhfit calibration:", "stability:"))
 
 
-@generator("demo-abaqus-card", search=True)
+@generator("demo-abaqus-card", platform=True)
 def demo_abaqus_card() -> str:
     """The material lines of the demo's Abaqus card (its comment header left out)."""
     lines = _demo()[2]["abaqus.inp"].splitlines()
@@ -250,7 +262,7 @@ def cli_shift_errors() -> str:
                     ["fit", "dma.csv", "ramp30.csv", "--shift", "wlf:8.86"], files=COLD_HOT)
 
 
-@generator("cli-nothing-finite", search=True)
+@generator("cli-nothing-finite", platform=True)
 def cli_nothing_finite() -> str:
     """Gent on a neo-Hooke tension test to λ = 12, past every Jm of its search range."""
     import numpy as np
@@ -396,6 +408,17 @@ def paper_study_rate_warnings() -> str:
     return "\n".join(msgs) if msgs else "(no warning)"
 
 
+@generator("theory-verification-table", platform=True)
+def theory_verification_table() -> str:
+    """docs/make_theory_table.py's table: the model against quadrature (errors at
+    round-off level, hence ``platform``)."""
+    proc = subprocess.run([sys.executable, str(ROOT / "docs" / "make_theory_table.py")],
+                          env=_env(), capture_output=True, text=True, timeout=600)
+    if proc.returncode != 0:
+        raise RuntimeError(f"make_theory_table.py failed: {proc.stderr[-2000:]}")
+    return proc.stdout.strip()
+
+
 # ============================================================ blocks in the pages
 @dataclass
 class Block:
@@ -416,15 +439,17 @@ def find_blocks(root: Path, page: str) -> tuple[list[str], list[Block]]:
         if not m:
             continue
         indent, name = m["indent"], m["name"]
-        if i + 1 >= len(lines) or not lines[i + 1].strip().startswith("```"):
+        fenced = i + 1 < len(lines) and lines[i + 1].strip().startswith("```")
+        end = "```" if fenced else END_MARKER
+        first = i + 2 if fenced else i + 1
+        j = next((k for k in range(first, len(lines)) if lines[k].strip() == end), None)
+        if j is None or (not fenced and any(MARKER.match(x) for x in lines[first:j])):
             raise SystemExit(f"{page}:{i + 1}: the output marker '{name}' must be followed "
-                             "by a fenced block (```text)")
-        j = next((k for k in range(i + 2, len(lines)) if lines[k].strip() == "```"), None)
-        if j is None:
-            raise SystemExit(f"{page}:{i + 1}: the block of '{name}' is not closed")
+                             f"by a fenced block (```text ... ```) or by markdown closed by "
+                             f"{END_MARKER}")
         body = [ln[len(indent):] if ln.startswith(indent) else ln.lstrip()
-                for ln in lines[i + 2:j]]
-        blocks.append(Block(page, i + 1, name, indent, i + 2, j, "\n".join(body)))
+                for ln in lines[first:j]]
+        blocks.append(Block(page, i + 1, name, indent, first, j, "\n".join(body)))
     return lines, blocks
 
 
@@ -504,7 +529,7 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
                                  f"(known: {', '.join(sorted(GENERATORS))})")
             seen.add(blk.name)
             new = gen.func()
-            if same(blk.text, new, exact=exact, numbers=exact or not gen.search):
+            if same(blk.text, new, exact=exact, numbers=exact or not gen.platform):
                 continue
             stale.append(f"{page}:{blk.line} ({blk.name})")
             if not check:
