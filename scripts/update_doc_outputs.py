@@ -67,6 +67,7 @@ import tempfile
 import textwrap
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -93,14 +94,15 @@ NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?(?!
 class Generator:
     func: Callable[[], str]
     platform: bool  # numbers reproducible on the recording platform only
+    child: bool  # its work runs in child processes (and no chdir): may run in a thread
 
 
 GENERATORS: dict[str, Generator] = {}
 
 
-def generator(name: str, *, platform: bool = False):
+def generator(name: str, *, platform: bool = False, child: bool = False):
     def deco(func):
-        GENERATORS[name] = Generator(functools.cache(func), platform)
+        GENERATORS[name] = Generator(functools.cache(func), platform, child)
         return func
     return deco
 
@@ -136,7 +138,7 @@ def _section(lines: list[str], start: str, stop: str) -> list[str]:
     return lines[i:j + 1]
 
 
-@generator("demo-console", platform=True)
+@generator("demo-console", platform=True, child=True)
 def demo_console() -> str:
     """What a terminal shows of ``vhfit demo`` (progress on stderr first), abridged."""
     out, err, _ = _demo()
@@ -278,7 +280,7 @@ def cli_nothing_finite() -> str:
     return msg.splitlines()[-1]
 
 
-@generator("cli-interrupt")
+@generator("cli-interrupt", child=True)
 def cli_interrupt() -> str:
     """A real Ctrl-C: SIGINT once the search has written its second checkpoint."""
     import numpy as np
@@ -408,7 +410,7 @@ def paper_study_rate_warnings() -> str:
     return "\n".join(msgs) if msgs else "(no warning)"
 
 
-@generator("theory-verification-table", platform=True)
+@generator("theory-verification-table", platform=True, child=True)
 def theory_verification_table() -> str:
     """docs/make_theory_table.py's table: the model against quadrature (errors at
     round-off level, hence ``platform``)."""
@@ -518,16 +520,23 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
     """
     out = out or sys.stdout
     exact = not check or recorded_fingerprint(root) == fingerprint()
-    found, stale, seen = 0, [], set()
-    for page in pages or PAGES:
-        lines, blocks = find_blocks(root, page)
-        for blk in reversed(blocks):  # from the end: earlier line numbers stay valid
-            found += 1
-            gen = GENERATORS.get(blk.name)
-            if gen is None:
+    parsed = {page: find_blocks(root, page) for page in pages or PAGES}
+    for page, (_, blocks) in parsed.items():
+        for blk in blocks:
+            if blk.name not in GENERATORS:
                 raise SystemExit(f"{page}:{blk.line}: no generator named '{blk.name}' "
                                  f"(known: {', '.join(sorted(GENERATORS))})")
-            seen.add(blk.name)
+    # the generators that wait on child processes run side by side (a quarter of the time
+    # on two cores); the others change the working directory and run one at a time after
+    used = {blk.name for _, blocks in parsed.values() for blk in blocks}
+    with ThreadPoolExecutor(4) as pool:
+        for f in [pool.submit(GENERATORS[n].func) for n in sorted(used) if GENERATORS[n].child]:
+            f.result()
+    found, stale = 0, []
+    for page, (lines, blocks) in parsed.items():
+        for blk in reversed(blocks):  # from the end: earlier line numbers stay valid
+            found += 1
+            gen = GENERATORS[blk.name]
             new = gen.func()
             if same(blk.text, new, exact=exact, numbers=exact or not gen.platform):
                 continue
