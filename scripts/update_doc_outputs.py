@@ -108,10 +108,13 @@ def generator(name: str, *, platform: bool = False, child: bool = False):
 
 
 def _env() -> dict[str, str]:
-    """The environment of a child ``python -m vhfit``: this checkout's sources first."""
+    """The environment of a child ``python -m vhfit``: the vhfit this process imports
+    first on its path (a mutated copy under test, say, not whatever is installed)."""
+    import vhfit
+
     env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), *filter(None, [
-        env.get("PYTHONPATH")])])
+    env["PYTHONPATH"] = os.pathsep.join([str(Path(vhfit.__file__).resolve().parents[1]),
+                                         *filter(None, [env.get("PYTHONPATH")])])
     env.pop("COLUMNS", None)
     return env
 
@@ -566,6 +569,8 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
 
 
 def main(argv: list[str] | None = None) -> int:
+    if not os.environ.get("PYTHONPATH"):  # this checkout's vhfit, not an installed one
+        sys.path.insert(0, str(ROOT / "src"))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true",
                     help="change nothing; exit 1 listing the blocks that are stale")
