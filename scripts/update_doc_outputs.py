@@ -133,12 +133,20 @@ def _demo() -> tuple[str, str, dict[str, str]]:
     return proc.stdout, proc.stderr, files
 
 
+def _find(lines: list[str], prefix: str, start: int = 0) -> int:
+    """Index of the first line from ``start`` that starts with ``prefix``."""
+    for k in range(start, len(lines)):
+        if lines[k].startswith(prefix):
+            return k
+    raise RuntimeError(f"no line starting with {prefix!r} in the output: its layout changed; "
+                       "adapt the generator in scripts/update_doc_outputs.py")
+
+
 def _section(lines: list[str], start: str, stop: str) -> list[str]:
     """From the first line starting with ``start`` to the next starting with ``stop``
     (included)."""
-    i = next(k for k, ln in enumerate(lines) if ln.startswith(start))
-    j = next(k for k in range(i, len(lines)) if lines[k].startswith(stop))
-    return lines[i:j + 1]
+    i = _find(lines, start)
+    return lines[i:_find(lines, stop, i) + 1]
 
 
 @generator("demo-console", platform=True, child=True)
@@ -146,7 +154,7 @@ def demo_console() -> str:
     """What a terminal shows of ``vhfit demo`` (progress on stderr first), abridged."""
     out, err, _ = _demo()
     lines = out.splitlines()
-    head = lines[:next(k for k, ln in enumerate(lines) if ln.startswith("tau1")) + 1]
+    head = lines[:_find(lines, "tau1") + 1]
     check = _section(lines, "card check:", "  lsdyna ")
     return "\n".join(["$ vhfit demo --out vhfit-demo", *_progress(err.splitlines()), *head,
                       "...", *check])
@@ -169,7 +177,7 @@ def _progress(lines: list[str]) -> list[str]:
 def demo_headline() -> str:
     """The summary's first lines: what each solver will show."""
     out = _demo()[0].splitlines()
-    return "\n".join(out[:out.index("")])
+    return "\n".join(out[:out.index("") if "" in out else None])
 
 
 @generator("demo-table", platform=True)
@@ -182,7 +190,7 @@ def demo_table() -> str:
 def demo_abaqus_card() -> str:
     """The material lines of the demo's Abaqus card (its comment header left out)."""
     lines = _demo()[2]["abaqus.inp"].splitlines()
-    return "\n".join(lines[lines.index("*MATERIAL, NAME=VHFIT_MATERIAL"):])
+    return "\n".join(lines[_find(lines, "*MATERIAL"):])
 
 
 @generator("sebs-data-head")
