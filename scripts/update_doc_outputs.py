@@ -44,7 +44,9 @@ Comparison rule (what makes a block stale)
   another path (other generation counts, other digits of constants the data do not pin
   down), and an error at round-off level (1e-14) is round-off. In the blocks of such
   generators (``platform=True``) numbers are therefore not compared off the recording
-  platform; the text still is.
+  platform; the text still is, and the excerpts are chosen so that their words do not
+  depend on the search's path (the demo's exact recovery, not its LS-DYNA fit, whose
+  pruned terms and warnings may change with it).
 
 The update mode always compares exactly, rewrites only the blocks that differ (an
 unchanged block keeps its recorded times, so reruns do not churn the files), and
@@ -75,7 +77,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FINGERPRINT_FILE = "scripts/doc_outputs.json"  # under the checkout
 UPDATE_COMMAND = "python scripts/update_doc_outputs.py"
 
-#: the pages that hold generated blocks (every page is scanned; these must hold some)
+#: the pages scanned for generated blocks
 PAGES = ["README.md", *sorted(p.relative_to(ROOT).as_posix()
                               for p in (ROOT / "docs").glob("*.md"))]
 
