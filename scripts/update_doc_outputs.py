@@ -380,18 +380,15 @@ def reliability_hostile() -> str:
 
 @generator("dma-no-overlap")
 def dma_no_overlap() -> str:
-    import numpy as np
-
+    """Sweeps at 0 and 50 °C (one file, a temperature column) whose moduli do not overlap."""
     import vhfit
     from vhfit import tts
 
-    f = np.logspace(-1, 1, 11)
-    a = vhfit.FrequencySweep(frequency=f, storage=1.1 + 0.1 * 10 * f, loss=0.1 * f,
-                             temperature=0.0)
-    b = vhfit.FrequencySweep(frequency=f, storage=100 + 0.5 * f, loss=0.1 * f,
-                             temperature=50.0)
-    return _data_error(lambda d: tts.master_curve([a, b]), {}, prefix="DataError: ",
-                       width=88)
+    rows = "".join(f"{f:g},{E1:g},{0.1 * f:g},{T:g}\n" for T, lift in ((0, 1.1), (50, 100))
+                   for f in (0.1, 0.3, 1, 3, 10) for E1 in [lift + f * (1 if T == 0 else 0.05)])
+    files = {"dma.csv": "frequency_Hz,storage_MPa,loss_MPa,temperature_C\n" + rows}
+    return _data_error(lambda d: tts.master_curve(vhfit.read_csv("dma.csv")), files,
+                       prefix="DataError: ", width=88)
 
 
 @generator("dma-cold-hot")
