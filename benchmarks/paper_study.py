@@ -1305,7 +1305,8 @@ fit (any N ≤ 5, either strategy) to the reported-stiffening stand-in.
 `calibrate` will warn with these messages (from `vhfit.diagnostics.rate_sensitivity`) on
 the reported-stiffening stand-in:
 
-```
+<!-- output: paper-study-rate-warnings -->
+```text
 {chr(10).join(msgs) if msgs else "(no warning)"}
 ```
 

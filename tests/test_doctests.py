@@ -71,7 +71,7 @@ def test_docstring_examples(name, tmp_path, monkeypatch, registries_restored):
 
 
 #: Documentation pages whose examples run as written (the extension points among them).
-DOC_PAGES = ["architecture.md"]
+DOC_PAGES = ["architecture.md", "optimizer.md"]
 DOCS = __import__("pathlib").Path(__file__).resolve().parents[1] / "docs"
 
 

@@ -1,0 +1,248 @@
+"""The documentation's sample outputs are what the current code prints.
+
+Every block of program output in README.md and docs/*.md is marked with the generator
+that writes it (``<!-- output: NAME -->``, see scripts/update_doc_outputs.py, which
+also states the comparison rule). Here the check runs on the real pages, a copy with
+altered blocks must fail it, and output-looking blocks without a marker are refused.
+The docstring examples of docs/architecture.md run in tests/test_doctests.py.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import io
+import re
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SPEC_ = importlib.util.spec_from_file_location("update_doc_outputs",
+                                               ROOT / "scripts" / "update_doc_outputs.py")
+udo = sys.modules.setdefault("update_doc_outputs", importlib.util.module_from_spec(SPEC_))
+SPEC_.loader.exec_module(udo)
+
+
+def test_every_output_block_matches_the_code():
+    out = io.StringIO()
+    stale = udo.run(ROOT, check=True, out=out)
+    assert stale == 0, out.getvalue()
+
+
+def _copy(tmp_path: Path) -> Path:
+    root = tmp_path / "checkout"
+    shutil.copytree(ROOT / "docs", root / "docs", ignore=shutil.ignore_patterns("figures"))
+    shutil.copy(ROOT / "README.md", root / "README.md")
+    (root / "scripts").mkdir()
+    shutil.copy(ROOT / udo.FINGERPRINT_FILE, root / udo.FINGERPRINT_FILE)
+    return root
+
+
+def _alter(path: Path, old: str, new: str) -> None:
+    text = path.read_text(encoding="utf-8")
+    assert text.count(old) >= 1, f"{old!r} not in {path.name}"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+
+
+def test_an_altered_block_fails_the_check_and_the_update_repairs_it(tmp_path, capsys):
+    root = _copy(tmp_path)
+    # a word of a block from the seeded search (compared on every platform) and a number
+    # of a deterministic block, off by far more than its last digit
+    _alter(root / "docs" / "tutorial.md", "vhfit calibration:", "vhfit fit:")
+    _alter(root / "docs" / "cli.md", "t.csv, line 3:", "t.csv, line 9:")
+    assert udo.main(["--check", "--root", str(root)]) == 1
+    msg = capsys.readouterr().out
+    assert "2 documentation output block(s) no longer match" in msg
+    assert "docs/tutorial.md:" in msg and "(demo-table)" in msg
+    assert "docs/cli.md:" in msg and "(cli-ambiguous-columns)" in msg
+    assert "python scripts/update_doc_outputs.py" in msg
+    # the update rewrites exactly those blocks, back to what the pages hold (the rewritten
+    # block shows this run's wall times)
+    assert udo.main(["--root", str(root)]) == 0
+    assert "2 of" in capsys.readouterr().out
+    for page in ("docs/tutorial.md", "docs/cli.md"):
+        assert udo._mask((root / page).read_text()) == udo._mask((ROOT / page).read_text())
+    assert udo.main(["--check", "--root", str(root)]) == 0
+
+
+def test_off_the_recording_platform_only_search_numbers_may_differ(tmp_path, capsys):
+    root = _copy(tmp_path)
+    (root / udo.FINGERPRINT_FILE).write_text('{"fingerprint": {"cpu": "another"}}\n')
+    assert udo.main(["--check", "--root", str(root)]) == 0  # the pages pass there too
+    # a seeded search's generation count may differ there; a deterministic block's
+    # number may not, nor may a search block's words
+    page = root / "docs" / "tutorial.md"
+    page.write_text(re.sub(r"generations (\d+)", lambda m: f"generations {int(m[1]) + 8}",
+                           page.read_text(encoding="utf-8"), count=1), encoding="utf-8")
+    assert page.read_text() != (ROOT / "docs" / "tutorial.md").read_text()
+    _alter(root / "docs" / "cli.md", "t.csv, line 3:", "t.csv, line 9:")
+    _alter(root / "docs" / "quickstart.md", "vhfit calibration:", "vhfit fit:")
+    assert udo.main(["--check", "--root", str(root)]) == 1
+    msg = capsys.readouterr().out
+    assert "2 documentation output block(s)" in msg
+    assert "(cli-ambiguous-columns)" in msg and "(demo-console)" in msg
+    assert "(demo-table)" not in msg
+
+
+def test_a_marker_must_name_a_generator_and_precede_a_fence(tmp_path):
+    root = _copy(tmp_path)
+    _alter(root / "docs" / "cli.md", "<!-- output: cli-missing-file -->",
+           "<!-- output: no-such-generator -->")
+    with pytest.raises(SystemExit, match="no generator named 'no-such-generator'"):
+        udo.run(root, check=True, pages=["docs/cli.md"])
+    page = root / "docs" / "quickstart.md"
+    page.write_text("<!-- output: cli-missing-file -->\n\n    indented\n", encoding="utf-8")
+    with pytest.raises(SystemExit, match="must be followed by a fenced block"):
+        udo.run(root, check=True, pages=["docs/quickstart.md"])
+
+
+# ------------------------------------------------------------ the comparison rule
+@pytest.mark.parametrize("shown, new, exact, numbers, expected", [
+    ("RMSAPE 2.14 %", "RMSAPE 2.14 %", True, True, True),
+    ("RMSAPE 2.14 %", "RMSAPE 2.15 %", True, True, False),       # same platform: exact
+    ("RMSAPE 2.14 %", "RMSAPE 2.15 %", False, True, True),       # a last-digit flip
+    ("RMSAPE 2.14 %", "RMSAPE 2.16 %", False, True, False),      # two units: a change
+    ("RMSAPE 2.14 %", "RMSAPE 2.24 %", False, True, False),
+    ("x 2", "x 1.9999", False, True, True),                      # %g across a boundary
+    ("tol 5e-08", "tol 6e-08", False, True, True),
+    ("tol 5e-08", "tol 7e-08", False, True, False),
+    ("tau1 = 3", "tau2 = 3", False, True, False),                # a name, not a number
+    ("line 3:", "line 4:", False, False, True),                  # search, off platform
+    ("stop: target", "stop: converged", False, False, False),    # words always compared
+    ("a  b\nc", "a b\nc", False, True, True),                    # column widths
+    ("wall 1.61 s   stop", "wall 9.9 s   stop", True, True, True),  # times: never
+    ("elapsed 0.6 s", "elapsed 2.5 s", True, True, True),
+    ("x\ny", "x\ny\nz", False, False, False),
+])
+def test_comparison_rule(shown, new, exact, numbers, expected):
+    assert udo.same(shown, new, exact=exact, numbers=numbers) is expected
+
+
+# ------------------------------------------------------------ coverage of the pages
+OUTPUT_LOOKING = re.compile(r"^\s*(\$ vhfit |vhfit: |DataError: |vhfit calibration:|RMSAPE |"
+                            r"generation +\d|card check:|\w+: \S+\.(inp|k|mac): )")
+
+
+def _unmarked_blocks(page: str, root: Path = ROOT) -> list[str]:
+    """Fenced or indented blocks of ``page`` that look like program output but carry no
+    output marker."""
+    lines = (root / page).read_text(encoding="utf-8").split("\n")
+    found, i = [], 0
+    while i < len(lines):
+        ln = lines[i]
+        if ln.strip().startswith("```"):
+            j = next(k for k in range(i + 1, len(lines)) if lines[k].strip() == "```")
+            marked = i > 0 and udo.MARKER.match(lines[i - 1])
+            lang = ln.strip()[3:]
+            if not marked and lang in ("", "text", "console") and any(
+                    OUTPUT_LOOKING.match(x) for x in lines[i + 1:j]):
+                found.append(f"{page}:{i + 1}")
+            i = j + 1
+            continue
+        if ln.startswith("    ") and (i == 0 or not lines[i - 1].strip()) and \
+                OUTPUT_LOOKING.match(ln) and not ln.lstrip().startswith("$ vhfit") and \
+                not ln.lstrip().startswith("vhfit "):
+            found.append(f"{page}:{i + 1}")
+        i += 1
+    return found
+
+
+@pytest.mark.parametrize("page", udo.PAGES)
+def test_output_looking_blocks_are_generated(page):
+    assert not _unmarked_blocks(page), (
+        "blocks that look like program output but are written by hand: mark them "
+        "<!-- output: NAME --> with a generator in scripts/update_doc_outputs.py")
+
+
+def test_the_lint_sees_an_unmarked_output_block(tmp_path):
+    (tmp_path / "x.md").write_text("text\n\n    vhfit: error: x\n\n```\nRMSAPE 1 %\n```\n"
+                                   "<!-- output: demo-table -->\n```text\nRMSAPE 1 %\n```\n")
+    assert _unmarked_blocks("x.md", tmp_path) == ["x.md:3", "x.md:5"]
+
+
+def test_every_generator_serves_a_page_and_the_main_pages_have_blocks():
+    used = {}
+    for page in udo.PAGES:
+        for blk in udo.find_blocks(ROOT, page)[1]:
+            used.setdefault(blk.name, []).append(page)
+    assert set(used) == set(udo.GENERATORS), "a generator without a block, or the reverse"
+    pages = {p for ps in used.values() for p in ps}
+    assert {"docs/quickstart.md", "docs/tutorial.md", "docs/cli.md"} <= pages
+
+
+@pytest.mark.parametrize("page", udo.PAGES)
+def test_docs_speak_of_the_product_only(page):
+    text = (ROOT / page).read_text(encoding="utf-8")
+    for word in ("SPEC", "../shared", "shared/data", "/work/", "/tmp/", "/home/"):
+        assert word not in text, f"{page} mentions {word!r}"
+
+
+# ------------------------------------------------------------ tables of numbers
+NUMERIC_CELL = re.compile(r"^[*_]*[~≤<>≈]?\s*[-−+]?\d[\d.,]*(e[-−+]?\d+)?"
+                          r"(\s*(%|s|ms|MB|×|x|min|gen\.?))?[*_]*$")
+
+
+def _numeric_tables(text: str) -> list[int]:
+    """0-based header lines of the markdown tables whose cells are mostly numbers."""
+    lines, out, i = text.split("\n"), [], 0
+    while i < len(lines):
+        if lines[i].startswith("|") and i + 1 < len(lines) and \
+                re.match(r"^\|\s*:?-", lines[i + 1]):
+            j = i + 2
+            while j < len(lines) and lines[j].startswith("|"):
+                j += 1
+            cells = [c.strip() for ln in lines[i + 2:j] for c in ln.strip().strip("|").split("|")]
+            n = sum(bool(NUMERIC_CELL.match(c)) for c in cells if c)
+            if n >= 4 and n >= 0.25 * len(cells):
+                out.append(i)
+            i = j
+            continue
+        i += 1
+    return out
+
+
+def _unlabelled_tables(text: str) -> list[int]:
+    lines = text.split("\n")
+    if any("generated by" in ln.lower() and "benchmarks/" in ln for ln in lines[:5]):
+        return []  # a page written whole by a benchmark, which says so at its top
+    ok = (udo.MARKER, udo.RECORD, re.compile(r"^<!-- paper-study-summary: start"))
+    return [i + 1 for i in _numeric_tables(text)
+            if not (i and any(p.match(lines[i - 1]) for p in ok))]
+
+
+@pytest.mark.parametrize("page", udo.PAGES)
+def test_tables_of_numbers_are_generated_or_labelled_benchmark_records(page):
+    bad = _unlabelled_tables((ROOT / page).read_text(encoding="utf-8"))
+    assert not bad, (f"{page}, lines {bad}: a table of numbers must be a generated block "
+                     "(<!-- output: NAME -->) or a measured one (<!-- benchmark record: "
+                     "COMMAND -->)")
+
+
+def test_the_table_lint_sees_an_unlabelled_table():
+    table = "| a | b |\n|---|---|\n| 1.5 | 2 % |\n| 3 | 4 s |\n"
+    assert _unlabelled_tables("text\n\n" + table) == [3]
+    assert _unlabelled_tables("text\n<!-- benchmark record: python x.py -->\n" + table) == []
+    assert _unlabelled_tables("| name | flag |\n|---|---|\n| --x | a 1.5 b |\n") == []
+
+
+def test_benchmark_records_name_scripts_that_exist():
+    for page in udo.PAGES:
+        for ln in (ROOT / page).read_text(encoding="utf-8").split("\n"):
+            m = udo.RECORD.match(ln)
+            if not m:
+                continue
+            names = re.findall(r"[\w/]+\.py", m["command"])
+            assert names, ln
+            for name in names:
+                assert (ROOT / name).is_file() or (ROOT / "benchmarks" / name).is_file(), (
+                    f"{page}: {name} does not exist")
+
+
+def test_pages_with_interpreter_sessions_run_as_doctests():
+    import test_doctests
+
+    for page in udo.PAGES:
+        if ">>> " in (ROOT / page).read_text(encoding="utf-8"):
+            assert page.removeprefix("docs/") in test_doctests.DOC_PAGES, page
