@@ -240,7 +240,8 @@ MUTANTS: list[Mutant] = [
       "a checkpoint of another formulation is accepted",
       ("tests/test_formulations.py::test_resume_refuses_a_checkpoint_of_another_formulation",)),
     M("report_pruning_drops_formulation", "vhfit/calibration/_report.py",
-      "formulation=model.formulation)", ")",
+      "len(keep), rtol=model.rtol,\n                                formulation=model.formulation)",
+      "len(keep), rtol=model.rtol)",
       "pruning Prony terms falls back to the hereditary formulation",
       ("tests/test_formulations.py::test_pruned_terms_keep_the_formulation",)),
     # ------------------------------------------------------------------ data
@@ -840,7 +841,7 @@ MUTANTS: list[Mutant] = [
       "the warning names another term's exponent than the modulus's own",
       ("tests/test_degenerate.py",)),
     M("deg_fewer_terms_same", "vhfit/calibration/_report.py",
-      "        n = n_moduli - 1\n", "        n = n_moduli\n",
+      "return hm.fewer or", "return hm.name or",
       "the advice names the law that was fitted, not one with fewer terms",
       ("tests/test_degenerate.py",)),
     M("deg_negligible_threshold", "vhfit/calibration/_report.py",
