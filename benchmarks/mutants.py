@@ -1122,9 +1122,9 @@ MUTANTS: list[Mutant] = [
       "the report of an interrupted fit reads as a finished one",
       ("tests/test_cli.py::test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_"
        "run",)),
-    M("html_holds_not_seen", "vhfit/report/_figures.py",
-      "return bool(held.any() or ((d > 0).any() and (d < 0).any()))",
-      "return bool((d > 0).any() and (d < 0).any())",
+    M("html_holds_not_seen", "vhfit/plot.py",
+      "return bool(held.any() or ((d > 1e-6 * scale).any() and (d < -1e-6 * scale).any()))",
+      "return bool((d > 1e-6 * scale).any() and (d < -1e-6 * scale).any())",
       "a ramp–hold history gets no stress–time view (only unloading is noticed)",
       ("tests/test_report.py::test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_"
        "does_not",)),
