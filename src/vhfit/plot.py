@@ -139,6 +139,8 @@ RAMP_POINTS = 60
 HOLD_POINTS = 40
 #: most items named in a legend of plot_moduli_fit (more: coloured without names)
 MAX_LEGEND_ITEMS = 8
+#: temperatures closer than this are one temperature of a calibration's shift table
+SAME_TEMPERATURE = 1.0
 #: most points of one model line
 MAX_LINE_POINTS = 6000
 #: points of the model line of an equilibrium curve (uniform in its strain)
@@ -403,7 +405,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
     top_rows = -(-len(panels) // top_cols)
     bot_cols = min(len(shown), 3)
     bot_rows = -(-len(shown) // bot_cols) if shown else 0
-    width = 5.0 * max(top_cols, bot_cols)
+    width = max(6.0, 5.0 * max(top_cols, bot_cols))
     fig, subs = _subfigures(path, [4.2 * top_rows, 3.2 * bot_rows], (width, 0.0))
     axes = subs[0].subplots(top_rows, top_cols, squeeze=False).ravel()
     errs = list(cal.per_curve_rmsape or [])
@@ -418,8 +420,9 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
         for i in group:
             d, ln, c = data[i], lines[i], curves[i]
             lab = _label(c, i)
-            if several and mode_name(c.deformation) not in lab:
-                lab += f", {mode_name(c.deformation)}"
+            test = get_deformation(c.deformation)
+            if several and not any(a in lab.lower() for a in (test.name, *test.aliases)):
+                lab += f", {test.name}"
             if i < len(errs) and np.isfinite(errs[i]):
                 lab += f", RMSAPE {errs[i]:.3g} %"
             k = _thin(d["strain"].size)
@@ -598,19 +601,21 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
     items = [c for c in items if is_moduli(c)]
     if not items:
         raise ValueError("no frequency sweeps or relaxation tests to plot")
+    temps = [getattr(c, "temperature", None) for c in items]
+    items = [_at_reference(cal, c, T) for c, T in zip(items, temps)]
     fits = cal.fitted_curves(items)
     sweeps = [i for i, f in enumerate(fits) if "storage" in f]
     relax = [i for i, f in enumerate(fits) if "storage" not in f]
     panels = [p for p in (sweeps, relax) if p]
     fig, axes = _figure(path, 1, len(panels), figsize=(5.6 * len(panels), 4.2),
                         layout="constrained")
-    temps = [getattr(c, "temperature", None) for c in items]
     by_temp = all(T is not None for T in temps) and len(set(temps)) > 1
     for ax, panel in zip(axes[0], panels):
         # many items: coloured by temperature (a colour bar) or by order, no long legend
-        colours = (_temperature_colours(fig, ax, [temps[i] for i in panel]) if by_temp
-                   else _colours(len(panel)))
         named = not by_temp and len(panel) <= MAX_LEGEND_ITEMS
+        colours = (_temperature_colours(fig, ax, [temps[i] for i in panel]) if by_temp
+                   else _colours(len(panel)) if named
+                   else _order_colours(fig, ax, len(panel)))
         for c, i in zip(colours, panel):
             f, lab = fits[i], _label(items[i], i)
             if "storage" in f:
@@ -627,13 +632,34 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
         # items shifted to T_ref by the calibration sit at reduced frequency (time)
         sweep = "storage" in fits[panel[0]]
         _moduli_axes(ax, sweep, bool(cal.shift_table))
+        _data_ylim(ax, [fits[i][k] for i in panel for k in ("storage", "loss", "modulus")
+                        if k in fits[i]])
         if named:
             ax.legend(fontsize=7, loc="best")
         what = ("E' (o, solid) and E'' (s, dashed)" if sweep else "E(t)")
-        ax.set_title(f"{len(panel)} {'sweeps' if sweep else 'relaxation tests'}: {what}",
+        noun = "sweep" if sweep else "relaxation test"
+        ax.set_title(f"{len(panel)} {noun}{'s' if len(panel) > 1 else ''}: {what}",
                      fontsize=9)
     fig.suptitle("markers: data, lines: model", fontsize=10)
     return _finish(fig, path)
+
+
+def _at_reference(cal, item, T):
+    """A sweep or relaxation test at its measured temperature ``T``, shifted to the
+    calibration's reference as the fit shifted it (its table of log10 a_T, else its
+    law); an item without a temperature is taken as shifted already."""
+    table = dict(getattr(cal, "shift_table", None) or {})
+    law = getattr(cal, "shift", None)
+    if T is None or not (table or law is not None):
+        return item
+    near = [k for k in table if abs(k - T) <= SAME_TEMPERATURE]
+    if near:
+        log_aT = table[min(near, key=lambda k: abs(k - T))]
+    elif law is not None:
+        log_aT = float(law.log_aT(np.asarray([T], dtype=np.float64))[0])
+    else:
+        return item
+    return item.shifted(10.0 ** log_aT)
 
 
 def plot_history(cal, path=None):
@@ -743,6 +769,28 @@ def _temperature_colours(fig, ax, temps: Sequence[float]) -> list:
     cmap = colormaps["coolwarm"]
     fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="temperature")
     return [cmap(norm(T)) for T in temps]
+
+
+def _order_colours(fig, ax, n: int) -> list:
+    """Colours of ``n`` items in data order and a colour bar numbering them."""
+    from matplotlib import colormaps
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import Normalize
+
+    norm = Normalize(1, max(n, 2))
+    cmap = colormaps["coolwarm"]
+    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="item (data order)")
+    return [cmap(norm(k + 1)) for k in range(n)]
+
+
+def _data_ylim(ax, arrays) -> None:
+    """Log y limits a decade beyond the data: a model line far outside them leaves the
+    panel instead of squeezing the data into a strip."""
+    y = np.concatenate([np.asarray(a, dtype=np.float64).ravel() for a in arrays])
+    y = y[np.isfinite(y) & (y > 0)]
+    if y.size:
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(max(lo, float(y.min()) / 10.0), min(hi, float(y.max()) * 10.0))
 
 
 def plot_sweeps(master, path=None, *, shifted: bool = False):
