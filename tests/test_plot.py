@@ -214,3 +214,21 @@ def test_shear_is_labelled_gamma_and_the_sign_note_follows_the_data():
     assert only.get_xlabel() == "engineering strain λ1 − 1 (compression < 0)"
     only = plot.plot_fit(_Cal(), [tension], io.BytesIO()).axes[0]
     assert "compression" not in only.get_xlabel()
+
+
+@pytest.mark.filterwarnings("error")
+def test_stress_time_figure_draws_the_model_line_of_each_history_that_holds():
+    """plot_stress_time: one panel per history with holds or unloading (a monotone ramp
+    is left out), its line model_line's; none to draw is a clear error."""
+    pytest.importorskip("matplotlib")
+    hold = _ramp_hold()
+    ramp = vhfit.Curve(strain=[0.1, 0.2, 0.3], stress=[1, 2, 3], strain_rate=0.1)
+    fig = plot.plot_stress_time(_Cal(), [ramp, hold], io.BytesIO())
+    (ax,) = [a for a in fig.axes if a.get_visible()]
+    assert ax.get_title() == "ramp-hold (0.3 1/s)" and ax.get_xlabel() == "time (s)"
+    (ln,) = _model_lines(ax)
+    want = plot.model_line(_Cal(), hold)
+    np.testing.assert_array_equal(ln.get_xdata(), want["time"])
+    np.testing.assert_array_equal(ln.get_ydata(), want["model"])
+    with pytest.raises(ValueError, match="no history holds or unloads"):
+        plot.plot_stress_time(_Cal(), [ramp])
