@@ -452,7 +452,8 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
         title = f"{hm} + {cal.model.n_prony} Prony term(s)"
         if cal.rmsape is not None:
             title += f": RMSAPE {cal.rmsape:.3g} %"
-    fig.suptitle(f"{title}\nmarkers: data, lines: model", fontsize=10)
+        title += "\nmarkers: data, lines: model"
+    fig.suptitle(title, fontsize=10)
     return _finish(fig, path)
 
 
@@ -487,9 +488,13 @@ def plot_stress_time(cal, curves: Sequence, path=None):
     lines = {i: model_line(cal, curves[i]) for i in shown}
     cols = min(len(shown), 3)
     fig, subs = _subfigures(path, [3.2 * -(-len(shown) // cols)], (5.0 * cols, 0.0))
-    _time_panels(subs[0], cal, curves, data, lines, shown, timed[len(shown):],
-                 _curve_colours(len(curves)))
-    fig.suptitle("markers: data, lines: model", fontsize=10)
+    more = timed[len(shown):]
+    _time_panels(subs[0], cal, curves, data, lines, shown, more,
+                 _curve_colours(len(curves)), heading=False)
+    head = "stress against time; markers: data, lines: model"
+    if more:
+        head += f"\nnot shown: {', '.join(str(curves[i].name) for i in more)}"
+    fig.suptitle(head, fontsize=10)
     return _finish(fig, path)
 
 
@@ -514,7 +519,8 @@ def _subfigures(path, heights: list[float], size: tuple[float, float]):
     return fig, list(subs)
 
 
-def _time_panels(sub, cal, curves, data, lines, shown, more, colours) -> None:
+def _time_panels(sub, cal, curves, data, lines, shown, more, colours,
+                 heading: bool = True) -> None:
     """Stress against time: one panel per history, data markers and the model line."""
     cols = min(len(shown), 3)
     rows = -(-len(shown) // cols)
@@ -537,10 +543,11 @@ def _time_panels(sub, cal, curves, data, lines, shown, more, colours) -> None:
         ax.axhline(0, color="0.6", lw=0.6)
     for ax in axes[len(shown):]:
         ax.set_visible(False)
-    head = "stress against time"
-    if more:
-        head += f" (not shown: {', '.join(str(curves[i].name) for i in more)})"
-    sub.suptitle(head, fontsize=9)
+    if heading:
+        head = "stress against time"
+        if more:
+            head += f" (not shown: {', '.join(str(curves[i].name) for i in more)})"
+        sub.suptitle(head, fontsize=9)
 
 
 def _draw_series(sub, ax, cal, curve, d, direction: int, i: int, errs) -> None:
@@ -781,7 +788,11 @@ def _order_colours(fig, ax, n: int) -> list:
 
     norm = Normalize(1, max(n, 2))
     cmap = colormaps["coolwarm"]
-    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="item (data order)")
+    from matplotlib.ticker import MaxNLocator
+
+    bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="item (data order)")
+    bar.locator = MaxNLocator(integer=True)
+    bar.update_ticks()
     return [cmap(norm(k + 1)) for k in range(n)]
 
 
