@@ -232,3 +232,24 @@ def test_stress_time_figure_draws_the_model_line_of_each_history_that_holds():
     np.testing.assert_array_equal(ln.get_ydata(), want["model"])
     with pytest.raises(ValueError, match="no history holds or unloads"):
         plot.plot_stress_time(_Cal(), [ramp])
+
+
+@pytest.mark.filterwarnings("error")
+def test_an_equibiaxial_test_with_both_stresses_shows_the_second_dashed():
+    """Equibiaxial with stress2 given: squares and a dashed line for direction 2, both
+    on the closed form P = 2 C10 (λ − λ⁻⁵) (λ3 = λ⁻²), equal in both directions."""
+    pytest.importorskip("matplotlib")
+    lam = np.linspace(1.1, 2.0, 6)
+    P = 2 * C10 * (lam - lam**-5)
+    curve = vhfit.Curve(stretch=lam, stress=P, stress2=P * 1.01, deformation="equibiaxial",
+                        name="eb")
+    (ax,) = plot.plot_fit(_Cal(), [curve], io.BytesIO()).axes
+    solid, dashed = _model_lines(ax)
+    assert solid.get_linestyle() == "-" and dashed.get_linestyle() == "--"
+    for ln in (solid, dashed):
+        x = ln.get_xdata()
+        np.testing.assert_allclose(ln.get_ydata(), 2 * C10 * ((1 + x) - (1 + x) ** -5),
+                                   rtol=1e-10)
+    squares = [ln for ln in ax.get_lines() if ln.get_marker() == "s"]
+    np.testing.assert_array_equal(squares[0].get_ydata(), P * 1.01)
+    assert ax.get_ylabel().endswith("direction 2: squares, dashed")

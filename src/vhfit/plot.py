@@ -440,6 +440,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
             yl += "; direction 2: squares, dashed"
         ax.set_xlabel(xl)
         ax.set_ylabel(yl)
+        ax.locator_params(axis="x", nbins=6)  # ticks such as -0.075 stay apart
         ax.grid(True, alpha=0.3)
         ax.axhline(0, color="0.6", lw=0.6)
         ax.legend(fontsize=7, loc="upper left")
@@ -539,6 +540,7 @@ def _time_panels(sub, cal, curves, data, lines, shown, more, colours,
         ax.set_title(_label(c, i), fontsize=9)
         ax.set_xlabel("time (s)")
         ax.set_ylabel(_axis_labels([c])[1])
+        ax.locator_params(axis="x", nbins=6)
         ax.grid(True, alpha=0.3)
         ax.axhline(0, color="0.6", lw=0.6)
     for ax in axes[len(shown):]:
