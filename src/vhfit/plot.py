@@ -453,6 +453,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
         title = f"{hm} + {cal.model.n_prony} Prony term(s)"
         if cal.rmsape is not None:
             title += f": RMSAPE {cal.rmsape:.3g} %"
+    if "markers" not in title:  # the report's titles say it already
         title += "\nmarkers: data, lines: model"
     fig.suptitle(title, fontsize=10)
     return _finish(fig, path)
