@@ -13,7 +13,12 @@ factors with the fitted law, and the relative residuals of the spectrum.
 The data-against-fit plot puts curves whose stress magnitudes differ by more than a
 factor ``ratio`` (default 10) on separate panels, as the paper did for SEBS and
 gelatin (its Figs. 10 and 11): a slow curve at 0.1 MPa is invisible next to a fast
-one at 2 MPa on a common axis.
+one at 2 MPa on a common axis. Each test is drawn as its deformation record
+(:mod:`vhfit.modes`) describes it: the axes are labelled from the record (γ and the
+shear stress in simple shear; the tension/compression note only as the data have
+it), both loaded directions are shown, a general biaxial test is drawn per series of
+held stretch, and the model follows each curve's own history (:func:`model_line`);
+histories with holds or unloading get stress–time panels (:func:`plot_stress_time`).
 """
 
 from __future__ import annotations
@@ -881,7 +886,7 @@ def plot_master_curve(master, spectrum=None, path=None):
             ax.plot(fine, m2, "-", color="C3")
     _moduli_axes(ax, freq, True)
     ax.legend(fontsize=8)
-    ax.set_title(f"master curve at T_ref = {master.T_ref:g}", fontsize=10)
+    ax.set_title(f"master curve at T_ref = {master.T_ref:.4g}", fontsize=10)
     return _finish(fig, path)
 
 
