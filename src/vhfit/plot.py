@@ -338,13 +338,15 @@ def _holds(t, e) -> bool:
 
 
 def _panels(curves, peaks, ratio: float) -> list[tuple[str, list[int]]]:
-    """Stress–strain panels: (kind, curve indices). Shear curves and one-stretch
-    principal tests get panels of their own, split by stress magnitude; a test with a
-    second prescribed stretch gets two panels (one per direction) per curve."""
+    """Stress–strain panels: (kind, curve indices). Shear curves and principal tests
+    get panels of their own, split by stress magnitude; an equilibrium test with a
+    second prescribed stretch gets two panels (one per direction) per curve, drawn by
+    series of held stretch."""
     kinds: dict[str, list[int]] = {}
     for i, c in enumerate(curves):
         t = get_deformation(c.deformation)
-        kinds.setdefault("second" if t.second_stretch else "shear" if t.shear
+        series = t.second_stretch and c.history.is_equilibrium  # a history in time: a line
+        kinds.setdefault("second" if series else "shear" if t.shear
                          else "principal", []).append(i)
     out = []
     for kind in ("principal", "shear"):
