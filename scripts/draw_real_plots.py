@@ -5,7 +5,7 @@ Run::
     python scripts/draw_real_plots.py [--data DIR] [--out DIR] [--only name,name]
 
 The data are read at run time from ``--data`` (default ``$VHFIT_DATA`` or the
-``shared/data`` folder beside the repository's parent); nothing is copied into the
+``shared/data`` folder beside the repository); nothing is copied into the
 project. Each dataset is fitted once with vhfit's defaults (the calibration is kept in
 ``--out``/cache and reused on the next run), then its figures are written to ``--out``
 (default ``/tmp/vhfit_real_plots``): ``NAME_fit.png`` (:func:`vhfit.plot.plot_fit`),
