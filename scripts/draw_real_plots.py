@@ -6,7 +6,8 @@ Run::
 
 The data are read at run time from ``--data`` (default ``$VHFIT_DATA`` or the
 ``shared/data`` folder beside the repository); nothing is copied into the
-project. Each dataset is fitted once with vhfit's defaults (the calibration is kept in
+project. Each dataset is fitted once (seed 0, the law and N of ``DATASETS``, N = "auto" up
+to 4, no intervals; the calibration is kept in
 ``--out``/cache and reused on the next run), then its figures are written to ``--out``
 (default ``/tmp/vhfit_real_plots``): ``NAME_fit.png`` (:func:`vhfit.plot.plot_fit`),
 ``NAME_moduli.png`` for frequency sweeps and relaxation tests, and for the DMA
