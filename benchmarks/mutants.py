@@ -1123,9 +1123,9 @@ MUTANTS: list[Mutant] = [
       "the report of an interrupted fit reads as a finished one",
       ("tests/test_cli.py::test_interrupt_writes_outputs_and_resume_matches_an_uninterrupted_"
        "run",)),
-    M("html_holds_not_seen", "vhfit/report/_figures.py",
-      "return bool(held.any() or ((d > 0).any() and (d < 0).any()))",
-      "return bool((d > 0).any() and (d < 0).any())",
+    M("html_holds_not_seen", "vhfit/plot.py",
+      "return bool(held.any() or ((d > 1e-6 * scale).any() and (d < -1e-6 * scale).any()))",
+      "return bool((d > 1e-6 * scale).any() and (d < -1e-6 * scale).any())",
       "a ramp–hold history gets no stress–time view (only unloading is noticed)",
       ("tests/test_report.py::test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_"
        "does_not",)),
@@ -1341,4 +1341,48 @@ MUTANTS: list[Mutant] = [
       "file not found; check the path (run 'vhfit demo'",
       "the missing-file error reworded: docs/cli.md still shows the old one",
       ("tests/test_docs.py::test_every_output_block_matches_the_code",)),
+    # i24-plots: plots that follow each test's record
+    M("i24plots_ramp_not_drawn", "vhfit/plot.py",
+      "    n = np.maximum(n_ramp, n_hold)\n", "    n = n_hold\n",
+      "the model line of a short ramp before a long hold gets no points inside the ramp "
+      "(drawn as a straight line)",
+      ("tests/test_plot.py::test_a_ramp_before_a_long_hold_is_drawn_through_and_its_time_"
+       "view_relaxes",)),
+    M("i24plots_second_direction_hidden", "vhfit/plot.py",
+      "        if curves[i].stress2 is not None:\n            out.append((\"second-2\", [i]))",
+      "        if False:\n            out.append((\"second-2\", [i]))",
+      "a biaxial test's second stress is not shown",
+      ("tests/test_plot.py::test_a_biaxial_test_shows_both_directions_per_held_stretch_"
+       "series",)),
+    M("i24plots_biaxial_one_sawtooth", "vhfit/plot.py",
+      "    return (r1, 2) if len(r1) <= len(r2) else (r2, 1)",
+      "    return [np.arange(e1.size)], 2",
+      "a biaxial series is drawn as one line back to the origin",
+      ("tests/test_plot.py::test_a_biaxial_test_shows_both_directions_per_held_stretch_"
+       "series",)),
+    M("i24plots_compression_note_always", "vhfit/plot.py",
+      '    return " (compression < 0)" if "compression" in modes else ""',
+      '    return " (compression < 0)"',
+      "tension-only plots say 'compression < 0'",
+      ("tests/test_plot.py::test_a_ramp_before_a_long_hold_is_drawn_through_and_its_time_"
+       "view_relaxes",
+       "tests/test_plot.py::test_shear_is_labelled_gamma_and_the_sign_note_follows_the_"
+       "data")),
+    M("i24plots_shear_sign_note", "vhfit/plot.py",
+      "    if not any(t.shear for t in tests):\n        x +=",
+      "    if True:\n        x +=",
+      "the amount of shear gets a tension/compression note",
+      ("tests/test_plot.py::test_shear_is_labelled_gamma_and_the_sign_note_follows_the_"
+       "data",)),
+    M("i24plots_sweeps_legend_not_colour_bar", "vhfit/plot.py",
+      "    by_temp = all(T is not None for T in temps) and len(set(temps)) > 1",
+      "    by_temp = False",
+      "sweeps at many temperatures are not coloured by temperature (no temperature bar)",
+      ("tests/test_plot_dma.py::test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_"
+       "legend",)),
+    M("i24plots_sweeps_not_shifted", "vhfit/plot.py",
+      "    return item.shifted(10.0 ** log_aT)", "    return item",
+      "raw sweeps drawn at their measured frequency under a 'reduced frequency' axis",
+      ("tests/test_plot_dma.py::test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_"
+       "legend",)),
 ]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 import numpy as np
 import pytest
 
@@ -92,3 +94,62 @@ def test_moduli_fit_draws_the_data_and_the_model_of_each_item(tmp_path):
     assert fig.axes[0].get_xlabel().startswith("reduced frequency")
     with pytest.raises(ValueError, match="no frequency sweeps"):
         plot.plot_moduli_fit(Cal(), [])
+
+
+def _sweeps_at(temps):
+    """Sweeps of one Prony material at each temperature, shifted by LAW (E' and E'' from
+    the complex modulus written here)."""
+    import vhfit  # noqa: PLC0415
+
+    f = np.logspace(-1, 2, 6)
+    tau, G = 10.0 ** np.arange(-5.0, 0.0), np.array([5.0, 8.0, 6.0, 3.0, 1.0])
+    out = []
+    for T in temps:
+        wt = 2j * np.pi * (f * LAW.aT(T))[:, None] * tau
+        E = 1 + (G * wt / (1 + wt)).sum(1)
+        out.append(vhfit.FrequencySweep(frequency=f, storage=E.real, loss=E.imag,
+                                        temperature=T, name=f"dma [T = {T:g}]"))
+    return out
+
+
+@pytest.mark.filterwarnings("error")
+def test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_legend(capfd):
+    """Raw sweeps at 21 temperatures: coloured blue (cold) to red (hot) with a colour
+    bar labelled temperature, no legend (it had 42 entries and squeezed the axes, with
+    a layout warning on stderr); plot_moduli_fit draws them at f a_T, a_T from the
+    calibration's table, and the same for plot_sweeps of a master curve."""
+    import vhfit  # noqa: PLC0415
+
+    temps = np.linspace(-50.0, 100.0, 21)
+    items = _sweeps_at(temps)
+
+    class Cal:
+        model = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+        params = dict(C10=0.2, C01=0.05, G1=1.0, tau1=1e-2)
+        shift_table = {float(T): float(LAW.log_aT(T)) for T in temps}
+        shift = LAW
+
+        def fitted_curves(self, its):
+            return [c.fitted_curve(self.model, self.params) for c in its]
+
+    fig = plot.plot_moduli_fit(Cal(), items, io.BytesIO())
+    ax, bar = fig.axes
+    assert ax.get_legend() is None and bar.get_ylabel() == "temperature"
+    assert bar.get_ylim() == pytest.approx((-50.0, 100.0))
+    data = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
+    assert len(data) == 21
+    for ln, T in zip(data, temps):
+        np.testing.assert_allclose(ln.get_xdata(), np.logspace(-1, 2, 6) * LAW.aT(T),
+                                   rtol=1e-12)
+    cold, hot = data[0].get_color(), data[-1].get_color()
+    assert cold[2] > cold[0] and hot[0] > hot[2]  # blue cold, red hot
+    sweeps = tts.sweeps_from_columns(
+        np.repeat(temps, 6), frequency=np.tile(np.logspace(-1, 2, 6), 21),
+        storage=np.concatenate([s.storage for s in items]),
+        loss=np.concatenate([s.loss for s in items]))
+    mc = tts.master_curve(sweeps, T_ref=20.0, shift_factors=LAW)
+    fig = plot.plot_sweeps(mc, io.BytesIO())
+    ax, bar = fig.axes
+    assert ax.get_legend() is None and bar.get_ylabel() == "temperature"
+    assert len(ax.get_lines()) == 42
+    assert capfd.readouterr().err == ""

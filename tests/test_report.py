@@ -257,7 +257,7 @@ def test_one_fit_figure_per_test_mode_and_the_order_scan(tmp_path):
 
 
 @pytest.mark.skipif(not plot.have_matplotlib(), reason="figures need matplotlib")
-def test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_does_not(page):
+def test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_does_not(page, tmp_path):
     m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
     t = np.concatenate([np.linspace(0.0, 1.0, 11), np.linspace(1.5, 20.0, 20)])
     eps = np.where(t <= 1.0, -0.3 * t, -0.3)
@@ -271,6 +271,18 @@ def test_a_ramp_hold_history_gets_a_stress_time_view_and_a_ramp_does_not(page):
     figs = re.findall(r'<figure id="fig-([^"]+)"', report.build_report(c, cards={}))
     assert "stress-time" in figs
     assert "stress-time" not in re.findall(r'<figure id="fig-([^"]+)"', page)
+    # vhfit fit's own fit.png of one mode holds the stress-time panels: not drawn twice
+    import io  # noqa: PLC0415
+
+    fig = plot.plot_fit(c, [hold], io.BytesIO())
+    assert [ax.get_xlabel() for ax in fig.axes] == ["engineering strain λ1 − 1 "
+                                                    "(compression < 0)", "time (s)"]
+    png = tmp_path / "fit.png"
+    plot.plot_fit(c, [hold], png)
+    text = report.build_report(c, [hold], cards={}, images={"fit": png})
+    figs = re.findall(r'<figure id="fig-([^"]+)"', text)
+    assert figs[0] == "fit-uniaxial" and "stress-time" not in figs
+    assert "below, stress against time" in text
 
 
 def test_a_result_read_back_brings_its_recorded_context(cal, tmp_path):

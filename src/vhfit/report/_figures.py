@@ -1,8 +1,7 @@
 """The report's figures, each drawn in memory and inlined as a base64 PNG.
 
-The fit, moduli, order-scan and history figures are :mod:`vhfit.plot`'s; the
-stress–time view of histories with holds or unloading, the residuals and the shift
-factors of a calibration are drawn here. Every figure is drawn on a bare Agg
+The fit, stress–time, moduli, shift-factor, order-scan and history figures are
+:mod:`vhfit.plot`'s; the residuals are drawn here. Every figure is drawn on a bare Agg
 :class:`matplotlib.figure.Figure` (no display, no pyplot state); one that fails leaves
 a one-line note in its place, never a failed report.
 """
@@ -24,8 +23,6 @@ from vhfit.modes import get_deformation
 
 #: dots per inch of the figures drawn here (vhfit.plot's own are at 120)
 DPI = 100
-#: at most this many histories get a stress–time panel (the rest are named)
-MAX_TIME_PANELS = 6
 
 
 @dataclasses.dataclass
@@ -100,68 +97,37 @@ def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
     """Data against model, one figure per deformation mode; then stress against time.
 
     ``drawn``: a PNG file of :func:`vhfit.plot.plot_fit` of all the curves, used as the
-    figure when they are all of one mode (drawing it again would double the time).
+    figure when they are all of one mode (drawing it again would double the time); it
+    holds the stress–time panels already.
     """
     out = []
     groups = modes_of(curves)
+    timed = [c for c in curves if not is_moduli(c) and plot.has_holds_or_unloading(c)]
     if drawn is not None and len(groups) == 1:
         mode = next(iter(groups))
+        cap = "curves whose stresses differ by more than 10x are on separate panels"
+        if timed:
+            cap += "; below, stress against time of the histories with holds or unloading"
         out.append(from_file(f"fit-{mode}", f"{mode_name(mode)}: data (markers) "
-                             "and model (lines)", "curves whose stresses differ by more than "
-                             "10x are on separate panels", drawn))
-        groups = {}
+                             "and model (lines)", cap, drawn))
+        return out
     for mode, idx in groups.items():
         name = mode_name(mode)
         sub, cs = _subset(cal, idx), [curves[i] for i in idx]
         title = f"{name}: data (markers) and model (lines)"
         out.append(_draw(f"fit-{mode}", title,
                          "curves whose stresses differ by more than 10x are on separate panels",
-                         lambda buf, sub=sub, cs=cs, t=title: plot.plot_fit(sub, cs, buf, title=t)))
-    timed = [i for i, f in enumerate(fits) if "fine_time" in f and has_holds_or_unloading(f)]
+                         lambda buf, sub=sub, cs=cs, t=title: plot.plot_fit(
+                             sub, cs, buf, title=t, time_panels=False)))
     if timed:
-        shown = timed[:MAX_TIME_PANELS]
-        more = [str(curves[i].name) for i in timed[MAX_TIME_PANELS:]]
-        cap = ("the model at the data's own times and on a fine grid; "
-               + (f"not shown: {', '.join(more)}" if more else "every such history shown"))
+        more = len(timed) > plot.MAX_TIME_PANELS
+        cap = ("the model along each history (its breakpoints, the data's own points and "
+               "points inside each ramp and hold); "
+               + ("the first ones shown, the others named" if more
+                  else "every such history shown"))
         out.append(_draw("stress-time", "stress against time (histories with holds or "
-                         "unloading)", cap, lambda buf: _stress_time(curves, fits, shown, buf)))
+                         "unloading)", cap, lambda buf: plot.plot_stress_time(cal, curves, buf)))
     return out
-
-
-def has_holds_or_unloading(f: dict) -> bool:
-    """Whether a fitted history holds its strain or reverses it (not a monotone ramp)."""
-    t, e = np.asarray(f["time"]), np.asarray(f["strain"])
-    if t.size < 3 or not np.all(np.isfinite(t)):
-        return False
-    d = np.diff(e)
-    scale = max(float(np.max(np.abs(e))), 1e-300)
-    held = np.abs(d) <= 1e-9 * scale
-    return bool(held.any() or ((d > 0).any() and (d < 0).any()))
-
-
-def _stress_time(curves, fits, shown: list[int], buf):
-    n = len(shown)
-    cols = min(n, 3)
-    rows = -(-n // cols)
-    fig, axes = _bare(rows, cols, (4.2 * cols, 3.2 * rows))
-    for k, ax in enumerate(axes.flat):
-        if k >= n:
-            ax.set_visible(False)
-            continue
-        i = shown[k]
-        f = fits[i]
-        t = np.concatenate([f["time"], f["fine_time"]])
-        m = np.concatenate([f["model"], f["fine_model"]])
-        order = np.argsort(t, kind="stable")
-        ax.plot(f["time"], f["stress"], "o", ms=3, mfc="none", color="C0", label="data")
-        ax.plot(t[order], m[order], "-", lw=1.3, color="C3", label="model")
-        ax.set_title(str(curves[i].name), fontsize=9)
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel(f"{curves[i].measure} stress (MPa)")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-    _save(fig, buf)
-    return fig
 
 
 def residual_figure(cal, curves, fits: list) -> Figure:
