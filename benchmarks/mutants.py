@@ -1385,4 +1385,9 @@ MUTANTS: list[Mutant] = [
       "raw sweeps drawn at their measured frequency under a 'reduced frequency' axis",
       ("tests/test_plot_dma.py::test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_"
        "legend",)),
+    # lead: vhfit fit's moduli plot gets the sweeps at their temperatures
+    M("cli_moduli_plot_shifted_items", "vhfit/cli/_outputs.py",
+      "plot.plot_moduli_fit(cal, raw or curves,", "plot.plot_moduli_fit(cal, curves,",
+      "moduli.png gets the already shifted sweeps: coloured in data order, not by temperature",
+      ("tests/test_dma_cli.py",)),
 ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -160,6 +161,22 @@ def test_fit_with_a_given_wlf_shift_writes_it_into_the_cards(tts_files, tmp_path
     assert cli.main(["check", str(out / "results.json"), "--json"]) == 0
     check = json.loads(capsys.readouterr().out)["card_check"]
     assert check["abaqus"]["rmsape"] < 1e-6 and check["ansys"]["rmsape"] < 1e-6
+
+
+def test_fit_draws_the_sweeps_as_measured_so_that_temperature_colours_them(
+        tts_files, tmp_path, capsys, monkeypatch):
+    # the moduli plot shifts the sweeps itself: it must get them at their temperatures
+    from vhfit import plot
+
+    seen = []
+    monkeypatch.setattr(plot, "plot_moduli_fit",
+                        lambda cal, items, path: seen.extend(items) or Path(path).touch())
+    out = tmp_path / "out"
+    assert cli.main(["fit", *map(str, tts_files), "--prony", "2", "--seed", "0",
+                     "--shift", "wlf:8.86,101.6", "--tref", "20", "--out", str(out),
+                     "--quiet"]) == 0
+    temps = {c.temperature for c in seen if plot.is_moduli(c)}
+    assert temps == {0.0, 20.0, 40.0, 60.0}
 
 
 def test_fit_builds_the_shift_from_the_sweeps_and_export_keeps_it(tts_files, tmp_path,

@@ -620,7 +620,7 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
     items = [c for c in items if is_moduli(c)]
     if not items:
         raise ValueError("no frequency sweeps or relaxation tests to plot")
-    temps = [getattr(c, "temperature", None) for c in items]
+    temps = [c.temperature for c in items]
     items = [_at_reference(cal, c, T) for c, T in zip(items, temps)]
     fits = cal.fitted_curves(items)
     sweeps = [i for i, f in enumerate(fits) if "storage" in f]

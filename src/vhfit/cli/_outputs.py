@@ -51,7 +51,7 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
     cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
-    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
+    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo, raw=raw)
     written.update({p: "plot" for p in plots.values()})
     page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
                                      label=label, inputs=inputs, interrupted=interrupted)
@@ -89,9 +89,10 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     return written
 
 
-def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
-                demo: bool) -> tuple[dict[str, str], str | None]:
-    """The plots that apply ({kind: file}) and a note on those not drawn."""
+def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
+                raw=None) -> tuple[dict[str, str], str | None]:
+    """The plots that apply ({kind: file}) and a note on those not drawn (``raw``: the
+    tests as measured, whose temperatures colour the moduli plot; it shifts them)."""
     if skip:
         return {}, "plots skipped (--no-plot)"
     if not plot.have_matplotlib():
@@ -105,7 +106,7 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool,
                           f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
             plots["fit"] = "fit.png"
         if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
-            plot.plot_moduli_fit(cal, curves, out / "moduli.png")
+            plot.plot_moduli_fit(cal, raw or curves, out / "moduli.png")
             plots["moduli"] = "moduli.png"
         if cal.history and cal.history.get("nit"):
             plot.plot_history(cal, out / "history.png")
