@@ -173,7 +173,16 @@ class Comparison:
     def to_dict(self) -> dict:
         """JSON-ready: the rule, the best law, the ranked rows (no calibrations)."""
         return {"rule": self.rule, "best": self.best, "wall_time": float(self.wall_time),
-                "rows": [dict(r) for r in self.rows]}
+                "rows": [_finite(r) for r in self.rows]}
+
+
+def _finite(v: Any) -> Any:
+    """``v`` with every non-finite float as None (JSON has no inf)."""
+    if isinstance(v, dict):
+        return {k: _finite(x) for k, x in v.items()}
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v
 
 
 def _fmt(v: float, digits: int = 4) -> str:

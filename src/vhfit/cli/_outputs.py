@@ -30,10 +30,11 @@ RESULTS = "results.json"
 
 # ================================================================== outputs
 def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
-                   interrupted, demo, at_ref=None) -> dict[str, str]:
+                   interrupted, demo, at_ref=None, comparison=None) -> dict[str, str]:
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
     first fit of ``plan`` is the results' own, the others are listed under ``fits``
-    (``at_ref``: the tests at the reference temperature, if shifted)."""
+    (``at_ref``: the tests at the reference temperature, if shifted; ``comparison``: the
+    laws compared by ``--model a,b``, whose table heads the summary)."""
     cal = next(iter(fits.values()))
     raw, curves = curves, at_ref or curves  # tests at T_ref
     written: dict[str, str] = {}
@@ -58,7 +59,10 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
-    lines = (cards.headline + head + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
+    compared = [] if comparison is None else comparison.table().splitlines() + [
+        f"the other laws' results: laws/LAW/ ({RESULTS}, summary.txt)", ""]
+    lines = (compared + cards.headline + head
+             + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
              + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
     if plot_note:
         lines.append(plot_note)
@@ -82,6 +86,9 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     }
     if len(plan) > 1:
         extra["fits"] = cards.fits_record
+    if comparison is not None:
+        extra["comparison"] = {**comparison.to_dict(), "others": {
+            law: f"laws/{law}/{RESULTS}" for law in comparison.fits if law != comparison.best}}
     cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
              extra=extra)
     written[RESULTS] = "results"
