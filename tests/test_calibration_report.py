@@ -391,3 +391,73 @@ def test_calibrate_puts_the_rate_warning_first():
     cal = calibrate([slow, fast], n_prony=1, seed=0, uncertainty=False, maxiter=5,
                     check_rates=False)
     assert not [w for w in cal.warnings if w.startswith("curves 'slow'")]
+
+
+# ------------------------------------------------------- the summary reads top-down
+def _hand_made(rmsape, per_curve, warns=(), heads=()):
+    import vhfit
+
+    m = vhfit.ViscoHyperelastic("neo_hooke", 1)
+    return vhfit.Calibration(model=m, params=dict(C10=0.5, G1=1.0, tau1=0.0086000212345),
+                             rmsape=rmsape, per_curve_rmsape=list(per_curve), nit=1, nfev=1,
+                             wall_time=0.0, stop_reason="converged",
+                             curve_names=[f"c{i}" for i in range(len(per_curve))],
+                             warnings=list(warns) + list(heads), headlines=list(heads),
+                             T_ref=24.978180000000002, shift_source="table",
+                             shift_table={24.978180000000002: 0.0})
+
+
+def test_verdict_thresholds_are_the_documented_ones():
+    from vhfit.calibration import GOOD_FIT, ROUGH_FIT, WITHIN_FIT, grade
+
+    assert (GOOD_FIT, WITHIN_FIT, ROUGH_FIT) == (5.0, 10.0, 25.0)  # docs/cli.md
+    assert grade(5.0) == ("good", "good fit")
+    assert grade(5.0001)[1] == "fits within 10 %"
+    assert grade(10.0)[1] == "fits within 10 %"
+    assert grade(10.01)[1].startswith("rough fit")
+    assert grade(25.0)[1].startswith("rough fit")
+    assert grade(25.01)[1].startswith("poor: the law cannot follow the data; try")
+    assert grade(float("nan"))[0] == "poor"
+
+
+def test_summary_first_line_is_the_verdict_then_warnings_then_constants():
+    cal = _hand_made(7.0, [3.0, 9.5], warns=["a minor thing"], heads=["a major thing"])
+    lines = cal.summary().splitlines()
+    assert lines[0] == "RMSAPE 7 %: fits within 10 %; worst curve c1 (9.5 %)"
+    assert lines[0] == cal.verdict()
+    major = lines.index("WARNING: a major thing")
+    minor = lines.index("warning: a minor thing")
+    table = next(i for i, ln in enumerate(lines) if ln.startswith("parameter"))
+    assert major < minor < table
+    assert cal.summary(verdict=False).splitlines()[0].startswith("vhfit calibration:")
+    assert cal.verdict("interrupted").startswith("INTERRUPTED (best so far, not converged): ")
+    poor = _hand_made(40.0, [40.0])
+    assert poor.summary().splitlines()[0].startswith("RMSAPE 40 %: poor: the law cannot")
+    assert "worst curve" not in poor.verdict()  # one curve: no worst
+
+
+def test_summary_numbers_are_rounded_for_reading():
+    text = _hand_made(1.0, [1.0, 1.0]).summary()
+    # constants: 6 significant digits (full precision stays in results.json and the cards)
+    assert "0.0086000212345" not in text and "tau1" in text and " 0.00860002  s" in text
+    assert "24.978180000000002" not in text and "T_ref 24.9782" in text
+
+
+def test_rate_labels_round_but_keep_the_rates_apart():
+    from vhfit.data._specs import rate_label
+
+    assert rate_label(0.00860002, [0.00860002, 0.1]) == "0.0086"
+    assert rate_label(0.1, [0.00860002, 0.1]) == "0.1"
+    assert rate_label(0.00860002, [0.00860002, 0.0086]) == "0.00860002"
+    assert rate_label(1.00001, [1.00001, 1.00002]) == "1.00001"
+
+
+def test_a_warning_of_many_files_is_printed_once_with_the_list():
+    from vhfit.cli._fit import group_by_file
+
+    msgs = ["d/a.csv: no rate column, assumed -1/s", "d/b.csv: no rate column, assumed -1/s",
+            "d/ab.csv: no rate column, assumed -1/s", "d/b.csv: row 3 skipped", "general"]
+    got = group_by_file(msgs, ["d/a.csv", "d/b.csv", "d/ab.csv"])
+    assert got == ["FILE: no rate column, assumed -1/s (in 3 files: d/a.csv, d/b.csv, "
+                   "d/ab.csv)", "d/b.csv: row 3 skipped", "general"]
+    assert group_by_file(msgs[:1], ["d/a.csv"]) == msgs[:1]

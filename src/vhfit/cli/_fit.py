@@ -52,7 +52,8 @@ from vhfit.cli._settings import check_shift, fit_settings
 from vhfit.comparison import compare
 from vhfit.formulations import FORMULATIONS
 
-__all__ = ["cmd_fit", "cmd_demo", "run_fit", "run_compare", "model_list", "read_curves",
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "run_compare", "model_list", "group_by_file",
+           "read_curves",
            "CARD_FILES", "DEMO_PRONY"]
 
 RESULTS = "results.json"
@@ -333,7 +334,8 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         files = write_outputs(fits, plan, curves, inputs, args, out, label=label,
                                command=command, interrupted=interrupted, demo=demo,
                                at_ref=at_ref, comparison=comparison)
-    _show_warnings(caught, [w for c in fits.values() for w in c.warnings])
+    _show_warnings(caught, [w for c in fits.values() for w in c.warnings],
+                   [str(i["path"]) for i in inputs])
     print(files.pop("_summary"))
     print("")
     print(f"outputs in {out}/: " + ", ".join(sorted(files)))
@@ -399,9 +401,12 @@ def _checkpoint(formulation: str) -> str:
     return CHECKPOINT if formulation == "hereditary" else f"{CHECKPOINT}.{formulation}"
 
 
-def _show_warnings(caught: list, shown: list[str]) -> None:
-    """Warnings of the run on stderr, one line each, once each (``shown``: in the table)."""
+def _show_warnings(caught: list, shown: list[str], files: Sequence[str] = ()) -> None:
+    """Warnings of the run on stderr, one line each, once each (``shown``: in the table);
+    a warning that only the file named in it tells apart from others is printed once with
+    the list of its files (:func:`group_by_file`)."""
     seen = set(shown)
+    msgs = []
     for w in caught:
         # the table lists the calibration's own warnings; numerical RuntimeWarnings of
         # trial individuals are noise; data warnings (what the reader assumed) are shown
@@ -411,7 +416,48 @@ def _show_warnings(caught: list, shown: list[str]) -> None:
         msg = one_line(w.message)
         if msg not in seen:
             seen.add(msg)
-            print(f"warning: {msg}", file=sys.stderr)
+            msgs.append(msg)
+    for msg in group_by_file(msgs, files):
+        print(f"warning: {msg}", file=sys.stderr)
+
+
+def group_by_file(messages: Sequence[str], files: Sequence[str]) -> list[str]:
+    """``messages`` with those that differ only in the file they name merged into one,
+    which names ``FILE`` and ends with the list of the files, in order of first
+    appearance.
+
+    Parameters
+    ----------
+    messages : sequence of str
+    files : sequence of str
+        The input files as they appear in the messages.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> group_by_file(["a.csv: no rate, assumed -1/s", "b.csv: no rate, assumed -1/s",
+    ...                "c.csv: bad row"], ["a.csv", "b.csv", "c.csv"])
+    ['FILE: no rate, assumed -1/s (in 2 files: a.csv, b.csv)', 'c.csv: bad row']
+    """
+    names = sorted({str(f) for f in files if str(f)}, key=len, reverse=True)
+    groups: dict[str, list[str]] = {}
+    for m in messages:
+        f = next((n for n in names if n in m), None)
+        key = m if f is None else m.replace(f, "\0")
+        groups.setdefault(key, []).append(m if f is None else f)
+    out = []
+    for key, found in groups.items():
+        if "\0" not in key:
+            out.append(key)
+        elif len(found) == 1:
+            out.append(key.replace("\0", found[0]))
+        else:
+            out.append(key.replace("\0", "FILE")
+                       + f" (in {len(found)} files: {', '.join(found)})")
+    return out
 
 
 def _resume_cmd(command: list[str]) -> str:

@@ -39,8 +39,9 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     raw, curves = curves, at_ref or curves  # tests at T_ref
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
+    # top-down: the verdict, the data, the warnings, then the cards and the constants
+    verdict = [cal.verdict("interrupted" if interrupted else "complete")]
     head = [f"data: {label}"] if label else []
-    head.append(f"status: {status}")
 
     fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
@@ -61,9 +62,11 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
     compared = [] if comparison is None else comparison.table().splitlines() + [
         f"the other laws' results: laws/LAW/ ({RESULTS}, summary.txt)", ""]
-    lines = (compared + cards.headline + head
-             + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
-             + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
+    lines = (verdict + head + [f"WARNING: {w}" for w in cards.warnings]
+             + ([""] + compared if compared else [])
+             + cards.headline  # + "" when it has lines
+             + [f"status: {status}", "", cal.summary(verdict=False)] + cards.fit_lines + [""]
+             + cards.summary)
     if plot_note:
         lines.append(plot_note)
     text = "\n".join(lines)
