@@ -239,7 +239,8 @@ def test_g_inf_floor_message(g_inf, floor, fires):
     # a floor-bound g_inf changes how the result may be used: it heads the summary
     assert floor_msgs(cal) == cal.headlines
     if fires:
-        assert cal.summary().splitlines()[2] == "WARNING: " + cal.headlines[0]
+        # after the verdict, the model and its error
+        assert cal.summary().splitlines()[3] == "WARNING: " + cal.headlines[0]
     else:
         assert not cal.headlines
 
