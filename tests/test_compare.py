@@ -190,3 +190,7 @@ def test_cli_writes_the_best_as_the_result_and_the_others_beside_it(tmp_path):
             assert rows[law]["rmsape"] == alone.rmsape
     summary = (out / "summary.txt").read_text()
     assert "best = mooney_rivlin" in summary and "laws/LAW/" in summary
+    assert summary.splitlines()[0] == vhfit.Calibration.load(out / "results.json").verdict()
+    page = (out / "report.html").read_text()
+    assert '<section id="laws"><h2>laws compared</h2>' in page
+    assert "best: <b>mooney_rivlin</b>" in page and "<td>neo_hooke</td>" in page

@@ -56,7 +56,8 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo)
     written.update({p: "plot" for p in plots.values()})
     page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
-                                     label=label, inputs=inputs, interrupted=interrupted)
+                                     label=label, inputs=inputs, interrupted=interrupted,
+                                     comparison=comparison)
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 

@@ -11,8 +11,6 @@ import html
 import json
 import math
 
-import numpy as np
-
 from vhfit.calibration import grade as calibration_grade
 
 STYLE = """
@@ -200,7 +198,8 @@ def shift_html(cal) -> str:
             f"{law.name}: " + ", ".join(f"{k} = {v:.6g}" for k, v in law.constants().items()))
     rows = [[f"{T:g}", f"{L + 0.0:.4g}"] for T, L in sorted(cal.shift_table.items())]
     return (f"<p>{esc(head)} (source: {esc(cal.shift_source)}); the constants are at "
-            f"T_ref = {esc(num(cal.T_ref, 6))}</p>" + table(["temperature", "log10 a_T"], rows, {0, 1}))
+            f"T_ref = {esc(num(cal.T_ref, 6))}</p>"
+            + table(["temperature", "log10 a_T"], rows, {0, 1}))
 
 
 def check_html(check: dict, names: list[str]) -> str:
@@ -250,3 +249,32 @@ def provenance_html(command, versions: dict, options: dict, inputs) -> str:
         out.append("<h3>calibration options</h3><pre>"
                    + esc(json.dumps(options, indent=1, default=str, sort_keys=True)) + "</pre>")
     return "\n".join(out)
+
+
+def comparison_html(comp) -> str:
+    """The laws compared (``vhfit fit --model a,b``): the ranked table and the rule."""
+    rows = comp.rows
+    modes = list(dict.fromkeys(m for r in rows for m in r["per_mode"]))
+    solvers = list(dict.fromkeys(s for r in rows for s in r["cards"]))
+    head = ["rank", "law", "RMSAPE %", *modes, "constants", "BIC", "stable", *solvers,
+            "time s"]
+    body = []
+    for r in rows:
+        if r["error"] is not None:
+            body.append(["-", r["law"], f"failed: {r['error']}"] + [""] * (len(head) - 3))
+            continue
+        cards = []
+        for s in solvers:
+            c = r["cards"].get(s)
+            cards.append("-" if c is None or "error" in c else "n/a" if not c["own"]
+                         else "EXCEEDS" if c["exceeds"] else "ok")
+        body.append([r["rank"], r["law"], num(r["rmsape"]),
+                     *(num(r["per_mode"].get(m, math.nan)) for m in modes),
+                     r["n_constants"], num(r["bic"], 6),
+                     {True: "yes", False: "NO", None: "-"}[r["stable"]], *cards,
+                     num(r["wall_time"], 3)])
+    n = len(modes)
+    return (f"<p>best: <b>{esc(comp.best or 'none')}</b>, ranked by {esc(comp.rule)}; BIC = "
+            "n ln((RMSAPE/100)²) + k ln(n), n objective points, k constants; the other "
+            "laws' results are in laws/LAW/</p>"
+            + table(head, body, {0, 2, *range(3, 3 + n), 3 + n, 4 + n}))
