@@ -38,7 +38,8 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("optimize", ("vhfit.optimize",)),
     ("calibration", ("vhfit.calibration",)),
     ("interfaces", ("vhfit.parallel", "vhfit.comparison", "vhfit.export", "vhfit.plot",
-                    "vhfit.report", "vhfit.cli", "vhfit._warm", "vhfit._preload", "vhfit.__main__", "vhfit")),
+                    "vhfit.report", "vhfit.cli", "vhfit._warm", "vhfit._preload",
+                    "vhfit.__main__", "vhfit")),
 ]
 
 
