@@ -456,9 +456,33 @@ def test_rate_labels_round_but_keep_the_rates_apart():
 def test_a_warning_of_many_files_is_printed_once_with_the_list():
     from vhfit.cli._fit import group_by_file
 
-    msgs = ["d/a.csv: no rate column, assumed -1/s", "d/b.csv: no rate column, assumed -1/s",
-            "d/ab.csv: no rate column, assumed -1/s", "d/b.csv: row 3 skipped", "general"]
+    msgs = ["curve 'a' (d/a.csv): no rate column, assumed -1/s",
+            "curve 'b' (d/b.csv): no rate column, assumed -10/s",
+            "curve 'ab' (d/ab.csv): no rate column, assumed -1/s",
+            "d/b.csv: row 3 skipped", "general", "curve 'a2' (d/a.csv): row 3 skipped"]
     got = group_by_file(msgs, ["d/a.csv", "d/b.csv", "d/ab.csv"])
-    assert got == ["FILE: no rate column, assumed -1/s (in 3 files: d/a.csv, d/b.csv, "
-                   "d/ab.csv)", "d/b.csv: row 3 skipped", "general"]
+    assert got == [
+        "no rate column, assumed -1/-10/s (in 3 files: curve 'a' (d/a.csv); "
+        "curve 'b' (d/b.csv); curve 'ab' (d/ab.csv))",
+        "row 3 skipped (in 2 files: d/b.csv; curve 'a2' (d/a.csv))", "general"]
     assert group_by_file(msgs[:1], ["d/a.csv"]) == msgs[:1]
+    # two curves of one file: one line, naming both
+    two = group_by_file(["curve 'x' (f.csv): odd", "curve 'y' (f.csv): odd"], ["f.csv"])
+    assert two == ["odd (curve 'x' (f.csv); curve 'y' (f.csv))"]
+
+
+def test_cli_prints_a_reading_warning_of_several_files_once(tmp_path):
+    import subprocess
+    import sys
+
+    for r in (1, 10):  # compression given as positive magnitudes: the reader says so
+        (tmp_path / f"r{r}.csv").write_text(
+            f"# strain_rate: -{r}\nstrain,stress_MPa\n0,0\n0.1,0.5\n0.2,1.1\n0.3,1.8\n")
+    proc = subprocess.run([sys.executable, "-m", "vhfit", "fit", "r1.csv", "r10.csv",
+                           "--prony", "0", "--no-plot", "--quiet", "--out", "o"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    warns = [ln for ln in proc.stderr.splitlines() if "strain is >= 0" in ln]
+    assert len(warns) == 1, proc.stderr
+    assert "strain_rate = -1/-10 < 0" in warns[0]
+    assert warns[0].endswith("(in 2 files: curve 'r1' (r1.csv); curve 'r10' (r10.csv))")

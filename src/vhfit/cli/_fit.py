@@ -9,6 +9,7 @@ solver cards, the plots and ``report.html``, through ``_report``) are written he
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import sys
 import warnings
@@ -74,7 +75,10 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
                          "resume one law's fit (--model LAW), or drop --resume")
     _check_fit_flags(args)
     _check_card_flags(args, laws)
-    curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
+    with warnings.catch_warnings(record=True) as caught:  # what the readers assumed
+        warnings.simplefilter("always")
+        curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
+    _show_warnings(caught, [], _file_names(inputs))
     # temperatures without shift information: nothing written
     shift_law, at_ref = check_shift(curves, args)
     with _out_folder(args, "vhfit-results") as out:
@@ -335,7 +339,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
                                command=command, interrupted=interrupted, demo=demo,
                                at_ref=at_ref, comparison=comparison)
     _show_warnings(caught, [w for c in fits.values() for w in c.warnings],
-                   [str(i["path"]) for i in inputs])
+                   _file_names(inputs))
     print(files.pop("_summary"))
     print("")
     print(f"outputs in {out}/: " + ", ".join(sorted(files)))
@@ -421,10 +425,31 @@ def _show_warnings(caught: list, shown: list[str], files: Sequence[str] = ()) ->
         print(f"warning: {msg}", file=sys.stderr)
 
 
+def _file_names(inputs) -> list[str]:
+    """The input files as messages may name them: absolute, and relative to here."""
+    out = []
+    for i in inputs:
+        p = str(i["path"])
+        out.append(p)
+        try:
+            out.append(os.path.relpath(p))
+        except ValueError:  # another drive (Windows)
+            pass
+    return out
+
+
+#: A number in a message (merged across the files a warning names).
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
 def group_by_file(messages: Sequence[str], files: Sequence[str]) -> list[str]:
-    """``messages`` with those that differ only in the file they name merged into one,
-    which names ``FILE`` and ends with the list of the files, in order of first
-    appearance.
+    """``messages`` with those that say the same of several files merged into one line:
+    the text once (numbers that differ between the files joined by "/"), then the list
+    of the places, each as its message named it (curve and file).
+
+    A message names its place before the first ``": "`` that follows the file's name
+    (``curve 'a' (d/a.csv): ...``); messages that name no file, or that alone say what
+    they say, are kept as they are.
 
     Parameters
     ----------
@@ -438,25 +463,42 @@ def group_by_file(messages: Sequence[str], files: Sequence[str]) -> list[str]:
 
     Examples
     --------
-    >>> group_by_file(["a.csv: no rate, assumed -1/s", "b.csv: no rate, assumed -1/s",
+    >>> group_by_file(["a.csv: no rate, assumed -1/s", "b.csv: no rate, assumed -10/s",
     ...                "c.csv: bad row"], ["a.csv", "b.csv", "c.csv"])
-    ['FILE: no rate, assumed -1/s (in 2 files: a.csv, b.csv)', 'c.csv: bad row']
+    ['no rate, assumed -1/-10/s (in 2 files: a.csv; b.csv)', 'c.csv: bad row']
     """
     names = sorted({str(f) for f in files if str(f)}, key=len, reverse=True)
-    groups: dict[str, list[str]] = {}
+    groups: dict[str, list[tuple[str, str, str]]] = {}
     for m in messages:
         f = next((n for n in names if n in m), None)
-        key = m if f is None else m.replace(f, "\0")
-        groups.setdefault(key, []).append(m if f is None else f)
+        j = -1 if f is None else m.find(": ", m.index(f) + len(f))
+        if j < 0:
+            groups.setdefault("\0" + m, []).append(("", m, ""))
+            continue
+        body = m[j + 2:]
+        groups.setdefault(_NUMBER.sub("#", body), []).append((m[:j], body, f))
     out = []
-    for key, found in groups.items():
-        if "\0" not in key:
-            out.append(key)
-        elif len(found) == 1:
-            out.append(key.replace("\0", found[0]))
-        else:
-            out.append(key.replace("\0", "FILE")
-                       + f" (in {len(found)} files: {', '.join(found)})")
+    for members in groups.values():
+        if len(members) == 1:
+            place, body, _ = members[0]
+            out.append(f"{place}: {body}" if place else body)
+            continue
+        n_files = len({f for _, _, f in members})
+        places = "; ".join(p for p, _, _ in members)
+        out.append(_merged([b for _, b, _ in members])
+                   + (f" (in {n_files} files: {places})" if n_files > 1 else f" ({places})"))
+    return out
+
+
+def _merged(bodies: list[str]) -> str:
+    """One text for messages equal but for their numbers: each number that differs is
+    given as its values joined by "/"."""
+    texts = [_NUMBER.split(b) for b in bodies]
+    nums = [_NUMBER.findall(b) for b in bodies]
+    out = texts[0][0]
+    for k in range(len(nums[0])):
+        vals = list(dict.fromkeys(n[k] for n in nums))
+        out += "/".join(vals) + texts[0][k + 1]
     return out
 
 
