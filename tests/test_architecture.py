@@ -37,8 +37,9 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
                    "vhfit.spectrum")),
     ("optimize", ("vhfit.optimize",)),
     ("calibration", ("vhfit.calibration",)),
-    ("interfaces", ("vhfit.parallel", "vhfit.export", "vhfit.plot", "vhfit.report", "vhfit.cli",
-                    "vhfit._warm", "vhfit._preload", "vhfit.__main__", "vhfit")),
+    ("interfaces", ("vhfit.parallel", "vhfit.comparison", "vhfit.export", "vhfit.plot",
+                    "vhfit.report", "vhfit.cli", "vhfit._warm", "vhfit._preload",
+                    "vhfit.__main__", "vhfit")),
 ]
 
 

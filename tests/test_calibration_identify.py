@@ -66,7 +66,7 @@ def test_calibrate_defaults_to_no_prony_terms_on_one_monotonic_rate():
     reason = cal.options["n_prony_reason"]
     assert reason == ("no Prony terms by default: one strain rate (10 1/s) and monotonic "
                       "loading, no hold or unloading")
-    assert cal.summary().splitlines()[2] == "note: " + reason
+    assert cal.summary().splitlines()[3] == "note: " + reason  # after verdict, title, error
     assert not cal.headlines
 
 
@@ -77,7 +77,7 @@ def test_forced_prony_terms_on_unidentifiable_data_carry_a_headline_warning():
     assert cal.n_prony <= 1 and "n_prony_reason" not in cal.options
     assert cal.headlines and cal.headlines[0].startswith(
         "the data cannot separate elastic from viscous response (one strain rate")
-    assert cal.summary().splitlines()[2] == "WARNING: " + cal.headlines[0]
+    assert cal.summary().splitlines()[3] == "WARNING: " + cal.headlines[0]
 
 
 @pytest.mark.filterwarnings("ignore::vhfit.calibration.CalibrationWarning")

@@ -239,7 +239,8 @@ def test_g_inf_floor_message(g_inf, floor, fires):
     # a floor-bound g_inf changes how the result may be used: it heads the summary
     assert floor_msgs(cal) == cal.headlines
     if fires:
-        assert cal.summary().splitlines()[2] == "WARNING: " + cal.headlines[0]
+        # after the verdict, the model and its error
+        assert cal.summary().splitlines()[3] == "WARNING: " + cal.headlines[0]
     else:
         assert not cal.headlines
 
@@ -391,3 +392,97 @@ def test_calibrate_puts_the_rate_warning_first():
     cal = calibrate([slow, fast], n_prony=1, seed=0, uncertainty=False, maxiter=5,
                     check_rates=False)
     assert not [w for w in cal.warnings if w.startswith("curves 'slow'")]
+
+
+# ------------------------------------------------------- the summary reads top-down
+def _hand_made(rmsape, per_curve, warns=(), heads=()):
+    import vhfit
+
+    m = vhfit.ViscoHyperelastic("neo_hooke", 1)
+    return vhfit.Calibration(model=m, params=dict(C10=0.5, G1=1.0, tau1=0.0086000212345),
+                             rmsape=rmsape, per_curve_rmsape=list(per_curve), nit=1, nfev=1,
+                             wall_time=0.0, stop_reason="converged",
+                             curve_names=[f"c{i}" for i in range(len(per_curve))],
+                             warnings=list(warns) + list(heads), headlines=list(heads),
+                             T_ref=24.978180000000002, shift_source="table",
+                             shift_table={24.978180000000002: 0.0})
+
+
+def test_verdict_thresholds_are_the_documented_ones():
+    from vhfit.calibration import GOOD_FIT, ROUGH_FIT, WITHIN_FIT, grade
+
+    assert (GOOD_FIT, WITHIN_FIT, ROUGH_FIT) == (5.0, 10.0, 25.0)  # docs/cli.md
+    assert grade(5.0) == ("good", "good fit")
+    assert grade(5.0001)[1] == "fits within 10 %"
+    assert grade(10.0)[1] == "fits within 10 %"
+    assert grade(10.01)[1].startswith("rough fit")
+    assert grade(25.0)[1].startswith("rough fit")
+    assert grade(25.01)[1].startswith("poor: the law cannot follow the data; try")
+    assert grade(float("nan"))[0] == "poor"
+
+
+def test_summary_first_line_is_the_verdict_then_warnings_then_constants():
+    cal = _hand_made(7.0, [3.0, 9.5], warns=["a minor thing"], heads=["a major thing"])
+    lines = cal.summary().splitlines()
+    assert lines[0] == "RMSAPE 7 %: fits within 10 %; worst curve c1 (9.5 %)"
+    assert lines[0] == cal.verdict()
+    major = lines.index("WARNING: a major thing")
+    minor = lines.index("warning: a minor thing")
+    table = next(i for i, ln in enumerate(lines) if ln.startswith("parameter"))
+    assert major < minor < table
+    assert cal.summary(verdict=False).splitlines()[0].startswith("vhfit calibration:")
+    assert cal.verdict("interrupted").startswith("INTERRUPTED (best so far, not converged): ")
+    poor = _hand_made(40.0, [40.0])
+    assert poor.summary().splitlines()[0].startswith("RMSAPE 40 %: poor: the law cannot")
+    assert "worst curve" not in poor.verdict()  # one curve: no worst
+
+
+def test_summary_numbers_are_rounded_for_reading():
+    text = _hand_made(1.0, [1.0, 1.0]).summary()
+    # constants: 6 significant digits (full precision stays in results.json and the cards)
+    assert "0.0086000212345" not in text and "tau1" in text and " 0.00860002  s" in text
+    assert "24.978180000000002" not in text and "T_ref 24.9782" in text
+
+
+def test_rate_labels_round_but_keep_the_rates_apart():
+    from vhfit.data._specs import rate_label
+
+    assert rate_label(0.00860002, [0.00860002, 0.1]) == "0.0086"
+    assert rate_label(0.1, [0.00860002, 0.1]) == "0.1"
+    assert rate_label(0.00860002, [0.00860002, 0.0086]) == "0.00860002"
+    assert rate_label(1.00001, [1.00001, 1.00002]) == "1.00001"
+
+
+def test_a_warning_of_many_files_is_printed_once_with_the_list():
+    from vhfit.cli._fit import group_by_file
+
+    msgs = ["curve 'a' (d/a.csv): no rate column, assumed -1/s",
+            "curve 'b' (d/b.csv): no rate column, assumed -10/s",
+            "curve 'ab' (d/ab.csv): no rate column, assumed -1/s",
+            "d/b.csv: row 3 skipped", "general", "curve 'a2' (d/a.csv): row 3 skipped"]
+    got = group_by_file(msgs, ["d/a.csv", "d/b.csv", "d/ab.csv"])
+    assert got == [
+        "no rate column, assumed -1/-10/s (in 3 files: curve 'a' (d/a.csv); "
+        "curve 'b' (d/b.csv); curve 'ab' (d/ab.csv))",
+        "row 3 skipped (in 2 files: d/b.csv; curve 'a2' (d/a.csv))", "general"]
+    assert group_by_file(msgs[:1], ["d/a.csv"]) == msgs[:1]
+    # two curves of one file: one line, naming both
+    two = group_by_file(["curve 'x' (f.csv): odd", "curve 'y' (f.csv): odd"], ["f.csv"])
+    assert two == ["odd (curve 'x' (f.csv); curve 'y' (f.csv))"]
+
+
+def test_cli_prints_a_reading_warning_of_several_files_once(tmp_path):
+    import subprocess
+    import sys
+
+    for r in (1, 10):  # compression given as positive magnitudes: the reader says so
+        (tmp_path / f"r{r}.csv").write_text(
+            f"# strain_rate: -{r}\nstrain,stress_MPa\n0,0\n0.1,0.5\n0.2,1.1\n0.3,1.8\n")
+    proc = subprocess.run([sys.executable, "-m", "vhfit", "fit", "r1.csv", "r10.csv",
+                           "--prony", "0", "--no-plot", "--quiet", "--out", "o"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    warns = [ln for ln in proc.stderr.splitlines() if "strain is >= 0" in ln]
+    assert len(warns) == 1, proc.stderr
+    assert "strain_rate = -1/-10 < 0" in warns[0]
+    assert warns[0].endswith("(in 2 files: curve 'r1' (r1.csv); curve 'r10' (r10.csv))")

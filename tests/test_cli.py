@@ -148,10 +148,13 @@ def test_demo_writes_every_card_from_its_solvers_own_fit(demo):
         assert c["fit_rmsape"] == pytest.approx(fit["rmsape"], rel=1e-9, abs=1e-12)
         assert c["rmsape"] <= 1.05 * c["fit_rmsape"] + 0.01 and not c["exceeds"], s
     lines = (out / "summary.txt").read_text().splitlines()
-    assert proc.stdout.splitlines()[:3] == lines[:3]
-    for ln, s in zip(lines[:3], ("abaqus", "ansys", "lsdyna")):
+    assert proc.stdout.splitlines()[:5] == lines[:5]
+    # top-down: the verdict, the data, then per solver its card and error
+    assert lines[0].startswith(f"RMSAPE {res['rmsape']:.4g} %: good fit; worst curve ")
+    assert lines[1].startswith("data: synthetic SEBS")
+    for ln, s in zip(lines[2:5], ("abaqus", "ansys", "lsdyna")):
         assert ln.startswith(f"{s}: {res['cards'][s]}: ") and "will show RMSAPE" in ln
-    assert lines[3] == ""
+    assert lines[5] == ""
 
 
 def test_demo_refuses_a_non_empty_out(demo):

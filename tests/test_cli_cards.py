@@ -143,7 +143,8 @@ def test_default_fit_serves_every_solver_from_its_own_fit(default_run):
                                                           rel=1e-9, abs=1e-12)
     assert res["card_check_warnings"] == [] and res["card_errors"] == {}
     lines = (out / "summary.txt").read_text().splitlines()
-    head = lines[:lines.index("")]
+    assert lines[0].startswith(f"RMSAPE {res['rmsape']:.4g} %: ")  # the verdict first
+    head = lines[1:lines.index("")]
     # grouped by fit: the hereditary fit's cards, then the lsdyna fit's
     assert [ln.split(":")[0] for ln in head] == ["abaqus", "abaqus_explicit", "ansys", "lsdyna"]
     for ln in head:
@@ -181,9 +182,11 @@ def test_formulation_makes_one_fit_serve_all_and_flags_lsdyna(one_fit_run):
     assert res["card_fits"] == {"abaqus": "hereditary", "lsdyna": "hereditary",
                                 "ansys": "hereditary"}
     summary = (out / "summary.txt").read_text()
-    assert summary.startswith("abaqus: abaqus.inp: Abaqus will show")
-    head = summary.split("\n\n")[1]
-    assert "WARNING: LS-DYNA card" in head and "--for lsdyna" in head
+    # top-down: the verdict, the card check's warning, then the cards
+    first = summary.split("\n\n")[0].splitlines()
+    assert first[0].startswith(f"RMSAPE {res['rmsape']:.4g} %: ")
+    assert first[1].startswith("WARNING: LS-DYNA card") and "--for lsdyna" in first[1]
+    assert first[2].startswith("abaqus: abaqus.inp: Abaqus will show")
     card = (out / "lsdyna.k").read_text()
     assert "$ WARNING: LS-DYNA card" in card
     assert "formulation 'hereditary' (this fit serves abaqus, lsdyna, ansys)" in " ".join(
@@ -227,8 +230,9 @@ def test_a_card_that_fails_its_check_is_not_written(data, tmp_path, monkeypatch)
     assert set(res["card_errors"]) == {"ansys", "lsdyna"}
     assert all(c["exceeds"] for c in res["card_check"].values())
     lines = (out / "summary.txt").read_text().splitlines()
-    assert lines[0].startswith("ansys: no card: no card written: Ansys card: Ansys will show")
-    assert lines[1].startswith("lsdyna: no card: no card written: LS-DYNA card: LS-DYNA will "
+    assert lines[0].startswith("RMSAPE ")  # the verdict, then each solver's card
+    assert lines[1].startswith("ansys: no card: no card written: Ansys card: Ansys will show")
+    assert lines[2].startswith("lsdyna: no card: no card written: LS-DYNA card: LS-DYNA will "
                                "show RMSAPE")
 
 

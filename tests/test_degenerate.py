@@ -278,7 +278,7 @@ def test_exact_mooney_rivlin_two_prony_fit_gets_no_degeneracy_warning():
     cal = fit(ramps("mooney_rivlin", MR2_TRUE, FOUR), "mooney_rivlin", 2, seed=0)
     assert cal.rmsape < 1e-3
     assert degenerate(cal) == [] and cal.headlines == []
-    assert head(cal)[2:] == [""]  # title, errors, blank: no WARNING line
+    assert head(cal)[3:] == [""]  # verdict, title, errors, blank: no WARNING line
 
 
 def test_well_posed_fits_get_no_degeneracy_warning():

@@ -103,15 +103,17 @@ def test_the_verdict_comes_first_with_the_error_and_the_worst_curve(cal, page):
 
 
 def test_the_grade_words_follow_the_error():
-    class Fake:
-        per_curve_rmsape, curve_names = [], []
+    import vhfit
 
-        def __init__(self, e):
-            self.rmsape = e
+    def Fake(e):  # noqa: N802 - a result with only an error
+        return vhfit.Calibration(model=vhfit.ViscoHyperelastic("neo_hooke", 0),
+                                 params=dict(C10=0.5), rmsape=e, per_curve_rmsape=[],
+                                 nit=0, nfev=0, wall_time=0.0, stop_reason="converged")
 
     assert report.verdict(Fake(4.9)).endswith("good fit")
     assert report.verdict(Fake(9.0)).endswith("fits within 10 %")
-    assert "poor fit" in report.verdict(Fake(40.0))
+    assert "poor: the law cannot follow the data" in report.verdict(Fake(40.0))
+    assert report.verdict(Fake(9.0)) == Fake(9.0).verdict()  # the summary's first line
     assert "no valid fit" in report.verdict(Fake(float("inf")))
     assert report.verdict(Fake(1.0), status="interrupted").startswith("INTERRUPTED")
 

@@ -19,6 +19,7 @@ from vhfit.calibration import (
     calibrate,
     calibrate_for,
 )
+from vhfit.comparison import Comparison, compare
 from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
 from vhfit.history import History
 from vhfit.model import Batch, ViscoHyperelastic
@@ -40,6 +41,7 @@ __all__ = [
     "CalibrationError",
     "CalibrationSettings",
     "CalibrationWarning",
+    "Comparison",
     "Curve",
     "DataError",
     "DataWarning",
@@ -53,6 +55,7 @@ __all__ = [
     "calibrate",
     "calibrate_for",
     "calibrate_many",
+    "compare",
     "export",
     "formulations",
     "hyperelastic",

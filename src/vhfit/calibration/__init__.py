@@ -20,9 +20,13 @@ from vhfit.calibration._bounds import auto_bounds
 from vhfit.calibration._for import calibrate_for, plan_formulations, start_options
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import (
+    GOOD_FIT,
     RESULTS_FORMAT,
+    ROUGH_FIT,
+    WITHIN_FIT,
     Calibration,
     CalibrationWarning,
+    grade,
     set_html_report,
 )
 from vhfit.calibration._settings import CalibrationSettings, RecordedCallable
@@ -31,4 +35,5 @@ from vhfit.calibration._workflow import CalibrationError, calibrate
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
-           "plan_formulations", "start_options"]
+           "plan_formulations", "start_options", "grade", "GOOD_FIT", "WITHIN_FIT",
+           "ROUGH_FIT"]

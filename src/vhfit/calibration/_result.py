@@ -19,7 +19,8 @@ from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import StabilityReport, drucker
 
-__all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report"]
+__all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report", "grade",
+           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT"]
 
 RESULTS_FORMAT = "vhfit-results-1"
 
@@ -132,6 +133,51 @@ _OWN_KEYS = frozenset((
     "shift", "history", "fits", "settings"))
 
 
+#: The plain verdict of a fit's RMSAPE (percent, paper Eq. 20): at most ``GOOD_FIT`` a
+#: good fit, at most ``WITHIN_FIT`` within 10 %, at most ``ROUGH_FIT`` a rough fit, above
+#: it poor (docs/cli.md, "The summary").
+GOOD_FIT, WITHIN_FIT, ROUGH_FIT = 5.0, 10.0, 25.0
+
+
+def grade(rmsape: float) -> tuple[str, str]:
+    """The verdict of an overall RMSAPE in percent: (level, plain words).
+
+    Parameters
+    ----------
+    rmsape : float
+        The fit's RMSAPE, percent.
+
+    Returns
+    -------
+    (str, str)
+        Level ``"good"``, ``"fair"`` or ``"poor"``, and the words of the verdict.
+
+    Examples
+    --------
+    >>> grade(3.0)
+    ('good', 'good fit')
+    >>> grade(7.5)[1]
+    'fits within 10 %'
+    """
+    e = float(rmsape)
+    if not np.isfinite(e):
+        return "poor", "no valid fit: the error is not finite; check the data and the model"
+    if e <= GOOD_FIT:
+        return "good", "good fit"
+    if e <= WITHIN_FIT:
+        return "fair", "fits within 10 %"
+    if e <= ROUGH_FIT:
+        return "fair", "rough fit: check the worst curve and the residuals"
+    return "poor", ("poor: the law cannot follow the data; try another model (vhfit fit "
+                    "--model all compares them), more Prony terms (--prony auto) or check "
+                    "the data")
+
+
+def _g(v: float, digits: int = 4) -> str:
+    """A number rounded for reading."""
+    return f"{float(v):.{digits}g}"
+
+
 class CalibrationWarning(UserWarning):
     """Something about a calibration the user should know (floor active, unidentifiable τ…)."""
 
@@ -239,16 +285,82 @@ class Calibration:
             kwargs["measure"] = history.measure
         return self.model.stress(self.params, history, **kwargs)
 
-    def summary(self) -> str:
-        """A readable table of constants, intervals, errors and checks."""
+    def worst_curve(self) -> tuple[str, float] | None:
+        """Name and RMSAPE (percent) of the curve with the largest error; None with fewer
+        than two curves.
+
+        Returns
+        -------
+        (str, float) or None
+
+        Examples
+        --------
+        >>> import vhfit
+        >>> cal = vhfit.Calibration(model=vhfit.ViscoHyperelastic("neo_hooke", 0),
+        ...                         params=dict(C10=0.5), rmsape=6.0,
+        ...                         per_curve_rmsape=[2.0, 9.0], nit=1, nfev=1,
+        ...                         wall_time=0.0, stop_reason="converged",
+        ...                         curve_names=["slow", "fast"])
+        >>> cal.worst_curve()
+        ('fast', 9.0)
+        """
+        errs = [float(e) for e in (self.per_curve_rmsape or [])]
+        if len(errs) < 2:
+            return None
+        k = int(np.argmax(np.where(np.isfinite(errs), errs, np.inf)))
+        names = list(self.curve_names or [])
+        return (names[k] if k < len(names) else f"curve {k + 1}"), errs[k]
+
+    def verdict(self, status: str = "complete") -> str:
+        """One line: the error, a plain verdict (:func:`grade`) and the worst curve.
+
+        Parameters
+        ----------
+        status : {"complete", "interrupted"}
+            An interrupted search says so first.
+
+        Returns
+        -------
+        str
+
+        Examples
+        --------
+        >>> cal.verdict()  # doctest: +SKIP
+        'RMSAPE 6 %: fits within 10 %; worst curve fast (9 %)'
+        """
+        text = f"RMSAPE {_g(self.rmsape)} %: {grade(self.rmsape)[1]}"
+        worst = self.worst_curve()
+        if worst is not None:
+            text += f"; worst curve {worst[0]} ({_g(worst[1])} %)"
+        if status == "interrupted":
+            text = "INTERRUPTED (best so far, not converged): " + text
+        return text
+
+    def summary(self, verdict: bool = True) -> str:
+        """A readable summary, top-down: the verdict, the warnings, then the constants
+        with their intervals, the errors per curve and the checks.
+
+        Parameters
+        ----------
+        verdict : bool
+            Start with :meth:`verdict` (the command line puts it above its own lines).
+
+        Returns
+        -------
+        str
+            Numbers rounded for reading (4–6 significant digits); the results file and
+            the cards keep full precision.
+        """
         units = dict(zip(self.model.param_names, self.model.units))
         lines = [
+            *([self.verdict()] if verdict else []),
             f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)"
             + ("" if self.model.formulation == "hereditary"
                else f", '{self.model.formulation}' formulation"),
             f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
             f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
             *(f"WARNING: {h}" for h in self.headlines),
+            *(f"warning: {w}" for w in self.warnings if w not in self.headlines),
             *([f"note: {self.options['n_prony_reason']}"]
               if self.options.get("n_prony_reason") else []),
             "",
@@ -280,9 +392,6 @@ class Calibration:
         if self.stability is not None:
             lines.append("")
             lines.append("stability: " + self.stability.describe())
-        for w in self.warnings:
-            if w not in self.headlines:
-                lines.append("warning: " + w)
         return "\n".join(lines)
 
     def _shift_lines(self) -> list[str]:
@@ -291,7 +400,8 @@ class Calibration:
                "overlap": "WLF fitted to the shift factors built from the sweeps' overlap"}
         law = self.shift
         if law is None:
-            head = f"time-temperature shift: given table (T_ref {self.T_ref}), no law fitted"
+            head = (f"time-temperature shift: given table (T_ref {_g(self.T_ref, 6)}), no "
+                    "law fitted")
         else:
             consts = ", ".join(f"{k} = {v:.6g}" for k, v in law.constants().items()
                                if k != "T_ref")

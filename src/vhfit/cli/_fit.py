@@ -9,6 +9,7 @@ solver cards, the plots and ``report.html``, through ``_report``) are written he
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import sys
 import warnings
@@ -19,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vhfit import datasets
+from vhfit import datasets, hyperelastic
 from vhfit._io import atomic_write
 from vhfit.calibration import (
     Calibration,
@@ -49,10 +50,12 @@ from vhfit.cli._inputs import read_curves, sha256
 from vhfit.cli._outputs import write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.cli._settings import check_shift, fit_settings
+from vhfit.comparison import compare
 from vhfit.formulations import FORMULATIONS
 
-__all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
-           "DEMO_PRONY"]
+__all__ = ["cmd_fit", "cmd_demo", "run_fit", "run_compare", "model_list", "group_by_file",
+           "read_curves",
+           "CARD_FILES", "DEMO_PRONY"]
 
 RESULTS = "results.json"
 CHECKPOINT = "checkpoint.json"
@@ -66,14 +69,93 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
     hint)."""
     if args.force and args.resume:
         raise UsageError("--force and --resume contradict each other: give one")
+    laws = model_list(args.model)  # several laws: every name known, else nothing fitted
+    if laws is not None and args.resume:
+        raise UsageError("--resume: several --model laws are fitted without checkpoints; "
+                         "resume one law's fit (--model LAW), or drop --resume")
     _check_fit_flags(args)
-    _check_card_flags(args)
-    curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
+    _check_card_flags(args, laws)
+    with warnings.catch_warnings(record=True) as caught:  # what the readers assumed
+        warnings.simplefilter("always")
+        curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
+    _show_warnings(caught, [], _file_names(inputs))
     # temperatures without shift information: nothing written
     shift_law, at_ref = check_shift(curves, args)
     with _out_folder(args, "vhfit-results") as out:
+        if laws is not None:
+            return run_compare(curves, inputs, args, out, laws, command=list(argv),
+                               shift_law=shift_law, at_ref=at_ref)
         return run_fit(curves, inputs, args, out, label=None, command=list(argv),
                        shift_law=shift_law, at_ref=at_ref)
+
+
+# ------------------------------------------------- several laws: --model a,b or all
+def model_list(given: str) -> list[str] | None:
+    """The laws of ``--model a,b,c`` or ``--model all`` (None for one law); an unknown
+    law is a usage error naming it, before anything is read or fitted."""
+    if given.strip() == "all":
+        return list(hyperelastic.available())
+    if "," not in given:
+        return None
+    names = [s.strip() for s in given.split(",")]
+    if any(not s for s in names):
+        raise UsageError(f"--model {given}: an empty law name; give names separated by "
+                         "commas (mooney_rivlin,yeoh) or 'all'")
+    for s in names:
+        if s not in hyperelastic.available():
+            try:
+                resolve_model_name(s)
+            except UsageError as exc:
+                raise UsageError(f"--model: {exc}") from None
+    return list(dict.fromkeys(names))
+
+
+def run_compare(curves, inputs, args, out: Path, laws: list[str], *, command: list[str],
+                shift_law=None, at_ref=None) -> int:
+    """Fit every law of ``laws`` side by side (:func:`vhfit.compare`), write each law's
+    results under ``laws/LAW/`` and the best's as the folder's result (:func:`run_fit`
+    with its fit given), with the ranked table first in the summary."""
+    strategy = args.strategy
+    if strategy not in tau_strategies():
+        raise UsageError(
+            f"--strategy {strategy!r}: choose one of {', '.join(tau_strategies())}")
+    plan = plan_fits(args.targets, args.formulation)
+    kw = fit_settings(args, model=laws[0], strategy=strategy, shift_law=shift_law).keywords()
+    for k in ("hyperelastic", "n_prony", "callback", "checkpoint", "resume", "workers"):
+        kw.pop(k)
+    kw["formulation"] = next(iter(plan))
+    solvers = [s for group in plan.values() for s in group]
+    if not args.quiet:
+        print(f"comparing {len(laws)} laws ({', '.join(laws)}), each with "
+              f"{args.prony if args.prony is not None else 'the default number of'} Prony "
+              f"term(s), seed {args.seed}, side by side on up to {os.cpu_count() or 1} "
+              f"processes; outputs in {out}/", file=sys.stderr, flush=True)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            comp = compare(curves, laws, n_prony=args.prony, solvers=solvers, **kw)
+    except ValueError as exc:
+        raise UsageError(one_line(exc)) from None
+    raw = curves
+    for law, cal in comp.fits.items():
+        if law == comp.best:
+            continue
+        folder = out / "laws" / law
+        folder.mkdir(parents=True, exist_ok=True)
+        row = next(r for r in comp.rows if r["law"] == law)
+        atomic_write(folder / "summary.txt", cal.summary() + "\n")
+        cal.save(folder / RESULTS, curves=raw, extra={
+            "command": ["vhfit", *command], "seed": args.seed, "inputs": inputs,
+            "comparison_row": comp.to_dict()["rows"][row["rank"] - 1]})
+    if comp.best is None:
+        print(comp.table())
+        print("vhfit: error: no law found a valid parameter set (RMSAPE is not finite); "
+              "check the data and the laws", file=sys.stderr)
+        return EXIT_FAILED
+    args.model = comp.best
+    return run_fit(curves, inputs, args, out, label=None, command=command,
+                   shift_law=shift_law, at_ref=at_ref, given=comp.calibration,
+                   comparison=comp)
 
 
 def cmd_demo(args, argv: Sequence[str] = ()) -> int:
@@ -165,9 +247,9 @@ def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, str]) -
         pass
 
 
-def _check_card_flags(args) -> None:
-    """``--for`` a solver that lacks the law, or an unknown ``--formulation``: refused
-    before anything is fitted or written."""
+def _check_card_flags(args, laws: list[str] | None = None) -> None:
+    """``--for`` a solver that lacks the law (any of ``laws``, when several), or an
+    unknown ``--formulation``: refused before anything is fitted or written."""
     form = args.formulation
     if form is not None and form not in FORMULATIONS:
         load_plugins()  # a plug-in may register it
@@ -177,7 +259,8 @@ def _check_card_flags(args) -> None:
     given = args.targets
     if given:  # --for a,b --for c: one list, each solver once
         args.targets = list(dict.fromkeys(s for group in given for s in group))
-        check_targets(args.targets, resolve_model_name(args.model))
+        for law in laws or [resolve_model_name(args.model)]:
+            check_targets(args.targets, law)
 
 
 def _demo_check(out: Path) -> None:
@@ -194,12 +277,14 @@ def _demo_check(out: Path) -> None:
 
 # ================================================================ the fit job
 def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
-            demo: bool = False, shift_law=None, at_ref: list | None = None) -> int:
+            demo: bool = False, shift_law=None, at_ref: list | None = None,
+            given: Calibration | None = None, comparison=None) -> int:
     """Calibrate, then write every output into ``out`` (also when interrupted).
 
     ``shift_law``: the law of ``--shift`` (None: the tests' own overlap, or one
     temperature); ``at_ref``: the tests at the reference temperature, for the outputs
-    (None: ``curves`` are).
+    (None: ``curves`` are); ``given``: the first formulation's fit, already made (by
+    :func:`run_compare`, whose ``comparison`` heads the summary).
     """
     model = resolve_model_name(args.model)
     strategy = args.strategy
@@ -214,7 +299,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             f"--resume: no checkpoint in {out} (the fit ended, or never started there); "
             "drop --resume to fit afresh"
         )
-    if not args.quiet:
+    if not args.quiet and given is None:
         why = None
         if args.prony is None:
             n_txt, why = default_n_prony(curves)
@@ -234,6 +319,9 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
     with sigs, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for form in plan:
+            if given is not None and not fits:  # fitted by run_compare
+                fits[form] = given
+                continue
             if len(plan) > 1 and not args.quiet:
                 print(f"fit in the '{form}' formulation, for {', '.join(plan[form])}",
                       file=sys.stderr, flush=True)
@@ -249,8 +337,9 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         sigs.writing = True
         files = write_outputs(fits, plan, curves, inputs, args, out, label=label,
                                command=command, interrupted=interrupted, demo=demo,
-                               at_ref=at_ref)
-    _show_warnings(caught, [w for c in fits.values() for w in c.warnings])
+                               at_ref=at_ref, comparison=comparison)
+    _show_warnings(caught, [w for c in fits.values() for w in c.warnings],
+                   _file_names(inputs))
     print(files.pop("_summary"))
     print("")
     print(f"outputs in {out}/: " + ", ".join(sorted(files)))
@@ -316,9 +405,12 @@ def _checkpoint(formulation: str) -> str:
     return CHECKPOINT if formulation == "hereditary" else f"{CHECKPOINT}.{formulation}"
 
 
-def _show_warnings(caught: list, shown: list[str]) -> None:
-    """Warnings of the run on stderr, one line each, once each (``shown``: in the table)."""
+def _show_warnings(caught: list, shown: list[str], files: Sequence[str] = ()) -> None:
+    """Warnings of the run on stderr, one line each, once each (``shown``: in the table);
+    a warning that only the file named in it tells apart from others is printed once with
+    the list of its files (:func:`group_by_file`)."""
     seen = set(shown)
+    msgs = []
     for w in caught:
         # the table lists the calibration's own warnings; numerical RuntimeWarnings of
         # trial individuals are noise; data warnings (what the reader assumed) are shown
@@ -328,7 +420,86 @@ def _show_warnings(caught: list, shown: list[str]) -> None:
         msg = one_line(w.message)
         if msg not in seen:
             seen.add(msg)
-            print(f"warning: {msg}", file=sys.stderr)
+            msgs.append(msg)
+    for msg in group_by_file(msgs, files):
+        print(f"warning: {msg}", file=sys.stderr)
+
+
+def _file_names(inputs) -> list[str]:
+    """The input files as messages may name them: absolute, and relative to here."""
+    out = []
+    for i in inputs:
+        p = str(i["path"])
+        out.append(p)
+        try:
+            out.append(os.path.relpath(p))
+        except ValueError:  # another drive (Windows)
+            pass
+    return out
+
+
+#: A number in a message (merged across the files a warning names).
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def group_by_file(messages: Sequence[str], files: Sequence[str]) -> list[str]:
+    """``messages`` with those that say the same of several files merged into one line:
+    the text once (numbers that differ between the files joined by "/"), then the list
+    of the places, each as its message named it (curve and file).
+
+    A message names its place before the first ``": "`` that follows the file's name
+    (``curve 'a' (d/a.csv): ...``); messages that name no file, or that alone say what
+    they say, are kept as they are.
+
+    Parameters
+    ----------
+    messages : sequence of str
+    files : sequence of str
+        The input files as they appear in the messages.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> group_by_file(["a.csv: no rate, assumed -1/s", "b.csv: no rate, assumed -10/s",
+    ...                "c.csv: bad row"], ["a.csv", "b.csv", "c.csv"])
+    ['no rate, assumed -1/-10/s (in 2 files: a.csv; b.csv)', 'c.csv: bad row']
+    """
+    names = sorted({str(f) for f in files if str(f)}, key=len, reverse=True)
+    groups: dict[str, list[tuple[str, str, str]]] = {}
+    for m in messages:
+        f = next((n for n in names if n in m), None)
+        j = -1 if f is None else m.find(": ", m.index(f) + len(f))
+        if j < 0:
+            groups.setdefault("\0" + m, []).append(("", m, ""))
+            continue
+        body = m[j + 2:]
+        groups.setdefault(_NUMBER.sub("#", body), []).append((m[:j], body, f))
+    out = []
+    for members in groups.values():
+        if len(members) == 1:
+            place, body, _ = members[0]
+            out.append(f"{place}: {body}" if place else body)
+            continue
+        n_files = len({f for _, _, f in members})
+        places = "; ".join(p for p, _, _ in members)
+        out.append(_merged([b for _, b, _ in members])
+                   + (f" (in {n_files} files: {places})" if n_files > 1 else f" ({places})"))
+    return out
+
+
+def _merged(bodies: list[str]) -> str:
+    """One text for messages equal but for their numbers: each number that differs is
+    given as its values joined by "/"."""
+    texts = [_NUMBER.split(b) for b in bodies]
+    nums = [_NUMBER.findall(b) for b in bodies]
+    out = texts[0][0]
+    for k in range(len(nums[0])):
+        vals = list(dict.fromkeys(n[k] for n in nums))
+        out += "/".join(vals) + texts[0][k + 1]
+    return out
 
 
 def _resume_cmd(command: list[str]) -> str:

@@ -30,16 +30,18 @@ RESULTS = "results.json"
 
 # ================================================================== outputs
 def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
-                   interrupted, demo, at_ref=None) -> dict[str, str]:
+                   interrupted, demo, at_ref=None, comparison=None) -> dict[str, str]:
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
     first fit of ``plan`` is the results' own, the others are listed under ``fits``
-    (``at_ref``: the tests at the reference temperature, if shifted)."""
+    (``at_ref``: the tests at the reference temperature, if shifted; ``comparison``: the
+    laws compared by ``--model a,b``, whose table heads the summary)."""
     cal = next(iter(fits.values()))
     raw, curves = curves, at_ref or curves  # tests at T_ref
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
+    # top-down: the verdict, the data, the warnings, then the cards and the constants
+    verdict = [cal.verdict("interrupted" if interrupted else "complete")]
     head = [f"data: {label}"] if label else []
-    head.append(f"status: {status}")
 
     fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
@@ -54,12 +56,18 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo, raw=raw)
     written.update({p: "plot" for p in plots.values()})
     page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
-                                     label=label, inputs=inputs, interrupted=interrupted)
+                                     label=label, inputs=inputs, interrupted=interrupted,
+                                     comparison=comparison)
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
-    lines = (cards.headline + head + [f"WARNING: {w}" for w in cards.warnings]  # headline: + ""
-             + ["", cal.summary()] + cards.fit_lines + [""] + cards.summary)
+    compared = [] if comparison is None else comparison.table().splitlines() + [
+        f"the other laws' results: laws/LAW/ ({RESULTS}, summary.txt)", ""]
+    lines = (verdict + head + [f"WARNING: {w}" for w in cards.warnings]
+             + ([""] + compared if compared else [])
+             + cards.headline  # + "" when it has lines
+             + [f"status: {status}", "", cal.summary(verdict=False)] + cards.fit_lines + [""]
+             + cards.summary)
     if plot_note:
         lines.append(plot_note)
     text = "\n".join(lines)
@@ -82,6 +90,9 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     }
     if len(plan) > 1:
         extra["fits"] = cards.fits_record
+    if comparison is not None:
+        extra["comparison"] = {**comparison.to_dict(), "others": {
+            law: f"laws/{law}/{RESULTS}" for law in comparison.fits if law != comparison.best}}
     cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
              extra=extra)
     written[RESULTS] = "results"

@@ -368,7 +368,10 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     """The search and output flags of ``fit`` and ``demo``."""
     if not demo:
         p.add_argument("--model", default="mooney_rivlin",
-                       help="hyperelastic model (default mooney_rivlin; see 'vhfit models')")
+                       help="hyperelastic model (default mooney_rivlin; see 'vhfit models'); "
+                            "several, comma-separated (mooney_rivlin,yeoh,ogden2), or 'all': "
+                            "each fitted side by side, ranked, the best written as the result "
+                            "and the others under laws/LAW/")
     p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else None,
                    metavar="N|auto",
                    help="number of Prony terms, or 'auto' to scan N = 1..--max-prony "

@@ -16,7 +16,8 @@ FILE = "report.html"
 
 
 def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, command,
-                     label, inputs, interrupted: bool) -> tuple[dict[str, str], str | None]:
+                     label, inputs, interrupted: bool,
+                     comparison=None) -> tuple[dict[str, str], str | None]:
     """Write ``report.html`` into ``out``: ({file: what it is}, None), or ({}, why not).
 
     The cards are read back from the files written (what the user gets), the PNG plots
@@ -31,7 +32,8 @@ def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, comman
             card_check=cards.check, card_warnings=cards.warnings,
             card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
             status="interrupted" if interrupted else "complete", title=label, inputs=inputs,
-            figures=not args.no_plot, images={k: out / f for k, f in plots.items()})
+            figures=not args.no_plot, images={k: out / f for k, f in plots.items()},
+            comparison=comparison)
     except Exception as exc:  # the report never stops the other outputs
         return {}, f"no report: {one_line(exc)}"
     return {FILE: "everything above as one page to open in a browser"}, None

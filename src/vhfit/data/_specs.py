@@ -319,6 +319,24 @@ def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarra
     return np.array([f"{v:.12g}" for v in rate_vals], dtype=object)
 
 
+def rate_label(value: float, every) -> str:
+    """A rate rounded for reading in a curve's name: 4 significant digits, more only
+    where 4 would not tell two of the table's rates ``every`` apart.
+
+    Examples
+    --------
+    >>> rate_label(0.00860002, [0.00860002, 0.1])
+    '0.0086'
+    >>> rate_label(0.00860002, [0.00860002, 0.0086])
+    '0.00860002'
+    """
+    vals = {float(x) for x in np.ravel(every) if np.isfinite(x)}
+    for d in (4, 5, 6):
+        if len({f"{x:.{d}g}" for x in vals}) == len(vals):
+            return f"{float(value):.{d}g}"
+    return repr(float(value))
+
+
 def _group_spec(
     table: _Table,
     opts: _Options,
@@ -337,7 +355,7 @@ def _group_spec(
     parts = [str(kc[g[0]]) for kc in grp.key_cols[: grp.n_named]]
     crate = _group_rate(table, opts, grp, g, rate)
     if grp.by_rate:
-        parts.append(f"rate {grp.rate_vals[g][0]:g}/s")
+        parts.append(f"rate {rate_label(grp.rate_vals[g][0], grp.rate_vals)}/s")
     if name is not None:
         cname = name if len(grp.members) == 1 else f"{name} [{', '.join(parts)}]"
     elif "name" in opts.known and len(grp.members) == 1:

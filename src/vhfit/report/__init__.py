@@ -147,7 +147,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
                  card_check: dict | None = None, card_notes: dict | None = None,
                  card_warnings: Sequence[str] = (), command: str | None = None,
                  status: str | None = None, title: str | None = None, inputs=None,
-                 figures: bool = True, images: dict | None = None) -> str:
+                 figures: bool = True, images: dict | None = None,
+                 comparison=None) -> str:
     """The report as one HTML document (see the module's description).
 
     Parameters
@@ -181,6 +182,9 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     images : dict, optional
         Kind -> PNG file of a :mod:`vhfit.plot` figure already drawn (``fit`` of all
         the curves, ``moduli``, ``order_scan``, ``history``): inlined, not drawn again.
+    comparison : vhfit.Comparison, optional
+        The laws compared when this fit was chosen among several: its ranked table
+        follows the verdict.
 
     Returns
     -------
@@ -223,6 +227,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         body.append('<p class="interrupted">INTERRUPTED: the best parameters found so far, '
                     "not converged; resume the fit to finish it</p>")
     body.append(_html.verdict_html(cal, status, check, card_warnings))
+    if comparison is not None:
+        body.append(_html.section("laws", "laws compared", [_html.comparison_html(comparison)]))
     body.append(_nav(cal, check, cards))
     body += _sections(cal, curves, main, other, note, check, cards, card_notes or {},
                       command, inputs, ctx.get("versions"))

@@ -11,7 +11,7 @@ import html
 import json
 import math
 
-import numpy as np
+from vhfit.calibration import grade as calibration_grade
 
 STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;margin:0 auto;
@@ -82,39 +82,19 @@ def figure_html(fig) -> str:
 
 # ----------------------------------------------------------------------- verdict
 def grade(rmsape: float) -> tuple[str, str]:
-    """(css class, plain words) of an overall RMSAPE in percent."""
-    if not math.isfinite(rmsape):
-        return "poor", "no valid fit: the error is not finite; check the data and the model"
-    if rmsape <= 5.0:
-        return "good", "good fit"
-    if rmsape <= 10.0:
-        return "fair", "fits within 10 %"
-    if rmsape <= 25.0:
-        return "fair", "rough fit: check the worst curve and the residuals"
-    return "poor", ("poor fit: the law cannot follow the data; try another model, more "
-                    "Prony terms (--prony auto) or check the data")
+    """(css class, plain words) of an overall RMSAPE in percent: the calibration's own
+    verdict (:func:`vhfit.calibration.grade`), so the report and the summary agree."""
+    return calibration_grade(rmsape)
 
 
 def worst_curve(cal) -> tuple[str, float] | None:
     """Name and RMSAPE of the curve with the largest error (None with one curve)."""
-    errs = [float(e) for e in (cal.per_curve_rmsape or [])]
-    if len(errs) < 2:
-        return None
-    k = int(np.nanargmax(np.where(np.isfinite(errs), errs, np.inf)))
-    names = list(cal.curve_names or [])
-    return (names[k] if k < len(names) else f"curve {k + 1}"), errs[k]
+    return cal.worst_curve()
 
 
 def headline(cal, status: str = "complete") -> str:
     """The report's first line: error, plain words, worst curve (plain text)."""
-    words = grade(float(cal.rmsape))[1]
-    text = f"RMSAPE {num(cal.rmsape)} %: {words}"
-    worst = worst_curve(cal)
-    if worst is not None:
-        text += f"; worst curve {worst[0]} ({num(worst[1])} %)"
-    if status == "interrupted":
-        text = "INTERRUPTED (best so far, not converged): " + text
-    return text
+    return cal.verdict(status)
 
 
 def card_rows(check: dict) -> list[tuple[str, bool | None, str]]:
@@ -218,7 +198,8 @@ def shift_html(cal) -> str:
             f"{law.name}: " + ", ".join(f"{k} = {v:.6g}" for k, v in law.constants().items()))
     rows = [[f"{T:g}", f"{L + 0.0:.4g}"] for T, L in sorted(cal.shift_table.items())]
     return (f"<p>{esc(head)} (source: {esc(cal.shift_source)}); the constants are at "
-            f"T_ref = {esc(cal.T_ref)}</p>" + table(["temperature", "log10 a_T"], rows, {0, 1}))
+            f"T_ref = {esc(num(cal.T_ref, 6))}</p>"
+            + table(["temperature", "log10 a_T"], rows, {0, 1}))
 
 
 def check_html(check: dict, names: list[str]) -> str:
@@ -268,3 +249,32 @@ def provenance_html(command, versions: dict, options: dict, inputs) -> str:
         out.append("<h3>calibration options</h3><pre>"
                    + esc(json.dumps(options, indent=1, default=str, sort_keys=True)) + "</pre>")
     return "\n".join(out)
+
+
+def comparison_html(comp) -> str:
+    """The laws compared (``vhfit fit --model a,b``): the ranked table and the rule."""
+    rows = comp.rows
+    modes = list(dict.fromkeys(m for r in rows for m in r["per_mode"]))
+    solvers = list(dict.fromkeys(s for r in rows for s in r["cards"]))
+    head = ["rank", "law", "RMSAPE %", *modes, "constants", "BIC", "stable", *solvers,
+            "time s"]
+    body = []
+    for r in rows:
+        if r["error"] is not None:
+            body.append(["-", r["law"], f"failed: {r['error']}"] + [""] * (len(head) - 3))
+            continue
+        cards = []
+        for s in solvers:
+            c = r["cards"].get(s)
+            cards.append("-" if c is None or "error" in c else "n/a" if not c["own"]
+                         else "EXCEEDS" if c["exceeds"] else "ok")
+        body.append([r["rank"], r["law"], num(r["rmsape"]),
+                     *(num(r["per_mode"].get(m, math.nan)) for m in modes),
+                     r["n_constants"], num(r["bic"], 6),
+                     {True: "yes", False: "NO", None: "-"}[r["stable"]], *cards,
+                     num(r["wall_time"], 3)])
+    n = len(modes)
+    return (f"<p>best: <b>{esc(comp.best or 'none')}</b>, ranked by {esc(comp.rule)}; BIC = "
+            "n ln((RMSAPE/100)²) + k ln(n), n objective points, k constants; the other "
+            "laws' results are in laws/LAW/</p>"
+            + table(head, body, {0, 2, *range(3, 3 + n), 3 + n, 4 + n}))
