@@ -1113,8 +1113,8 @@ MUTANTS: list[Mutant] = [
       "vhfit fit's plots are linked by file path instead of inlined: the report shows "
       "no figure once moved or mailed",
       ("tests/test_report.py::test_vhfit_fit_writes_report_html_beside_the_other_outputs",)),
-    M("html_worst_curve_needs_three", "vhfit/report/_html.py",
-      "if len(errs) < 2:", "if len(errs) < 3:",
+    M("html_worst_curve_needs_three", "vhfit/calibration/_result.py",
+      "        if len(errs) < 2:\n            return None", "        if len(errs) < 3:\n            return None",
       "the verdict of a two-curve fit does not name its worst curve",
       ("tests/test_report.py::test_the_verdict_comes_first_with_the_error_and_the_worst_curve",)),
     M("html_interrupted_not_marked", "vhfit/cli/_report.py",
