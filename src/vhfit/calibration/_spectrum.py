@@ -18,8 +18,8 @@ floor):
    raises the error.
 
 ``n_prony="auto"`` reads N off the pruning path (the smallest N within ``order_tol`` of
-the full grid's error) over N = 1 .. the grid's size, about one term per decade of the
-data, and says so when the chosen N is the largest there.
+the full grid's error, or exact to round-off) over N = 1 .. the grid's size, about one
+term per decade of the data, and says so when the chosen N is the largest there.
 
 The law's constants other than its small-strain modulus are not seen by such data: its
 shape is the law's example, scaled so that 3 μ0 = E∞ (the report's uncertainty names
@@ -47,6 +47,9 @@ __all__ = ["applies", "tau_grid", "spectrum_fit", "seed_from_moduli", "ROUTE", "
 #: Steps of the final polish: it starts at the variable-projection optimum, so a few
 #: steps of least squares on every parameter settle what the τ refinement left
 POLISH_NFEV = 10
+
+#: Pruning-path errors below this fraction of the one-term error count as an exact fit
+EXACT = 1e-10
 
 #: The result's ``stop_reason`` (and ``options["route"]``) of a fit by this route.
 ROUTE = "per-decade spectrum (NNLS on a tau grid, pruning, free-tau refinement)"
@@ -198,14 +201,17 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     path = pruning_path(mod.matrix(grid), mod.ys)
     scan, heads = None, []
     if n_prony is None:
-        full = min(e for _, _, e in path)
-        n = min(k.size for k, _, e in path if e <= (1 + s.order_tol) * full + 1e-300)
+        # within order_tol of the full grid; an error at round-off level (EXACT times
+        # the one-term error) counts as exact whatever the full grid's round-off is
+        limit = max((1 + s.order_tol) * min(e for _, _, e in path), EXACT * path[-1][2])
+        n = min(k.size for k, _, e in path if e <= limit)
         scan = [{"n_prony": int(k.size), "rmsape": float(e), "effective_n": int(k.size)}
                 for k, _, e in reversed(path)]
         if n == grid.size:
             heads.append(cap_message(n, f"N = 1..{grid.size}, one relaxation time per decade "
                                      "of the data and one beyond each end",
-                                     "the data span no more decades to place them in"))
+                                     "give a larger N (n_prony=, --prony N) to fit more "
+                                     "than one per decade"))
         model, tau_b, auto = model_for(n)
     else:
         n = n_prony
