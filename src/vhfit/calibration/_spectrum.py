@@ -12,8 +12,9 @@ floor):
 2. NNLS for (E∞, G_i) on that grid, then backward pruning: the error against N for
    every N from the grid's size down to 1 (:func:`vhfit.spectrum.pruning_path`);
 3. at the chosen N, log τ moved freely (bounded Gauss–Newton by variable projection, the
-   moduli by NNLS at each step) from two starts — the pruned grid's τ and N values
-   spread evenly in log τ over the grid — and the better end kept;
+   moduli by NNLS at each step) from the better of two starts — the pruned grid's τ and
+   N values spread evenly in log τ over the data's decades — or, for a fit after the
+   first in another formulation (whose moduli are the same), from the first fit's τ;
 4. the calibration's polish (bounded least squares on every parameter), which never
    raises the error.
 
@@ -47,6 +48,9 @@ __all__ = ["applies", "tau_grid", "spectrum_fit", "seed_from_moduli", "ROUTE", "
 #: Steps of the final polish: it starts at the variable-projection optimum, so a few
 #: steps of least squares on every parameter settle what the τ refinement left
 POLISH_NFEV = 10
+
+#: Steps of refinement that rank the two starts before the better one goes on to the end
+SCOUT_NFEV = 40
 
 #: Pruning-path errors below this fraction of the one-term error count as an exact fit
 EXACT = 1e-10
@@ -106,7 +110,8 @@ class _Moduli:
             a = np.concatenate([[self.kappa * g.sum()], g])
         return a, float(rn)
 
-    def refine(self, logtau: np.ndarray, bounds: tuple[float, float]) -> np.ndarray:
+    def refine(self, logtau: np.ndarray, bounds: tuple[float, float],
+               max_nfev: int = 400) -> np.ndarray:
         """Free log10 τ (bounded) by variable projection from ``logtau``; sorted."""
         from scipy.optimize import least_squares
 
@@ -149,7 +154,7 @@ class _Moduli:
         with np.errstate(all="ignore"):
             sol = least_squares(resid, z0, jac=jac, bounds=(np.full(z0.size, lo),
                                 np.full(z0.size, hi)), method="trf", xtol=1e-12,
-                                ftol=1e-12, gtol=1e-12, max_nfev=400)
+                                ftol=1e-12, gtol=1e-12, max_nfev=max_nfev)
         return np.sort(sol.x)
 
 
@@ -164,19 +169,26 @@ def _shape(prob: Problem) -> np.ndarray:
     return shape
 
 
-def _refined(mod: _Moduli, grid: np.ndarray, keep: np.ndarray, n: int, bounds):
-    """The better of the refinements at N from the pruned grid and from N values spread
-    evenly in log τ over the data's decades."""
-    starts = [np.log10(grid[keep])]
-    ends = np.log10(grid[[1, -2]] if grid.size > 3 else grid[[0, -1]])  # the data's decades
-    starts.append(np.linspace(ends[0], ends[1], n) if n > 1 else np.array([ends.mean()]))
-    best = None
-    for z0 in starts:
-        z = mod.refine(z0, bounds)
-        a, rn = mod.solve(mod.matrix(10.0**z))
-        if best is None or rn < best[2]:
-            best = (z, a, rn)
-    return best
+def _refined(mod: _Moduli, grid: np.ndarray, keep: np.ndarray, n: int, bounds,
+             given: np.ndarray | None = None):
+    """The refinement at N: from ``given`` log10 τ if any, else from the better of two
+    starts — the pruned grid's τ and N values spread evenly in log τ over the data's
+    decades — each refined :data:`SCOUT_NFEV` steps, the better one then to the end."""
+    if given is not None:
+        starts = [np.sort(np.asarray(given, dtype=np.float64))]
+    else:
+        starts = [np.log10(grid[keep])]
+        ends = np.log10(grid[[1, -2]] if grid.size > 3 else grid[[0, -1]])
+        starts.append(np.linspace(ends[0], ends[1], n) if n > 1 else np.array([ends.mean()]))
+    if len(starts) > 1:
+        scouts = []
+        for z0 in starts:
+            z = mod.refine(z0, bounds, SCOUT_NFEV)
+            scouts.append((mod.solve(mod.matrix(10.0**z))[1], z))
+        starts = [min(scouts, key=lambda sz: sz[0])[1]]
+    z = mod.refine(starts[0], bounds)
+    a, rn = mod.solve(mod.matrix(10.0**z))
+    return z, a, rn
 
 
 def cap_message(n: int, what: str, fix: str) -> str:
@@ -222,7 +234,11 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
         keep = next(k for k, _, _ in path if k.size == n)
     else:  # more terms than decades: N values spread evenly over the grid's span
         grid, keep = np.geomspace(grid[0], grid[-1], n), np.arange(n)
-    z, a, _ = _refined(mod, grid, keep, n, bounds)
+    init = (s.de_options or {}).get("init")  # a fit after the first starts from it
+    given = None
+    if init is not None and np.ndim(init) == 2 and np.shape(init)[1] >= n:
+        given = np.asarray(init, dtype=np.float64)[0, -n:]
+    z, a, _ = _refined(mod, grid, keep, n, bounds, given)
     space = SeparableSpace(prob)
     x = space.assemble(shape, a[0], a[1:], 10.0**z)
     err = float(prob.errors(x[None, :])[0])

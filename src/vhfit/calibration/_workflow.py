@@ -266,7 +266,10 @@ def calibrate(
                            max_time=s.max_time, t0=t0)
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
-    warns, heads, options = rate_msgs + cal.warnings, list(cal.headlines), dict(cal.options)
+    for m in ref.notes:  # the shift law's fit (a degenerate WLF and the law chosen)
+        warnings.warn(m, CalibrationWarning, stacklevel=2)
+    warns = list(ref.notes) + rate_msgs + cal.warnings
+    heads, options = list(ref.notes) + list(cal.headlines), dict(cal.options)
     if default_reason:
         options["n_prony_reason"] = f"no Prony terms by default: {default_reason}"
     elif unidentified and cal.n_prony > 0:
