@@ -126,6 +126,11 @@ def check_targets(targets, law: str) -> None:
                 f"or choose a --model among {', '.join(supported_laws(s))}")
 
 
+#: RMS misfit (decades of a_T, i.e. 2.3 % in time) within which a WLF law fitted to the
+#: shift table stands for a law the cards cannot take
+CARD_SHIFT_DECADES = 0.01
+
+
 def card_shift(cal) -> tuple[object, str | None]:
     """The fit's time–temperature shift for the cards: (WLF law or None, note or None).
 
@@ -149,7 +154,7 @@ def card_shift(cal) -> tuple[object, str | None]:
         wlf = fit_shift_law(T, y, "wlf", T_ref=T_ref)
         rms_w = float(np.sqrt(np.mean((wlf.log_aT(T) - y) ** 2)))
         rms_l = float(np.sqrt(np.mean((law.log_aT(T) - y) ** 2)))
-        if rms_w <= 1.1 * rms_l + 1e-6:
+        if rms_w <= max(1.1 * rms_l, CARD_SHIFT_DECADES):
             return wlf, (f"time-temperature shift in the card: WLF C1 = {wlf.C1:.6g}, C2 = "
                          f"{wlf.C2:.6g} fitted to the shift table (the form the cards take; "
                          f"the fit's {law.name} law has none), RMS {rms_w:.3g} decades "
