@@ -143,9 +143,10 @@ def test_the_global_order_scan_says_when_it_chose_its_largest_n():
     assert cal.headlines[0] in cal.warnings
 
 
-def test_a_joint_fit_starts_from_the_moduli_spectrum():
+def test_a_joint_fit_starts_from_the_moduli_spectrum(monkeypatch):
     """Beside large-strain curves, the moduli's own spectrum is the first member of the
-    search's start: its τ are those of the exact moduli (closed form)."""
+    search's start: its τ are those of the exact moduli (closed form), and calibrate
+    hands it to the search."""
     from vhfit.calibration._bounds import search_bounds
     from vhfit.calibration._settings import CalibrationSettings
     from vhfit.calibration._space import Problem, SeparableSpace
@@ -168,3 +169,18 @@ def test_a_joint_fit_starts_from_the_moduli_spectrum():
     lo, hi = np.array(space.bounds()).T
     assert np.all((z >= lo) & (z <= hi))
     assert _spectrum.seed_from_moduli([sweep], space, s, 2) is None  # moduli alone: no seed
+
+    from vhfit.calibration import _workflow
+
+    seen = []
+    real = _workflow.run_search
+
+    def spy(*a, **kw):
+        seen.append(kw.get("x0"))
+        return real(*a, **kw)
+
+    monkeypatch.setattr(_workflow, "run_search", spy)
+    quiet(vhfit.calibrate, items, n_prony=2, seed=0, maxiter=2, polish=False,
+          uncertainty=False)
+    assert seen and seen[0] is not None
+    np.testing.assert_allclose(10.0 ** seen[0][-2:], tau, rtol=1e-6)

@@ -137,7 +137,8 @@ def card_shift(cal) -> tuple[object, str | None]:
     A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's). Another law
     (the one the data chose where the WLF fit degenerates, or a given one) has no card
     form: the cards then carry the WLF law fitted to the fit's shift table when it
-    reproduces the table as well (within 10 % RMS, or 1e-6 decades) — for a straight
+    reproduces the table as well (RMS within 10 % of the law's, or within
+    :data:`CARD_SHIFT_DECADES`) — for a straight
     line in T, the WLF limit of large C1, C2 — and the note says so and where it holds;
     otherwise no shift, and the note says that.
     """
