@@ -362,7 +362,9 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     space = SPACES[s.method](prob)
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
-    x0 = _spectrum.seed_from_moduli(curves, space, s, n_prony)
+    # (not over a start population of the caller's own, e.g. a first fit's)
+    x0 = None if "init" in (s.de_options or {}) else _spectrum.seed_from_moduli(
+        curves, space, s, n_prony)
     found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
                        t0=t0, x0=x0)
     x = space.to_params(found.z)
