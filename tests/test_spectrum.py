@@ -173,3 +173,28 @@ def test_relaxation_times_beyond_a_relaxation_tests_window_are_on_the_grid():
     np.testing.assert_allclose(s.tau, tau, rtol=1e-12)
     assert s.error < 1e-10
     assert best_error_on(10.0 ** np.arange(k0, k1), "time", WINDOW_T, E) > 1e-5
+
+
+def test_pruning_path_of_weighted_columns_keeps_the_true_terms_to_the_end():
+    """Columns of E(t) on a decade grid 1e-3..1e3 s, data of E∞ = 1 and two of its terms
+    (τ = 1e-2 and 10 s, G = 4 and 2): the path goes from 7 terms to 1, its residual never
+    falls as terms go, the two-term step keeps exactly the true columns with the true
+    moduli and zero residual, and the one-term step's residual is that of a direct NNLS
+    on the column it kept."""
+    from scipy.optimize import nnls
+
+    from vhfit.spectrum import pruning_path
+
+    t = np.logspace(-3, 3, 41)
+    grid = 10.0 ** np.arange(-3, 4)
+    A = np.column_stack([np.ones_like(t), np.exp(-t[:, None] / grid)])
+    b = 1.0 + 4.0 * np.exp(-t / 1e-2) + 2.0 * np.exp(-t / 10.0)
+    path = pruning_path(A, b)
+    assert [k.size for k, _, _ in path] == list(range(7, 0, -1))
+    errs = [e for _, _, e in path]
+    assert all(e2 >= e1 - 1e-12 for e1, e2 in zip(errs, errs[1:]))
+    keep, coef, err = path[5]
+    assert keep.tolist() == [1, 4] and err < 1e-10
+    np.testing.assert_allclose(coef, [1.0, 4.0, 2.0], rtol=1e-9)
+    keep1, _, err1 = path[6]
+    assert err1 == pytest.approx(nnls(A[:, [0, keep1[0] + 1]], b)[1], rel=1e-9)

@@ -26,7 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["PronySpectrum", "prony_spectrum", "design_matrix", "rms_relative_error"]
+__all__ = ["PronySpectrum", "prony_spectrum", "design_matrix", "rms_relative_error",
+           "pruning_path"]
 
 
 @dataclass(frozen=True)
@@ -176,6 +177,38 @@ def _prune(Aw, b, keep: np.ndarray):
         keep, err, coef = best
         path.append((keep.size, err, keep, coef))
     return path
+
+
+def pruning_path(A: np.ndarray, b: np.ndarray) -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """Backward pruning of the Prony columns of a weighted least-squares problem.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, 1 + m)
+        Weighted columns: the long-term modulus first, then one per relaxation time.
+    b : ndarray, shape (n,)
+        Weighted targets.
+
+    Returns
+    -------
+    list of (kept, coef, residual)
+        From all m terms down to 1: the kept Prony columns (indices into the m), the
+        non-negative coefficients (long-term modulus first) and the residual norm
+        ``||A[:, [0, kept + 1]] coef - b||``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.logspace(-2, 2, 9)
+    >>> A = np.column_stack([np.ones_like(t), np.exp(-t / 0.1), np.exp(-t / 10.0)])
+    >>> path = pruning_path(A, 1.0 + 2.0 * np.exp(-t / 10.0))
+    >>> [(k.tolist(), round(e, 12)) for k, _, e in path]
+    [([0, 1], 0.0), ([1], 0.0)]
+    """
+    root = math.sqrt(np.asarray(b).size)
+    return [(keep, coef, err * root) for _, err, keep, coef in
+            _prune(np.asarray(A, dtype=np.float64), np.asarray(b, dtype=np.float64),
+                   np.arange(np.shape(A)[1] - 1))]
 
 
 def _columns_and_slopes(domain: str, x: np.ndarray, tau: np.ndarray):

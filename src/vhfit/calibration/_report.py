@@ -63,9 +63,11 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
         return out, unident
     z, cov0, Vt, tiny, s2, dof = got
     cov = cov0 * s2
-    from scipy.stats import t as student_t
+    # Student's t quantile: scipy.special's stdtrit is what scipy.stats.t.ppf evaluates
+    # (identical values), without the seconds scipy.stats takes to import
+    from scipy.special import stdtrit
 
-    tq = float(student_t.ppf(0.5 + level / 2, dof))
+    tq = float(stdtrit(dof, 0.5 + level / 2))
     for k, name in enumerate(model.param_names):
         half = tq * math.sqrt(max(cov[k, k], 0.0))
         # a parameter along a (near-)null direction of J cannot be identified

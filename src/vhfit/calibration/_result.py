@@ -224,7 +224,8 @@ class Calibration:
         :meth:`summary` and the solver cards' comments put them first.
     shift : WLF, Arrhenius, PolynomialShift or None
         Time–temperature shift law of tests at several temperatures: the given law, or
-        the WLF law fitted to the shift factors used (docs/dma.md); None when every test
+        the WLF law fitted to the shift factors used — where that fit degenerates, the law
+        the data choose (:func:`vhfit.tts.choose_shift_law`; docs/dma.md); None when every test
         was at one temperature. The constants are those at ``T_ref``.
     shift_table : dict
         Temperature -> log10 a_T applied to the tests at it.
@@ -396,8 +397,8 @@ class Calibration:
 
     def _shift_lines(self) -> list[str]:
         """The time–temperature shift in a few lines of the summary."""
-        how = {"law": "given", "table": "WLF fitted to the given shift factors",
-               "overlap": "WLF fitted to the shift factors built from the sweeps' overlap"}
+        how = {"law": "given", "table": "fitted to the given shift factors",
+               "overlap": "fitted to the shift factors built from the sweeps' overlap"}
         law = self.shift
         if law is None:
             head = (f"time-temperature shift: given table (T_ref {_g(self.T_ref, 6)}), no "

@@ -121,14 +121,15 @@ def _history(solver, setup: float = 0.0) -> dict:
 
 
 def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | None,
-               t0: float) -> Search:
+               t0: float, x0: np.ndarray | None = None) -> Search:
     """Differential evolution over ``space`` until a stopping criterion is met.
 
     ``settings`` (a :class:`CalibrationSettings`) gives the search's seed, population,
     stopping tests, workers, callback, solver options and checkpoint period;
     ``checkpoint`` and ``max_time`` are this search's own (one of a scan over N). With
     ``settings.polish`` a polish follows the search, which may then stop as soon as a
-    polish of its best member reaches the target (:class:`_EarlyFinish`).
+    polish of its best member reaches the target (:class:`_EarlyFinish`). ``x0``, a
+    search vector inside the bounds, replaces the first member of the first population.
     """
     s = settings
     seed, workers, popsize, maxiter = s.seed, s.workers, s.popsize, s.maxiter
@@ -162,7 +163,8 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             solver = DifferentialEvolutionSolver(
                 objective, dbounds, maxiter=cap, population_size=npop, tol=0.0, atol=0.0,
                 rng=np.random.default_rng(seed), polish=False, callback=track,
-                vectorized=opts["updating"] == "deferred", stop=crits, history=True, **opts)
+                vectorized=opts["updating"] == "deferred", stop=crits, history=True, x0=x0,
+                **opts)
         with solver:
             track.solver = solver
             finished = None

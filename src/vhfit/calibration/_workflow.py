@@ -10,6 +10,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from vhfit.calibration import _spectrum
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
@@ -255,14 +256,20 @@ def calibrate(
         n_check = s.max_prony if isinstance(n_prony, str) else int(n_prony)
         rate_msgs = rate_sensitivity([c for c in curves if not is_moduli(c)], s.hyperelastic,
                                      n_check)
-    if isinstance(n_prony, str):
+    by_spectrum = _spectrum.applies(curves, s) and n_prony != 0
+    if by_spectrum:  # sweeps and relaxation tests alone: the per-decade spectrum
+        cal = _by_spectrum(curves, s, None if isinstance(n_prony, str) else int(n_prony), t0)
+    elif isinstance(n_prony, str):
         cal = _order_scan(curves, s, t0)
     else:
         cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
                            max_time=s.max_time, t0=t0)
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
-    warns, heads, options = rate_msgs + cal.warnings, list(cal.headlines), dict(cal.options)
+    for m in ref.notes:  # the shift law's fit (a degenerate WLF and the law chosen)
+        warnings.warn(m, CalibrationWarning, stacklevel=2)
+    warns = list(ref.notes) + rate_msgs + cal.warnings
+    heads, options = list(ref.notes) + list(cal.headlines), dict(cal.options)
     if default_reason:
         options["n_prony_reason"] = f"no Prony terms by default: {default_reason}"
     elif unidentified and cal.n_prony > 0:
@@ -283,6 +290,34 @@ def _shift_of(ref) -> dict:
     return {}
 
 
+def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
+                 t0: float) -> Calibration:
+    """Moduli-only data: the per-decade spectrum route (``n_prony`` None: automatic N)."""
+    s = settings
+
+    def model_for(n: int):
+        model = ViscoHyperelastic(s.hyperelastic, n, rtol=s.rtol, formulation=s.formulation)
+        tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
+                                    s.decades_above, s.bounds)
+        return model, tau_b, auto
+
+    cal, scan, heads, n = _spectrum.spectrum_fit(curves, s, model_for, n_prony, t0)
+    if scan is None:
+        return cal
+    for m in heads:
+        warnings.warn(m, CalibrationWarning, stacklevel=3)
+    return replace(
+        cal, order_scan=scan, headlines=heads + list(cal.headlines),
+        warnings=heads + list(cal.warnings),
+        options={**cal.options, "n_prony": "auto", "n_prony_chosen": n,
+                 "order_rule": f"smallest N whose RMSAPE on the per-decade tau grid (its "
+                               f"pruning path) is within {s.order_tol:.0%} of the full "
+                               f"grid's, over N = 1..{len(scan)} (one relaxation time per "
+                               "decade of the data, one beyond each end); tau refined at "
+                               "that N"},
+        wall_time=time.perf_counter() - t0)
+
+
 def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration:
     """N = 1..max_prony, each a calibration; the smallest N within order_tol of the best."""
     max_time, order_tol, results = settings.max_time, settings.order_tol, []
@@ -299,8 +334,14 @@ def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration
             break
     best = min(r.rmsape for r in results)
     chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
+    heads = []
+    if results.index(chosen) + 1 == len(results) == settings.max_prony:
+        heads.append(_spectrum.cap_message(
+            len(results), f"N = 1..{len(results)}, max_prony / --max-prony",
+            "raise max_prony (--max-prony) to try more"))
+        warnings.warn(heads[0], CalibrationWarning, stacklevel=3)
     return replace(
-        chosen,
+        chosen, headlines=heads + list(chosen.headlines), warnings=heads + list(chosen.warnings),
         order_scan=[{"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
                     for n, r in enumerate(results)],
         options={**chosen.options, "n_prony": "auto",
@@ -320,8 +361,12 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
                                 s.decades_above, s.bounds)
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     space = SPACES[s.method](prob)
+    # moduli beside large-strain curves: the moduli's spectrum is one member of the start
+    # (not over a start population of the caller's own, e.g. a first fit's)
+    x0 = None if "init" in (s.de_options or {}) else _spectrum.seed_from_moduli(
+        curves, space, s, n_prony)
     found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
-                       t0=t0)
+                       t0=t0, x0=x0)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result

@@ -17,12 +17,15 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from vhfit._io import atomic_write
 from vhfit.cli._common import UsageError, one_line
 from vhfit.export import export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
 from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
 from vhfit.modes import get_deformation
+from vhfit.tts import fit_shift_law
 
 __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
@@ -123,17 +126,41 @@ def check_targets(targets, law: str) -> None:
                 f"or choose a --model among {', '.join(supported_laws(s))}")
 
 
+#: RMS misfit (decades of a_T, i.e. 2.3 % in time) within which a WLF law fitted to the
+#: shift table stands for a law the cards cannot take
+CARD_SHIFT_DECADES = 0.01
+
+
 def card_shift(cal) -> tuple[object, str | None]:
     """The fit's time–temperature shift for the cards: (WLF law or None, note or None).
 
-    A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's); another law
-    cannot (the cards take WLF only), which the note says.
+    A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's). Another law
+    (the one the data chose where the WLF fit degenerates, or a given one) has no card
+    form: the cards then carry the WLF law fitted to the fit's shift table when it
+    reproduces the table as well (RMS within 10 % of the law's, or within
+    :data:`CARD_SHIFT_DECADES`) — for a straight
+    line in T, the WLF limit of large C1, C2 — and the note says so and where it holds;
+    otherwise no shift, and the note says that.
     """
     law = cal.shift
     if law is None:
         return None, None
     if law.name == "wlf":
         return law, None
+    table = dict(cal.shift_table or {})
+    if len(table) >= 2:
+        T = np.array(list(table), dtype=np.float64)
+        y = np.array(list(table.values()), dtype=np.float64)
+        T_ref = cal.T_ref if cal.T_ref is not None else law.T_ref
+        wlf = fit_shift_law(T, y, "wlf", T_ref=T_ref)
+        rms_w = float(np.sqrt(np.mean((wlf.log_aT(T) - y) ** 2)))
+        rms_l = float(np.sqrt(np.mean((law.log_aT(T) - y) ** 2)))
+        if rms_w <= max(1.1 * rms_l, CARD_SHIFT_DECADES):
+            return wlf, (f"time-temperature shift in the card: WLF C1 = {wlf.C1:.6g}, C2 = "
+                         f"{wlf.C2:.6g} fitted to the shift table (the form the cards take; "
+                         f"the fit's {law.name} law has none), RMS {rms_w:.3g} decades "
+                         f"against its {rms_l:.3g}; it holds only for T = {T.min():g}.."
+                         f"{T.max():g}")
     return None, (f"no time-temperature shift in the card: the fit's {law.name} law has no "
                   "card form (the cards take WLF); fit with --shift wlf:C1,C2, or without "
                   "--shift to have WLF fitted to the sweeps' shift factors")

@@ -51,6 +51,7 @@ from vhfit.cli._outputs import write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.cli._settings import check_shift, fit_settings
 from vhfit.comparison import compare
+from vhfit.data import is_moduli
 from vhfit.formulations import FORMULATIONS
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "run_compare", "model_list", "group_by_file",
@@ -304,8 +305,11 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         if args.prony is None:
             n_txt, why = default_n_prony(curves)
         else:
-            n_txt = (f"auto (N = 1..{args.max_prony})" if args.prony == "auto"
-                     else str(args.prony))
+            n_txt = str(args.prony)
+            if args.prony == "auto":
+                n_txt = ("auto (N = 1 to one per decade of the data: the per-decade spectrum)"
+                         if curves and all(is_moduli(c) for c in curves)
+                         else f"auto (N = 1..{args.max_prony})")
         print(f"fitting {model} + {n_txt} Prony term(s), tau strategy {strategy}, seed "
               f"{args.seed}, to {len(curves)} curve(s); outputs in {out}/"
               + (" (resuming)" if args.resume else ""), file=sys.stderr, flush=True)

@@ -380,7 +380,8 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                            "viscous response: one monotonic rate, or only equilibrium "
                            "curves)"))
     p.add_argument("--max-prony", type=int, default=5, metavar="N",
-                   help="largest N of --prony auto (default 5)")
+                   help="largest N of --prony auto (default 5; sweeps and relaxation "
+                        "tests alone scan one term per decade of the data instead)")
     if not demo:
         p.add_argument("--strategy", default="free",
                        help="tau strategy: free, semifree or fixed (default free; "

@@ -27,7 +27,9 @@ from vhfit.tts._laws import (
     WLF,
     Arrhenius,
     PolynomialShift,
+    choose_shift_law,
     fit_shift_law,
+    wlf_degenerate,
 )
 from vhfit.tts._master import (
     MasterCurve,
@@ -46,6 +48,8 @@ __all__ = [
     "Arrhenius",
     "PolynomialShift",
     "fit_shift_law",
+    "choose_shift_law",
+    "wlf_degenerate",
     "MasterCurve",
     "group_by_temperature",
     "master_curve",

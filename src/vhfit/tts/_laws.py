@@ -261,3 +261,102 @@ def _fit_wlf(x: np.ndarray, y: np.ndarray, T_ref: float) -> WLF:
     c2 = floor + span * math.exp(best.x)
     c1, _ = _wlf_c1(x, y, c2)
     return WLF(float(c1), float(c2), T_ref)
+
+
+#: A WLF fit whose C2 is at least this many times the data's largest |T − T_ref| is a
+#: straight line in T to within 1 % over the data (its curvature term (T − T_ref)/C2):
+#: C1 and C2 have grown together without bound, the law has no meaning beyond the line
+WLF_DEGENERATE = 100.0
+
+
+def wlf_degenerate(law, temperatures) -> str | None:
+    """Why a WLF law fitted to shift factors at ``temperatures`` is degenerate, or None.
+
+    Parameters
+    ----------
+    law : WLF (any other law: None)
+    temperatures : array_like
+        The temperatures of the shift factors it was fitted to.
+
+    Returns
+    -------
+    str or None
+        One line: C1 and C2 growing together, i.e. log10 a_T a straight line in T.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> wlf_degenerate(WLF(8.86, 101.6, 0.0), np.linspace(-20, 60, 9)) is None
+    True
+    >>> T = np.linspace(0.0, 100.0, 11)
+    >>> wlf_degenerate(fit_shift_law(T, -0.2 * (T - 50.0), "wlf"), T)[:36]
+    'the WLF fit of the shift factors deg'
+    """
+    if getattr(law, "name", None) != "wlf":
+        return None
+    T = np.asarray(temperatures, dtype=np.float64).ravel()
+    reach = float(np.max(np.abs(T - law.T_ref))) if T.size else 0.0
+    if not reach > 0 or law.C2 < WLF_DEGENERATE * reach:
+        return None
+    return (f"the WLF fit of the shift factors degenerates: C1 = {law.C1:.3g} and C2 = "
+            f"{law.C2:.3g} grow together (C2 is {law.C2 / reach:.3g} times the largest "
+            f"|T - T_ref| of the data), i.e. log10 a_T is a straight line in T "
+            f"({-law.C1 / law.C2:.4g} per degree over T = {T.min():g}..{T.max():g}), as "
+            "across a glass transition: C1 and C2 mean nothing one by one, and the law "
+            "holds only between those temperatures")
+
+
+def choose_shift_law(temperature, log_aT, T_ref: float | None = None):
+    """The shift law fitted to shift factors: WLF, unless its fit degenerates.
+
+    A degenerate WLF fit (:func:`wlf_degenerate`) is replaced by the law the data choose
+    among Arrhenius and the polynomials of degree 1 and 2 (2 only from 4 temperatures):
+    the one with the fewest constants whose RMS residual (in decades) is within 10 % of
+    the best of them.
+
+    Parameters
+    ----------
+    temperature, log_aT : array_like
+        Temperatures and log10 shift factors.
+    T_ref : float, optional
+        Reference temperature (default as :func:`fit_shift_law`).
+
+    Returns
+    -------
+    (law, message)
+        The law, and None or the one-line report of the degenerate WLF fit and the law
+        chosen instead.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> T = np.linspace(0.0, 100.0, 11)
+    >>> law, msg = choose_shift_law(T, -0.2 * (T - 50.0), T_ref=50.0)
+    >>> law.name, round(law.coefficients[0], 9)
+    ('polynomial', -0.2)
+    """
+    T, y = _check_pairs(temperature, log_aT)
+    wlf = fit_shift_law(T, y, "wlf", T_ref=T_ref)
+    why = wlf_degenerate(wlf, T)
+    if why is None:
+        return wlf, None
+    T_ref = wlf.T_ref
+    cands = [fit_shift_law(T, y, "polynomial", T_ref=T_ref, degree=1)]
+    if min(T.min(), T_ref) > -273.15:  # above absolute zero in °C: Arrhenius defined
+        cands.insert(0, fit_shift_law(T, y, "arrhenius", T_ref=T_ref))
+    if np.unique(T).size >= 4:
+        cands.append(fit_shift_law(T, y, "polynomial", T_ref=T_ref, degree=2))
+    rms = [float(np.sqrt(np.mean((law.log_aT(T) - y) ** 2))) for law in cands]
+    best = min(rms)
+    k = next(i for i, r in enumerate(rms) if r <= 1.1 * best + 1e-12)
+    law = cands[k]
+    names = ", ".join(_label(c) + f" {r:.3g}" for c, r in zip(cands, rms))
+    return law, (f"{why}; the tests at those temperatures keep their measured shift "
+                 f"factors, and the law is the one the data choose instead: {_label(law)} "
+                 f"(RMS residual in decades: {names})")
+
+
+def _label(law) -> str:
+    if law.name == "polynomial":
+        return f"polynomial of degree {len(law.coefficients)}"
+    return str(law.name)

@@ -4,8 +4,9 @@
 also answers "with which shift law" — what a calibration result and the solvers' cards
 need (``*TRS``, ``TB,SHIFT``). Without given shift factors, the log10 a_T of the sweep
 (or relaxation) temperatures come from the master curve built by overlap, and a WLF law
-is fitted to them; a stress–strain test at a temperature without a sweep is shifted by
-that law.
+is fitted to them (or, where that fit degenerates, the law the data choose:
+:func:`vhfit.tts.choose_shift_law`); a stress–strain test at a temperature without a
+sweep is shifted by that law.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vhfit.data import DataError, FrequencySweep, Relaxation
-from vhfit.tts._laws import fit_shift_law
+from vhfit.tts._laws import choose_shift_law
 from vhfit.tts._master import MasterCurve, _temperature_of, reduce_to_reference
 
 #: Temperatures closer than this (in the data's unit) are one level.
@@ -40,6 +41,9 @@ class ReferenceShift:
         Temperature -> log10 a_T applied to the items at it.
     source : {"law", "table", "overlap", "none"}
         Given law, given table, built from the sweeps' overlap, or no shift.
+    notes : list of str
+        What the law's fit found wrong (a degenerate WLF fit and the law chosen
+        instead, :func:`vhfit.tts.choose_shift_law`).
     """
 
     items: list
@@ -47,6 +51,7 @@ class ReferenceShift:
     T_ref: float | None = None
     log_aT: dict = field(default_factory=dict)
     source: str = "none"
+    notes: list = field(default_factory=list)
 
 
 def _moduli_items(items, temps) -> list:
@@ -71,12 +76,12 @@ def _from_overlap(items, temps, T_ref):
     _, mc = reduce_to_reference(moduli, T_ref=T_ref, tolerance=TOLERANCE)
     if not isinstance(mc, MasterCurve) or mc.temperatures.size < 2:
         return None
-    law = fit_shift_law(mc.temperatures, mc.log_aT, "wlf", T_ref=mc.T_ref)
+    law, note = choose_shift_law(mc.temperatures, mc.log_aT, T_ref=mc.T_ref)
     table = {float(T): float(L) for T, L in zip(mc.temperatures, mc.log_aT)}
     for T in sorted({T for T in temps if T is not None}):
         if not _covered(T, table):  # a stress–strain test between (or beyond) the sweeps
             table[T] = float(law.log_aT(T))
-    return table, law, mc.T_ref
+    return table, law, mc.T_ref, note
 
 
 def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
@@ -120,12 +125,14 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     known = sorted({T for T in temps if T is not None})
     source = "none"
     law = None
+    notes: list[str] = []
     given_T = T_ref  # a test without temperature is at T_ref only when T_ref is said
     if shift_factors is None and known and known[-1] - known[0] > TOLERANCE:
         built = _from_overlap(items, temps, T_ref)
         if built is not None:
-            shift_factors, law, T_ref = built
+            shift_factors, law, T_ref, note = built
             source = "overlap"
+            notes += [note] if note else []
     elif hasattr(shift_factors, "log_aT"):
         law, source = shift_factors, "law"
         T_ref = float(law.T_ref)
@@ -144,8 +151,10 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     if source == "table" and table:
         T_ref = T_ref if T_ref is not None else min(table, key=lambda T: abs(table[T]))
         if len(table) >= 2:
-            law = fit_shift_law(list(table), list(table.values()), "wlf", T_ref=T_ref)
-    return ReferenceShift(out, law, None if T_ref is None else float(T_ref), table, source)
+            law, note = choose_shift_law(list(table), list(table.values()), T_ref=T_ref)
+            notes += [note] if note else []
+    return ReferenceShift(out, law, None if T_ref is None else float(T_ref), table, source,
+                          notes)
 
 
 def _applied(known: list, shift_factors, law) -> dict:

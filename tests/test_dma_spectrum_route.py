@@ -1,0 +1,189 @@
+"""Sweeps and relaxation tests alone: calibrate's per-decade spectrum route.
+
+Known answers are closed-form Prony spectra (the generalised Maxwell moduli written here
+from the complex modulus, independently of vhfit): exact data must give back the τ_i and
+G_i that made them. The automatic N reads the pruning path over one term per decade and
+says when it stopped at the largest N it tried; the global search's order scan says so too.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import vhfit
+from vhfit import cli
+from vhfit.calibration import _spectrum
+
+
+def maxwell(f, E_inf, G, tau):
+    """(E′, E″) at frequencies f (Hz) from E* = E∞ + Σ G_i iωτ_i / (1 + iωτ_i)."""
+    w = 2 * np.pi * np.asarray(f, dtype=np.float64)[:, None]
+    Es = E_inf + np.sum(np.asarray(G) * (1j * w * tau) / (1.0 + 1j * w * tau), axis=1)
+    return Es.real, Es.imag
+
+
+def relaxation(t, E_inf, G, tau):
+    return E_inf + np.sum(np.asarray(G) * np.exp(-np.asarray(t)[:, None] / tau), axis=1)
+
+
+def prony_of(cal):
+    n = cal.n_prony
+    G = np.array([cal.params[f"G{i}"] for i in range(1, n + 1)])
+    tau = np.array([cal.params[f"tau{i}"] for i in range(1, n + 1)])
+    order = np.argsort(tau)
+    return G[order], tau[order]
+
+
+def quiet(fn, *a, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*a, **kw)
+
+
+# off the decade grid on purpose: the free-τ refinement has to move them there
+G3, TAU3, E_INF = np.array([4.0, 2.0, 1.0]), np.array([3e-3, 0.2, 7.0]), 1.5
+
+
+@pytest.mark.parametrize("kind, polish", [("frequency", True), ("time", True),
+                                          ("frequency", False), ("time", False)])
+def test_exact_moduli_give_back_the_closed_form_spectrum(kind, polish):
+    """Three terms off the τ grid, exact data: the route recovers E∞ (= 6 C10), every
+    G_i and τ_i to 1e-6 relative — by the free-τ refinement alone without the final
+    polish — and the result says it took this route."""
+    if kind == "frequency":
+        f = np.logspace(-3, 3, 37)
+        item = vhfit.FrequencySweep(frequency=f, storage=maxwell(f, E_INF, G3, TAU3)[0],
+                                    loss=maxwell(f, E_INF, G3, TAU3)[1])
+    else:
+        t = np.logspace(-4, 3, 50)
+        item = vhfit.Relaxation(time=t, modulus=relaxation(t, E_INF, G3, TAU3))
+    cal = quiet(vhfit.calibrate, [item], hyperelastic="neo_hooke", n_prony=3, seed=0,
+                polish=polish)
+    assert cal.stop_reason == _spectrum.ROUTE and cal.nit == 0
+    assert cal.rmsape < 1e-6
+    G, tau = prony_of(cal)
+    np.testing.assert_allclose(tau, TAU3, rtol=1e-6)
+    np.testing.assert_allclose(G, G3, rtol=1e-6)
+    assert 6 * cal.params["C10"] == pytest.approx(E_INF, rel=1e-6)
+
+
+def test_the_route_is_a_whole_calibration_saved_and_loaded(tmp_path):
+    """Same results file as any fit: it loads back with its parameters and error."""
+    f = np.logspace(-2, 2, 21)
+    e1, e2 = maxwell(f, E_INF, G3, TAU3)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)
+    cal = quiet(vhfit.calibrate, [sweep], hyperelastic="neo_hooke", n_prony=3, seed=0)
+    cal.save(tmp_path / "r.json", curves=[sweep])
+    back = vhfit.Calibration.load(tmp_path / "r.json")
+    assert back.params == cal.params and back.rmsape == cal.rmsape
+    assert cal.options["route"] == _spectrum.ROUTE
+
+
+def test_auto_n_scans_one_term_per_decade_and_finds_the_true_n():
+    """τ on the decade grid (1e-2, 1, 10 s), exact data over 1 mHz – 1 kHz: the pruning
+    path is exact down to N = 3 and no lower, so N = 3; the scan covers N = 1 up to the
+    grid's size (one τ per decade of 1/ω from 1.6e-4 to 159 s and one beyond each end:
+    1e-5 .. 1e3, 9 terms), and says so in its rule."""
+    G, tau = np.array([3.0, 1.0, 0.5]), np.array([1e-2, 1.0, 10.0])
+    f = np.logspace(-3, 3, 37)
+    e1, e2 = maxwell(f, 1.2, G, tau)
+    cal = quiet(vhfit.calibrate, [vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)],
+                hyperelastic="neo_hooke", n_prony="auto", seed=0)
+    assert cal.n_prony == 3 and cal.options["n_prony_chosen"] == 3
+    assert [r["n_prony"] for r in cal.order_scan] == list(range(1, 10))
+    assert "N = 1..9" in cal.options["order_rule"]
+    np.testing.assert_allclose(prony_of(cal)[1], tau, rtol=1e-6)
+    assert not any("largest it tried" in h for h in cal.headlines)
+
+
+def test_auto_n_that_stops_at_the_largest_n_it_tried_says_so(tmp_path, capsys):
+    """A spectrum with a term at every τ of the grid (1e-4 .. 1e2 s for 10 mHz – 100 Hz:
+    one decade beyond 1/ω_max, and up to the τ bounds' one decade beyond 1/ω_min):
+    no term can go without raising the error, so the automatic N is the grid's size,
+    and the first lines (Python's headlines, the CLI's summary and results.json's
+    warnings) say it is the largest N tried and over which range."""
+    f = np.logspace(-2, 2, 41)
+    tau = 10.0 ** np.arange(-4, 3)
+    G = np.linspace(1.0, 2.0, tau.size)
+    e1, e2 = maxwell(f, 1.2, G, tau)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)
+    cal = quiet(vhfit.calibrate, [sweep], hyperelastic="neo_hooke", n_prony="auto", seed=0)
+    # (the report may still drop a term the data cannot tell from E∞: the chosen N counts)
+    assert cal.options["n_prony_chosen"] == tau.size == len(cal.order_scan)
+    head = cal.headlines[0]
+    assert "largest it tried" in head and f"N = 1..{tau.size}" in head
+    csv = tmp_path / "dma.csv"
+    np.savetxt(csv, np.column_stack([f, e1, e2]), delimiter=",", comments="",
+               header="frequency_Hz,storage_MPa,loss_MPa")
+    out = tmp_path / "out"
+    code = cli.main(["fit", str(csv), "--model", "neo_hooke", "--prony", "auto", "--out",
+                     str(out), "--no-plot", "-q"])
+    assert code == 0
+    res = json.loads((out / "results.json").read_text())
+    assert any("largest it tried" in w for w in res["warnings"])
+    summary = (out / "summary.txt").read_text().splitlines()
+    first = next(i for i, line in enumerate(summary) if "largest it tried" in line)
+    assert first < next(i for i, line in enumerate(summary) if line.startswith("parameter"))
+
+
+def test_the_global_order_scan_says_when_it_chose_its_largest_n():
+    """Rate curves of a two-term material scanned over N = 1..1 only: N = 1 is chosen, the
+    largest tried, and the headline names max_prony."""
+    m = vhfit.ViscoHyperelastic("neo_hooke", 2)
+    p = dict(C10=0.2, G1=2.0, tau1=0.01, G2=1.0, tau2=1.0)
+    eps = np.linspace(-0.02, -0.4, 15)
+    curves = [vhfit.Curve(strain=eps, stress=m.stress(p, strain=eps, strain_rate=r,
+                                                      measure="engineering"), strain_rate=r)
+              for r in (-0.1, -10.0, -1000.0)]
+    cal = quiet(vhfit.calibrate, curves, hyperelastic="neo_hooke", n_prony="auto",
+                max_prony=1, seed=0, maxiter=30, uncertainty=False)
+    assert cal.options["n_prony_chosen"] == 1
+    assert "largest it tried" in cal.headlines[0] and "max_prony" in cal.headlines[0]
+    assert cal.headlines[0] in cal.warnings
+
+
+def test_a_joint_fit_starts_from_the_moduli_spectrum(monkeypatch):
+    """Beside large-strain curves, the moduli's own spectrum is the first member of the
+    search's start: its τ are those of the exact moduli (closed form), and calibrate
+    hands it to the search."""
+    from vhfit.calibration._bounds import search_bounds
+    from vhfit.calibration._settings import CalibrationSettings
+    from vhfit.calibration._space import Problem, SeparableSpace
+
+    G, tau = np.array([3.0, 1.0]), np.array([1e-3, 0.1])
+    f = np.logspace(-2, 3, 26)
+    e1, e2 = maxwell(f, 1.5, G, tau)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)
+    eps = np.linspace(-0.02, -0.4, 15)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+    p = dict(C10=0.2, C01=0.05, G1=3.0, tau1=1e-3, G2=1.0, tau2=0.1)
+    curve = vhfit.Curve(strain=eps, stress=m.stress(p, strain=eps, strain_rate=-1.0,
+                                                    measure="engineering"), strain_rate=-1.0)
+    items = [sweep, curve]
+    s = CalibrationSettings("mooney_rivlin", 2)
+    tau_b, auto = search_bounds(m, items, "free", s.decades_below, s.decades_above, "auto")
+    space = SeparableSpace(Problem(m, items, tau_b, auto, s.g_inf_min))
+    z = _spectrum.seed_from_moduli(items, space, s, 2)
+    np.testing.assert_allclose(10.0 ** z[-2:], tau, rtol=1e-6)
+    lo, hi = np.array(space.bounds()).T
+    assert np.all((z >= lo) & (z <= hi))
+    assert _spectrum.seed_from_moduli([sweep], space, s, 2) is None  # moduli alone: no seed
+
+    from vhfit.calibration import _workflow
+
+    seen = []
+    real = _workflow.run_search
+
+    def spy(*a, **kw):
+        seen.append(kw.get("x0"))
+        return real(*a, **kw)
+
+    monkeypatch.setattr(_workflow, "run_search", spy)
+    quiet(vhfit.calibrate, items, n_prony=2, seed=0, maxiter=2, polish=False,
+          uncertainty=False)
+    assert seen and seen[0] is not None
+    np.testing.assert_allclose(10.0 ** seen[0][-2:], tau, rtol=1e-6)
