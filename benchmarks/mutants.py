@@ -1299,4 +1299,65 @@ MUTANTS: list[Mutant] = [
       "{text!r}: give a column name",
       "--group-by '' accepted",
       ("tests/test_fuzz_inputs.py::test_cli_option_values_fuzz",)),
+    # i20-rest: checkpoints resumed only if a search could have written them
+    M("i20rest_ckpt_population_outside_box", "vhfit/optimize/_de.py",
+      "np.isfinite(pop).all() and (pop >= 0.0).all() and (pop <= 1.0).all()",
+      "np.isfinite(pop).all()",
+      "a checkpoint's population outside the unit cube is resumed (constants out of bounds)",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_nan_energies", "vhfit/optimize/_de.py",
+      "    if np.isnan(energies).any():\n        return",
+      "    if False:\n        return",
+      "NaN population energies are resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_negative_counts", "vhfit/optimize/_de.py",
+      "if not all(0 <= n < 2**62 for n in counts):",
+      "if not all(n < 2**62 for n in counts):",
+      "negative generation counts are resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_bad_time", "vhfit/optimize/_de.py",
+      "if not (math.isfinite(elapsed) and elapsed >= 0.0):",
+      "if not math.isfinite(elapsed):",
+      "a negative elapsed time is resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_donor_index", "vhfit/optimize/_de.py",
+      "np.arange(index.size)):",
+      "np.sort(index)):",
+      "a donor index holding a member twice is resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_history_lengths", "vhfit/optimize/_history.py",
+      "if len({a.shape for a in rows.values()}) != 1:",
+      "if not rows:",
+      "history rows of different lengths are resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_negative_errors", "vhfit/calibration/_checkpoint.py",
+      "if (solver.population_energies < 0.0).any():",
+      "if (solver.population_energies < -1.0).any():",
+      "negative errors (RMSAPE) in a checkpoint are resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_done_not_str", "vhfit/calibration/_checkpoint.py",
+      "if done is not None and not (isinstance(done, str) and done):",
+      "if done is not None and not done:",
+      "a stop reason 1.0 in a checkpoint is resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_ckpt_version_true", "vhfit/optimize/_de.py",
+      "if type(state.get(\"version\")) is not int or state.get(\"version\") != _STATE_VERSION:",
+      "if state.get(\"version\") != _STATE_VERSION:",
+      "a state version true (== 1) is resumed",
+      ("tests/test_fuzz_inputs.py::"
+       "test_checkpoint_with_values_no_run_writes_is_refused",)),
+    M("i20rest_out_guard_reads_text", "vhfit/cli/_fit.py",
+      "saved = {n: (out / n).read_bytes() for n in names",
+      "saved = {n: (out / n).read_text() for n in names",
+      "fit --resume of a checkpoint that is no UTF-8 ends in a decoding error naming nothing",
+      ("tests/test_fuzz_inputs.py::"
+       "test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it",)),
 ]

@@ -232,6 +232,40 @@ READ_KEYS = ("hyperelastic", "params", "n_prony", "formulation", "rmsape", "opti
 _BASE_TEXT: dict[int, str] = {}
 
 
+#: Files that are no JSON file of vhfit's at all.
+NOT_A_FILE = [b"", b"[]", b"null", b"42", b"strain,stress\n0,0\n", b"{}"]
+
+
+def damage_bytes(rng: np.random.Generator, text: bytes, word: str, others=()
+                 ) -> tuple[bytes, str, str]:
+    """``text`` (a JSON file) damaged at the byte level, the expectation and what was done:
+    cut short (a full disk, a copy cut short), bytes flipped, another encoding, another
+    file, random bytes, NaN literals (Python's json writes them), indented by hand, or
+    invalid UTF-8 inside ``word``."""
+    how, expect = int(rng.integers(7)), "any"
+    if how == 0:
+        raw, expect = text[: int(rng.integers(len(text)))], "error"
+    elif how == 1:
+        b = bytearray(text)
+        for _ in range(int(rng.integers(1, 4))):
+            b[int(rng.integers(len(b)))] = int(rng.integers(256))
+        raw = bytes(b)
+    elif how == 2:
+        raw = text.decode().encode(str(rng.choice(["utf-16", "utf-8-sig"])))
+    elif how == 3:
+        files = NOT_A_FILE + list(others)
+        raw, expect = files[int(rng.integers(len(files)))], "error"
+    elif how == 4:
+        raw, expect = rng.bytes(int(rng.integers(1, 300))), "error"
+    elif how == 5:
+        raw = text.replace(b'": ', b'": NaN, "x": ', 1)
+    elif rng.random() < 0.5:
+        raw = json.dumps(json.loads(text), indent=int(rng.integers(5))).encode()
+    else:
+        raw = text.replace(word.encode(), word[:3].encode() + b"\xff\xfe" + word[3:].encode(), 1)
+    return raw, expect, f"bytes damaged ({how})"
+
+
 def results_case(rng: np.random.Generator, bases) -> dict:
     """A results file: as written, from another version, or damaged; with its expectation."""
     folder, base = bases[int(rng.integers(len(bases)))]
@@ -317,33 +351,9 @@ def results_case(rng: np.random.Generator, bases) -> dict:
             res["fits"] = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
             what = f"fits = {res['fits']!r}"
     else:  # byte-level damage of the file
-        text = json.dumps(res).encode()
-        how = int(rng.integers(7))
-        if how == 0:  # truncated (a full disk, a copy cut short)
-            raw = text[: int(rng.integers(len(text)))]
-            expect = "error"
-        elif how == 1:  # bytes flipped
-            b = bytearray(text)
-            for _ in range(int(rng.integers(1, 4))):
-                b[int(rng.integers(len(b)))] = int(rng.integers(256))
-            raw = bytes(b)
-        elif how == 2:  # another encoding
-            raw = json.dumps(res).encode(str(rng.choice(["utf-16", "utf-8-sig"])))
-        elif how == 3:  # not a results file at all
-            raw = [b"", b"[]", b"null", b"42", b'"params"', b"strain,stress\n0,0\n",
-                   b"{}", b'{"params": {}, "hyperelastic": "mooney_rivlin"}'][
-                int(rng.integers(8))]
-            expect = "error"
-        elif how == 4:  # random bytes
-            raw = rng.bytes(int(rng.integers(1, 300)))
-            expect = "error"
-        elif how == 5:  # NaN / Infinity literals, as Python's json writes them
-            raw = text.replace(b'"rmsape": ', b'"rmsape": NaN, "x": ', 1)
-        elif how == 6 and rng.random() < 0.5:  # written by hand: indented
-            raw = json.dumps(res, indent=int(rng.integers(5))).encode()
-        elif how == 6:  # invalid UTF-8 inside a string
-            raw = text.replace(b"mooney_rivlin", b"mooney\xff\xferivlin", 1)
-        what = f"bytes damaged ({how})"
+        raw, expect, what = damage_bytes(
+            rng, json.dumps(res).encode(), "mooney_rivlin",
+            others=[b'"params"', b'{"params": {}, "hyperelastic": "mooney_rivlin"}'])
     if raw is None:
         raw = json.dumps(res).encode()
     return {"raw": raw, "expect": expect, "what": what, "folder": folder, "base": base}
@@ -1233,50 +1243,314 @@ def test_damaged_checkpoint_is_a_one_line_value_error(tmp_path):
         _one_line_error(str(exc.value), names=ck.name)
 
 
-def test_checkpoint_fuzz(tmp_path):
-    """Damaged checkpoints of the right fit, resumed: a result or a one-line ValueError.
-
-    Each case runs a (tiny) calibration, so this runs a few hundred cases, not 10**4:
-    the reading itself (JSON, solver state) is what differs from case to case. A state
-    whose population holds a value at the very edge of the unit box (found: a
-    ZeroDivisionError where the law's shape gives no stiffness) is left out: see the
-    report of the change that added this test.
-    """
+@pytest.mark.parametrize("path, value, why", [
+    (("solver", "population", "data", 0), -0.5, "unit cube"),
+    (("solver", "population", "data", 1), 2.0, "unit cube"),
+    (("solver", "population", "data", 2), "nan", "unit cube"),
+    (("solver", "population_energies", "data", 0), "nan", "NaN"),
+    (("solver", "population_energies", "data", 0), -1.0, "errors are negative"),
+    (("solver", "nfev"), 2**70, "not counts"),
+    (("solver", "generations"), -1, "not counts"),
+    (("solver", "elapsed"), -1.0, "not a time"),
+    (("solver", "elapsed"), "inf", "not a time"),
+    (("evaluations",), -1, "not a count"),
+    (("evaluations",), 1e308, "not a count"),
+    (("done",), 1.0, "stop reason"),
+    (("solver", "donor_index", "data", 0), 1, "permutation"),
+    (("solver", "history", "best", "__ndarray__"), "complex128", "'best' row"),
+    (("solver", "history", "nit"), {"__ndarray__": "int64", "shape": [2], "data": [0, 1]},
+     "length"),
+    (("solver", "version"), True, "version"),
+    (("solver", "extras"), [None], "extras")])
+def test_checkpoint_with_values_no_run_writes_is_refused(checkpoint_base, path, value, why):
+    """Values that no search writes in a checkpoint were resumed (found by the fuzz
+    below): members outside the unit cube (constants outside their bounds, tau1 = 1e7 s
+    of a bound 10 s) or NaN (then "the law is undefined at the data", a wrong cause), NaN
+    or negative errors, counts that overflowed mid-search (OverflowError), a negative or
+    infinite time, a stop reason 1.0, a donor index that is no permutation, history rows
+    of complex numbers (TypeError) or of different lengths, version true, extras [None]."""
     import vhfit
 
-    curves, kw, ck, base = _resume_setup(tmp_path)
-    rng = np.random.default_rng(2026)
-    counts = {"ok": 0, "error": 0}
-    while sum(counts.values()) < 200:
-        d = copy.deepcopy(base)
-        paths = [p for p, _ in _paths(d) if p and p[0] not in ("format", "key")
-                 and p[:2] != ("solver", "population")]
+    cb = checkpoint_base
+    d = json.loads(cb["text"])
+    if path[-2:] == ("data", 0) and path[1] == "donor_index":
+        value = d["solver"]["donor_index"]["data"][1]  # a member twice, one never
+    _set(d, path, value)
+    write_fresh(cb["path"], json.dumps(d).encode())
+    with pytest.raises(ValueError, match="checkpoint .* delete it") as exc:
+        vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True, **cb["kw"])
+    _one_line_error(str(exc.value), names=cb["path"].name)
+    assert why in str(exc.value), exc.value
+
+
+@pytest.fixture(scope="module")
+def checkpoint_base(tmp_path_factory) -> dict:
+    """A real checkpoint of a tiny fit, and what reads it: the fit's search space,
+    settings and key, and a solver of that search (built as the fit builds it)."""
+    from vhfit.calibration import _checkpoint, _search, _workflow
+
+    tmp = tmp_path_factory.mktemp("fuzz-checkpoint")
+    seen = {}
+    real = _workflow.run_search
+
+    def spy(space, settings, **kw):
+        seen.update(space=space, settings=settings)
+        return real(space, settings, **kw)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_workflow, "run_search", spy)
+        curves, kw, ck, base = _resume_setup(tmp)
+    space, s = seen["space"], seen["settings"]
+    key = _checkpoint.fit_key(space.prob, space.method, s.seed, s.popsize, s.effective_tol,
+                              s.target, s.de_options)
+    crits, _ = _search.stop_criteria(s.effective_tol, s.target, s.stall, None)
+    solver = _search.new_solver(space, s, _search._Objective(space), None, crits)
+    return {"curves": curves, "kw": kw, "path": ck, "base": base, "text": json.dumps(base),
+            "key": key, "solver": solver, "space": space,
+            "paths": [p for p, _ in _paths(base) if p], "arrays": _arrays(base)}
+
+
+#: Numbers a damaged or hand-edited state may hold: the unit box's edges and beyond.
+EDGE_VALUES = [0.0, 1.0, -0.0, 5e-324, -1e-12, 1.0 + 2**-52, 2.0, -0.5, "nan", "inf",
+               "-inf", 1e308, -1e308, 2**70, -1, None, "x", True, [0.5]]
+
+
+def _arrays(tree):
+    """The paths of the stored arrays (``{"__ndarray__": ...}``) in a JSON tree."""
+    return [p for p, v in _paths(tree) if isinstance(v, dict) and "__ndarray__" in v]
+
+
+def checkpoint_case(rng: np.random.Generator, cb: dict) -> dict:
+    """A checkpoint of the fit: as written, or damaged; with its expectation."""
+    d = json.loads(cb["text"])
+    kind = int(rng.integers(10))
+    expect, what, raw = "any", "", None
+    arrays = cb["arrays"]  # (every copy of the base has the same paths)
+    if kind == 0:
+        expect, what = "same", "as written"
+    elif kind in (1, 2):  # a value replaced by one of another type, or a key deleted
+        paths = cb["paths"]
         p = paths[int(rng.integers(len(paths)))]
+        if kind == 1:
+            v = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
+            _set(d, p, copy.deepcopy(v))
+            what = f"{'/'.join(map(str, p))} = {v!r}"
+        else:
+            _delete(d, p)
+            what = f"no {'/'.join(map(str, p))}"
+    elif kind in (3, 4):  # numbers in an array: the box's edges, beyond, non-finite
+        a = arrays[int(rng.integers(len(arrays)))]
+        if kind == 3:  # most often the population and its energies
+            a = (("solver", "population"), ("solver", "population_energies"))[
+                int(rng.integers(2))]
+        node = d
+        for k in a:
+            node = node[k]
+        if node["data"]:
+            i = int(rng.integers(len(node["data"])))
+            node["data"][i] = EDGE_VALUES[int(rng.integers(len(EDGE_VALUES)))]
+            what = f"{'/'.join(map(str, a))}[{i}] = {node['data'][i]!r}"
+    elif kind == 5:  # an array's dtype, shape or length changed
+        a = arrays[int(rng.integers(len(arrays)))]
+        node = d
+        for k in a:
+            node = node[k]
         how = int(rng.integers(3))
         if how == 0:
-            _set(d, p, copy.deepcopy(HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]))
+            node["__ndarray__"] = str(rng.choice(["complex128", "object", "<U3", "float16",
+                                                  "int8", "bool", "bogus", "V8", "M8[s]"]))
         elif how == 1:
-            _delete(d, p)
+            node["shape"] = [[-1], [0], [], [16], [1, 16], [4, 4], [2**40], [8, 2, 1],
+                             "8", [None]][int(rng.integers(10))]
+        else:
+            node["data"] = node["data"][: int(rng.integers(len(node["data"]) + 1))] \
+                if rng.random() < 0.5 else node["data"] * 2
+        what = f"{'/'.join(map(str, a))} reshaped ({how}): {node}"
+    elif kind == 6:  # another fit, another format or version
+        k = [("format",), ("key",), ("solver", "format"), ("solver", "version"),
+             ("solver", "parameter_count"), ("solver", "strategy"),
+             ("solver", "extras")][int(rng.integers(7))]
+        old = d
+        for x in k:
+            old = old[x]
+        _set(d, k, {"format": "vhfit-checkpoint-1", "key": "0" * 64}.get(k[-1], 2)
+             if rng.random() < 0.5 else HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))])
+        expect = "error" if json.dumps(old) != json.dumps(_get(d, k)) else "any"
+        what = f"{'/'.join(k)} = {_get(d, k)!r}"
+    elif kind == 7:  # the checkpoint's own numbers: what was done, evaluated, spent
+        k = [("done",), ("evaluations",), ("solver", "elapsed"), ("solver", "nfev"),
+             ("solver", "generations"), ("solver", "evaluations"),
+             ("solver", "population_size")][int(rng.integers(7))]
+        v = (EDGE_VALUES + ["converged", "", "maxiter", 0.5])[int(rng.integers(23))]
+        _set(d, k, v)
+        what = f"{'/'.join(k)} = {v!r}"
+    elif kind == 8:  # the random generator's state
+        rs = d["solver"]["random_state"]
+        paths = [p for p, _ in _paths(rs) if p]
+        p = paths[int(rng.integers(len(paths)))]
+        v = [-1, 2**128, 2**200, 0, "PCG64DXSM", "MT19937", 1.5, None, "x", []][
+            int(rng.integers(10))]
+        _set(rs, p, v)
+        what = f"random_state/{'/'.join(map(str, p))} = {v!r}"
+    else:
+        raw, expect, what = damage_bytes(rng, json.dumps(d).encode(), "best1bin")
+    if raw is None:
         raw = json.dumps(d).encode()
-        write_fresh(ck, raw[: int(rng.integers(len(raw)))] if how == 2 else raw)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                cal = vhfit.calibrate(curves, checkpoint=str(ck), resume=True, **kw)
-        except ValueError as exc:
-            _one_line_error(str(exc), names=ck.name)
-            counts["error"] += 1
-            continue
-        except Exception as exc:
-            raise AssertionError(f"crash {type(exc).__name__}: {exc} ({p}, {how})") from exc
-        assert not math.isnan(cal.rmsape)
-        counts["ok"] += 1
-    _count("checkpoint", sum(counts.values()))
+    return {"raw": raw, "expect": expect, "what": what}
+
+
+def _get(tree, path):
+    for k in path:
+        tree = tree[k]
+    return tree
+
+
+def check_checkpoint(case, cb: dict, rng: np.random.Generator) -> str:
+    """Read the case into the fit's solver as a resumed fit does: one line naming the file,
+    or a state a search can go on from (a box-bounded finite population, errors that
+    are errors, a count and a time that are ones); then, sometimes, one more generation."""
+    from vhfit.calibration import _checkpoint
+
+    path = write_fresh(cb["path"], case["raw"])
+    solver = cb["solver"]
+    try:
+        state, evaluations, done, elapsed = _checkpoint.resume(path, cb["key"], solver)
+    except ValueError as exc:
+        assert case["expect"] != "same", f"a checkpoint as written is refused: {exc}"
+        _one_line_error(str(exc), names=path.name)
+        return "error"
+    assert case["expect"] != "error", "a checkpoint of another fit was read"
+    pop, e = solver.population, solver.population_energies
+    assert pop.dtype == np.float64 and pop.shape == (solver.num_population_members, 2)
+    assert np.isfinite(pop).all() and (pop >= 0).all() and (pop <= 1).all(), pop
+    assert e.dtype == np.float64 and not np.isnan(e).any() and (e >= 0).all(), e
+    idx = solver._random_population_index
+    assert sorted(idx.tolist()) == list(range(len(pop))), idx  # SciPy's donor draw
+    assert isinstance(evaluations, int) and evaluations >= 0, evaluations
+    assert done is None or (isinstance(done, str) and done), done
+    assert math.isfinite(elapsed) and elapsed >= 0, elapsed
+    if case["expect"] == "same":
+        np.testing.assert_array_equal(pop.ravel(), cb["base"]["solver"]["population"]["data"])
+    if rng.random() < 0.3:  # go on: a generation, the stopping tests, the history
+        next(solver)
+        solver.converged()
+        h = solver.history
+        assert np.isfinite(solver.population).all() and len(h.best) == len(h.nit)
+    return "ok"
+
+
+@FUZZ
+@given(seed=SEEDS)
+def test_checkpoint_file_fuzz(checkpoint_base, seed):
+    """Checkpoints of a real fit, damaged: read into that fit's solver as ``--resume`` does
+    (no fit per case: 10**4 cases in seconds)."""
+    rng = np.random.default_rng(seed ^ 0xC4EC)
+    counts = _batch("checkpoint", seed, lambda r: checkpoint_case(r, checkpoint_base),
+                    lambda c: check_checkpoint(c, checkpoint_base, rng),
+                    lambda c: f"[{c['what']}; expect {c['expect']}] file:\n{c['raw'][:3000]!r}")
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
+def test_checkpoint_fuzz_through_calibrate(checkpoint_base):
+    """A few of the same damaged checkpoints resumed by ``calibrate`` itself: a result
+    within the bounds, or a one-line ValueError."""
+    import vhfit
+
+    cb = checkpoint_base
+    rng = np.random.default_rng(2026)
+    counts = {"ok": 0, "error": 0}
+    while sum(counts.values()) < 40:
+        case = checkpoint_case(rng, cb)
+        write_fresh(cb["path"], case["raw"])
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                cal = vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True,
+                                      **cb["kw"])
+        except ValueError as exc:
+            _one_line_error(str(exc), names=cb["path"].name)
+            counts["error"] += 1
+            continue
+        except Exception as exc:
+            raise AssertionError(f"crash {type(exc).__name__}: {exc} ({case['what']})") from exc
+        assert math.isfinite(cal.rmsape), case["what"]
+        for name, v in cal.params.items():
+            lo, hi = cal.bounds[name]
+            assert lo <= v <= hi, (name, v, lo, hi, case["what"])
+        counts["ok"] += 1
+    assert counts["ok"] > 0 and counts["error"] > 0
+
+
+def _cut_cli_fit(tmp_path: Path, monkeypatch) -> tuple[list[str], Path, Path]:
+    """``vhfit fit`` of two small curves cut (Ctrl-C) in generation 3: its arguments, its
+    ``--out`` folder and the checkpoint it left there."""
+    from vhfit import cli
+
+    data = tmp_path / "data"
+    data.mkdir()
+    for rate, k in ((-1.0, 1.2), (-100.0, 1.5)):
+        eps = -np.linspace(0.0, 0.2, 6)
+        (data / f"r{abs(rate):g}.csv").write_text(
+            f"# strain_rate: {rate}\nstrain,stress_MPa\n"
+            + "".join(f"{float(e)!r},{float(k * e * (1 - 2 * e))!r}\n" for e in eps))
+    out = tmp_path / "out"
+    argv = ["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out", str(out),
+            "--maxiter", "6", "--popsize", "8", "--prony", "1", "--for", "abaqus",
+            "--no-plot", "-q", "--checkpoint-every", "0.001"]
+    calls = []
+
+    def cut_at_3(self):  # as if Ctrl-C came during generation 3
+        calls.append(1)
+        if len(calls) >= 3:
+            self.stopped_search = True
+            raise KeyboardInterrupt
+
+    with monkeypatch.context() as m:
+        m.setattr(cli._fit.Signals, "check", cut_at_3)
+        assert run_cli(argv)[0] == 1
+    return argv, out, out / "checkpoint.json"
+
+
+def test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it(tmp_path,
+                                                                          monkeypatch):
+    """A checkpoint whose bytes are no UTF-8: 'vhfit: error: 'utf-8' codec can't decode
+    byte 0xbc' (found by the fuzz below: the folder's guard read it as text to restore it
+    on bad input); now the checkpoint's own one-line error, and the file kept as it was."""
+    argv, out, ck = _cut_cli_fit(tmp_path, monkeypatch)
+    raw = b"\xbc" + ck.read_bytes()[1:]
+    write_fresh(ck, raw)
+    code, _, err = run_cli(argv + ["--resume"])
+    assert check_cli_outcome(code, err, names=str(ck)) == "error"
+    assert "delete it" in err and ck.read_bytes() == raw
+
+
+def test_cli_resume_of_damaged_checkpoints(tmp_path, monkeypatch):
+    """A handful of the same damages on a checkpoint ``vhfit fit`` left when cut (Ctrl-C),
+    resumed by ``vhfit fit --resume``: exit 0, or exit 2 with one line naming the
+    checkpoint and the folder as it was."""
+    argv, out, ck = _cut_cli_fit(tmp_path, monkeypatch)
+    text = ck.read_text()
+    base = json.loads(text)
+    cb = {"text": text, "arrays": _arrays(base), "paths": [p for p, _ in _paths(base) if p]}
+    rng = np.random.default_rng(7)
+    outcomes = set()
+    for _ in range(6):
+        case = checkpoint_case(rng, cb)
+        for f in out.iterdir():  # the folder as the cut run left it, with the damaged file
+            if f.name != ck.name:
+                f.unlink()
+        write_fresh(ck, case["raw"])
+        code, _, err = run_cli(argv + ["--resume"])
+        outcome = check_cli_outcome(code, err, names=str(out))
+        if outcome == "error":
+            assert sorted(p.name for p in out.iterdir()) == [ck.name], case["what"]
+            assert ck.read_bytes() == case["raw"], case["what"]
+        outcomes.add(outcome)
+    assert outcomes == {"ok", "error"}
+
+
 # ====================================================================== budget
-def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
+def test_fuzz_budget_per_reader(results_bases, tmp_path_factory, request):
     """Counts the inputs each reader's fuzz test really checked (runs it if it has not).
 
     This test comes after the fuzz tests in the file, so in a whole run it only reads the
@@ -1288,6 +1562,8 @@ def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
         "cli_options": lambda: test_cli_option_values_fuzz(tmp_path_factory),
         "moduli": lambda: test_moduli_files_fuzz(tmp_path_factory),
         "modes": lambda: test_mode_columns_fuzz(tmp_path_factory),
+        "checkpoint": lambda: test_checkpoint_file_fuzz(
+            request.getfixturevalue("checkpoint_base")),
     }
     for reader, run in runs.items():
         if reader not in CHECKED:
