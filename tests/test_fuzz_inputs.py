@@ -46,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _fuzzing import accepted, one_line_error, refused, write_fresh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -61,32 +62,8 @@ FUZZ = settings(max_examples=EXAMPLES, suppress_health_check=[HealthCheck.too_sl
 SEEDS = st.integers(0, 2**63 - 1)
 #: Inputs each reader's fuzz test has checked in this session (read by the budget test).
 CHECKED: dict[str, int] = {}
-#: Words that say what to do; every error message must contain one.
-FIX_WORDS = re.compile(
-    r"\b(give|use|pass|add|delete|remove|fix|check|repair|name|write|sort|fill|choose|"
-    r"separate|correct|convert|split|drop|rename|save|ignore|negate|keep|set|replace|"
-    r"trim|make|declare|provide|store|say|select|supply|try|put|enter|change|start|rerun|"
-    r"see)\b", re.I)
-
-
 def _count(reader: str, n: int) -> None:
     CHECKED[reader] = CHECKED.get(reader, 0) + n
-
-
-def _one_line_error(msg: str, *, names: str | None) -> None:
-    assert "\n" not in msg, f"error message spans lines: {msg!r}"
-    assert len(msg) < 800, f"error message of {len(msg)} characters"
-    assert FIX_WORDS.search(msg), f"error message says nothing about the fix: {msg!r}"
-    if names is not None:
-        assert names in msg, f"error message does not name {names!r}: {msg!r}"
-
-
-def write_fresh(path: Path, data: bytes) -> Path:
-    """Write ``data`` to a new file at ``path``: rewriting a file in place makes some file
-    systems (ext4's replace-by-truncate rule) flush it to disk on close, 50x slower."""
-    path.unlink(missing_ok=True)
-    path.write_bytes(data)
-    return path
 
 
 def _batch(reader: str, seed: int, make, check, explain) -> dict[str, int]:
@@ -151,9 +128,8 @@ def check_cli_outcome(code: int, err: str, *, names: str | None = None, echo: in
 
 
 # ============================================================ results files
-def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
-    """A real ``vhfit fit`` of two small curves into ``tmp/name`` (seconds)."""
-    data = tmp / "data"
+def _two_curves(data: Path) -> Path:
+    """Two small compression curves (1/s and 100/s) as CSV files in ``data``."""
     data.mkdir(exist_ok=True)
     for rate, k in ((-1.0, 1.2), (-100.0, 1.5)):
         eps = -np.linspace(0.0, 0.2, 6)
@@ -161,6 +137,12 @@ def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
         (data / f"r{abs(rate):g}.csv").write_text(
             f"# strain_rate: {rate}\nstrain,stress_MPa\n"
             + "".join(f"{float(e)!r},{float(s)!r}\n" for e, s in zip(eps, sig)))
+    return data
+
+
+def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
+    """A real ``vhfit fit`` of two small curves into ``tmp/name`` (seconds)."""
+    data = _two_curves(tmp / "data")
     out = tmp / name
     code, _, err = run_cli(["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out",
                             str(out), "--maxiter", "2", "--popsize", "8", "--prony", "1",
@@ -373,10 +355,8 @@ def check_load(case, tmp: Path) -> str:
     try:
         cal = Calibration.load(path)
     except ValueError as exc:
-        assert case["expect"] != "same", f"a results file as written is refused: {exc}"
-        _one_line_error(str(exc), names=path.name)
-        return "error"
-    assert case["expect"] != "error", "a file that is no results file was read"
+        return refused(case["expect"], exc, names=path.name)
+    accepted(case["expect"], cal)
     assert isinstance(cal, Calibration)
     assert list(cal.params) == list(cal.model.param_names)
     assert not any(math.isnan(v) for v in cal.params.values()), cal.params
@@ -436,6 +416,10 @@ def test_cli_results_fuzz(results_bases, tmp_path_factory, seed):
 
 
 # ============================================================== moduli files
+def _explain_data(case) -> str:
+    return f"[{case['what']}; expect {case['expect']}] input:\n{case['data'][:3000]!r}"
+
+
 #: Moduli units in headers: factor to MPa.
 MODULUS_UNITS = {"": 1.0, "MPa": 1.0, "kPa": 1e-3, "Pa": 1e-6, "GPa": 1e3}
 BAD_CELLS = ["nan", "inf", "-inf", "", "abc", "1e400", "--1", "1.2.3", "12 kPa", "N/A",
@@ -642,14 +626,8 @@ def check_moduli(case, path: Path) -> str:
     try:
         items = read_csv(path)
     except ValueError as exc:
-        msg = str(exc)
-        assert case["expect"] != "same", f"valid input rejected: {msg}"
-        _one_line_error(msg, names=path.name)
-        if case["line"] is not None:
-            assert f"line {case['line']}" in msg, f"the message does not name line " \
-                                                  f"{case['line']}: {msg!r}"
-        return "error"
-    assert case["expect"] != "error", f"misleading success: {items!r}"
+        return refused(case["expect"], exc, names=path.name, line=case["line"])
+    accepted(case["expect"], items)
     for it in items:
         if isinstance(it, FrequencySweep):
             for a in (it.frequency, it.storage, it.loss):
@@ -684,7 +662,7 @@ def check_moduli(case, path: Path) -> str:
 def test_moduli_files_fuzz(tmp_path_factory, seed):
     path = tmp_path_factory.getbasetemp() / "fuzz-moduli.csv"
     counts = _batch("moduli", seed, moduli_case, lambda c: check_moduli(c, path),
-                    lambda c: f"[{c['what']}; expect {c['expect']}] input:\n{c['data'][:3000]!r}")
+                    _explain_data)
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
@@ -864,13 +842,8 @@ def check_modes(case, path: Path) -> str:
     try:
         curves = read_csv(path)
     except ValueError as exc:
-        msg = str(exc)
-        assert case["expect"] != "same", f"valid input rejected: {msg}"
-        _one_line_error(msg, names=path.name)
-        if case["line"] is not None:
-            assert f"line {case['line']}" in msg, f"no line {case['line']}: {msg!r}"
-        return "error"
-    assert case["expect"] != "error", f"misleading success: {curves!r}"
+        return refused(case["expect"], exc, names=path.name, line=case["line"])
+    accepted(case["expect"], curves)
     for c in curves:
         assert np.all(np.isfinite(c.strain)) and np.all(np.isfinite(c.stress))
         if c.deformation != "simple_shear":
@@ -898,7 +871,7 @@ def check_modes(case, path: Path) -> str:
 def test_mode_columns_fuzz(tmp_path_factory, seed):
     path = tmp_path_factory.getbasetemp() / "fuzz-modes.csv"
     counts = _batch("modes", seed, modes_case, lambda c: check_modes(c, path),
-                    lambda c: f"[{c['what']}; expect {c['expect']}] input:\n{c['data'][:3000]!r}")
+                    _explain_data)
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
@@ -1106,7 +1079,7 @@ def test_results_file_damaged_is_a_one_line_value_error(tmp_path):
         p = write_fresh(tmp_path / name, text.encode())
         with pytest.raises(ValueError, match=re.escape(str(p))) as exc:
             Calibration.load(p)
-        _one_line_error(str(exc.value), names=name)
+        one_line_error(str(exc.value), names=name)
 
 
 def test_results_file_with_a_huge_n_prony_is_refused_at_once(tmp_path):
@@ -1193,7 +1166,7 @@ def test_moduli_file_with_a_relaxation_modulus_but_no_time_is_a_data_error(tmp_p
     p = write_fresh(tmp_path / "relax.csv", b"E(t) [MPa],loss_MPa\n2,1\n1,1\n")
     with pytest.raises(ValueError, match="no frequency or time column") as exc:
         read_csv(p)
-    _one_line_error(str(exc.value), names="relax.csv")
+    one_line_error(str(exc.value), names="relax.csv")
 
 
 def test_moduli_file_errors_name_the_file_and_the_fix(tmp_path):
@@ -1205,7 +1178,7 @@ def test_moduli_file_errors_name_the_file_and_the_fix(tmp_path):
                        ("negt.csv", b"time_s,E(t) [MPa]\n0,2\n-1,1\n")]:
         with pytest.raises(ValueError) as exc:
             read_csv(write_fresh(tmp_path / name, text))
-        _one_line_error(str(exc.value), names=name)
+        one_line_error(str(exc.value), names=name)
 
 
 # ================================================ checkpoints (fit --resume)
@@ -1240,7 +1213,7 @@ def test_damaged_checkpoint_is_a_one_line_value_error(tmp_path):
         write_fresh(ck, json.dumps(d).encode())
         with pytest.raises(ValueError, match="checkpoint .* delete it") as exc:
             vhfit.calibrate(curves, checkpoint=str(ck), resume=True, **kw)
-        _one_line_error(str(exc.value), names=ck.name)
+        one_line_error(str(exc.value), names=ck.name)
 
 
 @pytest.mark.parametrize("path, value, why", [
@@ -1279,7 +1252,7 @@ def test_checkpoint_with_values_no_run_writes_is_refused(checkpoint_base, path, 
     write_fresh(cb["path"], json.dumps(d).encode())
     with pytest.raises(ValueError, match="checkpoint .* delete it") as exc:
         vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True, **cb["kw"])
-    _one_line_error(str(exc.value), names=cb["path"].name)
+    one_line_error(str(exc.value), names=cb["path"].name)
     assert why in str(exc.value), exc.value
 
 
@@ -1416,10 +1389,8 @@ def check_checkpoint(case, cb: dict, rng: np.random.Generator) -> str:
     try:
         state, evaluations, done, elapsed = _checkpoint.resume(path, cb["key"], solver)
     except ValueError as exc:
-        assert case["expect"] != "same", f"a checkpoint as written is refused: {exc}"
-        _one_line_error(str(exc), names=path.name)
-        return "error"
-    assert case["expect"] != "error", "a checkpoint of another fit was read"
+        return refused(case["expect"], exc, names=path.name)
+    accepted(case["expect"], state)
     pop, e = solver.population, solver.population_energies
     assert pop.dtype == np.float64 and pop.shape == (solver.num_population_members, 2)
     assert np.isfinite(pop).all() and (pop >= 0).all() and (pop <= 1).all(), pop
@@ -1468,7 +1439,7 @@ def test_checkpoint_fuzz_through_calibrate(checkpoint_base):
                 cal = vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True,
                                       **cb["kw"])
         except ValueError as exc:
-            _one_line_error(str(exc), names=cb["path"].name)
+            one_line_error(str(exc), names=cb["path"].name)
             counts["error"] += 1
             continue
         except Exception as exc:
@@ -1481,42 +1452,25 @@ def test_checkpoint_fuzz_through_calibrate(checkpoint_base):
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
-def _cut_cli_fit(tmp_path: Path, monkeypatch) -> tuple[list[str], Path, Path]:
+def _cut_cli_fit(tmp_path: Path, ctrl_c) -> tuple[list[str], Path, Path]:
     """``vhfit fit`` of two small curves cut (Ctrl-C) in generation 3: its arguments, its
     ``--out`` folder and the checkpoint it left there."""
-    from vhfit import cli
-
-    data = tmp_path / "data"
-    data.mkdir()
-    for rate, k in ((-1.0, 1.2), (-100.0, 1.5)):
-        eps = -np.linspace(0.0, 0.2, 6)
-        (data / f"r{abs(rate):g}.csv").write_text(
-            f"# strain_rate: {rate}\nstrain,stress_MPa\n"
-            + "".join(f"{float(e)!r},{float(k * e * (1 - 2 * e))!r}\n" for e in eps))
+    data = _two_curves(tmp_path / "data")
     out = tmp_path / "out"
     argv = ["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out", str(out),
             "--maxiter", "6", "--popsize", "8", "--prony", "1", "--for", "abaqus",
             "--no-plot", "-q", "--checkpoint-every", "0.001"]
-    calls = []
-
-    def cut_at_3(self):  # as if Ctrl-C came during generation 3
-        calls.append(1)
-        if len(calls) >= 3:
-            self.stopped_search = True
-            raise KeyboardInterrupt
-
-    with monkeypatch.context() as m:
-        m.setattr(cli._fit.Signals, "check", cut_at_3)
+    with ctrl_c(3):
         assert run_cli(argv)[0] == 1
     return argv, out, out / "checkpoint.json"
 
 
 def test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it(tmp_path,
-                                                                          monkeypatch):
+                                                                          ctrl_c_in_fit):
     """A checkpoint whose bytes are no UTF-8: 'vhfit: error: 'utf-8' codec can't decode
     byte 0xbc' (found by the fuzz below: the folder's guard read it as text to restore it
     on bad input); now the checkpoint's own one-line error, and the file kept as it was."""
-    argv, out, ck = _cut_cli_fit(tmp_path, monkeypatch)
+    argv, out, ck = _cut_cli_fit(tmp_path, ctrl_c_in_fit)
     raw = b"\xbc" + ck.read_bytes()[1:]
     write_fresh(ck, raw)
     code, _, err = run_cli(argv + ["--resume"])
@@ -1524,11 +1478,11 @@ def test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it(tmp_pa
     assert "delete it" in err and ck.read_bytes() == raw
 
 
-def test_cli_resume_of_damaged_checkpoints(tmp_path, monkeypatch):
+def test_cli_resume_of_damaged_checkpoints(tmp_path, ctrl_c_in_fit):
     """A handful of the same damages on a checkpoint ``vhfit fit`` left when cut (Ctrl-C),
     resumed by ``vhfit fit --resume``: exit 0, or exit 2 with one line naming the
     checkpoint and the folder as it was."""
-    argv, out, ck = _cut_cli_fit(tmp_path, monkeypatch)
+    argv, out, ck = _cut_cli_fit(tmp_path, ctrl_c_in_fit)
     text = ck.read_text()
     base = json.loads(text)
     cb = {"text": text, "arrays": _arrays(base), "paths": [p for p, _ in _paths(base) if p]}
