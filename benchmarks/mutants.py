@@ -1360,4 +1360,26 @@ MUTANTS: list[Mutant] = [
       "fit --resume of a checkpoint that is no UTF-8 ends in a decoding error naming nothing",
       ("tests/test_fuzz_inputs.py::"
        "test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it",)),
+    # i20-rest: the seeded second fit's looser stopping gap
+    M("i20rest_seeded_tol_ignored", "vhfit/calibration/_for.py",
+      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": tol}',
+      "the second fit's search converges as tightly as a fresh one (costs ~30 % more)",
+      ("tests/test_calibrate_for.py",)),
+    M("i20rest_seeded_tol_overrides_caller", "vhfit/calibration/_for.py",
+      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": SEEDED_TOL}',
+      "a looser tol the caller gave is tightened for the second fit",
+      ("tests/test_calibrate_for.py",)),
+    # i20-rest: the plots of an unfinished fit say so
+    M("i20rest_plots_unmarked", "vhfit/cli/_outputs.py",
+      "    note = unfinished(cal, interrupted)", "    note = None",
+      "the PNG plots of an interrupted fit look finished",
+      ("tests/test_cli.py::test_plots_of_an_unfinished_fit_say_so",)),
+    M("i20rest_plot_mark_not_drawn", "vhfit/plot.py",
+      "        fig.text(0.5, 1.0, mark,", "        (0.5, 1.0, mark,",
+      "plot.marked writes the PNG's Description but draws nothing on the figure",
+      (doc("vhfit.plot"),)),
+    M("i20rest_plot_mark_not_in_png", "vhfit/plot.py",
+      '        meta = {"Description": mark}', "        meta = {}",
+      "a marked PNG has no Description",
+      ("tests/test_cli.py::test_plots_of_an_unfinished_fit_say_so",)),
 ]

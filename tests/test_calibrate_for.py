@@ -66,9 +66,10 @@ def test_each_fit_equals_a_separate_calibrate_in_its_formulation(data_form):
             assert cal.rmsape > 0.1  # the other law cannot reproduce these data
             for k in P:
                 assert cal.params[k] == pytest.approx(alone.params[k], rel=1e-4)
-    # the seeded second search used 3/8 of the population
+    # the seeded second search used 3/8 of the population, and stopped at a gap of 1e-4
     assert fits["lsdyna"].options["popsize"] == 24 and fits["hereditary"].options[
         "popsize"] == 64
+    assert fits["lsdyna"].options["tol"] == 1e-4 and fits["hereditary"].options["tol"] == 1e-6
 
 
 def test_start_options_seed_half_the_population_around_the_first_fit():
@@ -77,6 +78,9 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
     opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
     init = opts["de_options"]["init"]
     assert opts["popsize"] == 24 and init.shape == (24, 2)  # (C01 share, log10 tau1)
+    assert opts["tol"] == 1e-4  # its search stops at a wider gap; the polish finishes
+    assert start_options(first, curves, formulation="lsdyna", n_prony=1, tol=1e-2)[
+        "tol"] == 1e-2  # a looser tol of the caller's stays
     z0 = [first.params["C01"] / (first.params["C10"] + first.params["C01"]),
           np.log10(first.params["tau1"])]
     np.testing.assert_allclose(init[0], z0, rtol=1e-12)
