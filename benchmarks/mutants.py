@@ -1382,4 +1382,9 @@ MUTANTS: list[Mutant] = [
       '        meta = {"Description": mark}', "        meta = {}",
       "a marked PNG has no Description",
       ("tests/test_cli.py::test_plots_of_an_unfinished_fit_say_so",)),
+    # i20-rest: calibrate_for takes solver records as well as names
+    M("i20rest_records_refused", "vhfit/calibration/_for.py",
+      "        if _is_record(s):  # a solver record", "        if False:  # a solver record",
+      "calibrate_for([get_solver('lsdyna')], ...) refused as an unknown solver",
+      ("tests/test_calibrate_for.py::test_solver_records_are_accepted_as_well_as_names",)),
 ]

@@ -92,6 +92,29 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
                          de_options={"init": "sobol"}) == {}
 
 
+def test_solver_records_are_accepted_as_well_as_names():
+    """A solver record (vhfit.export.Solver) stands for its solver: registered, as its
+    name; not registered, by its own name and formulation."""
+    import dataclasses
+
+    from vhfit.export import get_solver
+
+    lsdyna = get_solver("lsdyna")
+    assert plan_formulations([lsdyna, "abaqus", get_solver("ansys")]) == {
+        "lsdyna": ["lsdyna"], "hereditary": ["abaqus", "ansys"]}
+    mine = dataclasses.replace(get_solver("abaqus"), name="mine",
+                               formulation="lsdyna_deviatoric")  # never registered
+    assert plan_formulations(mine) == {"lsdyna_deviatoric": ["mine"]}
+    curves = ramps("lsdyna")
+    fits = quiet(vhfit.calibrate_for, [lsdyna], curves, n_prony=1, seed=0,
+                 uncertainty=False)
+    alone = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False,
+                  formulation="lsdyna")
+    assert list(fits) == ["lsdyna"] and fits["lsdyna"].params == alone.params
+    with pytest.raises(ValueError, match="give a solver record"):
+        plan_formulations([dataclasses.replace(mine, formulation="nonesuch")])
+
+
 def test_bad_arguments_are_refused():
     curves = ramps("hereditary")
     with pytest.raises(ValueError, match="drop formulation="):

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -29,7 +30,7 @@ from vhfit.calibration._workflow import (
     _as_curves,
     calibrate,
 )
-from vhfit.formulations import SOLVER_FORMULATIONS
+from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
@@ -55,13 +56,15 @@ MIN_POPSIZE = 16
 SEEDED_TOL = 1e-4
 
 
-def plan_formulations(solvers: Iterable[str]) -> dict[str, list[str]]:
+def plan_formulations(solvers: Iterable[Any] | str) -> dict[str, list[str]]:
     """Formulation -> the solvers its fit serves, in the order the solvers are given.
 
     Parameters
     ----------
-    solvers : iterable of str
-        Registered solver names (:data:`vhfit.formulations.SOLVER_FORMULATIONS`).
+    solvers : iterable of str or solver records
+        Registered solver names (:data:`vhfit.formulations.SOLVER_FORMULATIONS`), or
+        solver records (:class:`vhfit.export.Solver`, registered or not: their ``name``
+        and ``formulation``).
 
     Returns
     -------
@@ -78,21 +81,36 @@ def plan_formulations(solvers: Iterable[str]) -> dict[str, list[str]]:
     >>> from vhfit.calibration import plan_formulations
     >>> plan_formulations(["abaqus", "lsdyna", "ansys"])
     {'hereditary': ['abaqus', 'ansys'], 'lsdyna': ['lsdyna']}
+    >>> from vhfit.export import get_solver
+    >>> plan_formulations([get_solver("lsdyna"), "abaqus"])
+    {'lsdyna': ['lsdyna'], 'hereditary': ['abaqus']}
     """
-    if isinstance(solvers, str):
+    if isinstance(solvers, str) or _is_record(solvers):
         solvers = [solvers]
     plan: dict[str, list[str]] = {}
     for s in solvers:
-        key = str(s).lower()
-        if key not in SOLVER_FORMULATIONS:
+        if _is_record(s):  # a solver record: its own name and formulation
+            key, form = s.name, s.formulation
+        else:
+            key = str(s).lower()
+            form = SOLVER_FORMULATIONS.get(key)
+        if form is None or form not in FORMULATIONS:
             raise ValueError(f"solver {s!r}: unknown; choose among "
-                             f"{', '.join(SOLVER_FORMULATIONS)}")
-        served = plan.setdefault(SOLVER_FORMULATIONS[key], [])
+                             f"{', '.join(SOLVER_FORMULATIONS)} or give a solver record "
+                             "(vhfit.export.Solver)")
+        served = plan.setdefault(form, [])
         if key not in served:
             served.append(key)
     if not plan:
         raise ValueError("calibrate_for needs at least one solver, e.g. ['abaqus', 'lsdyna']")
     return plan
+
+
+def _is_record(s) -> bool:
+    """Whether ``s`` is a solver record (a :class:`vhfit.export.Solver`: a name and the
+    formulation its solver integrates), registered or not."""
+    return (not isinstance(s, str) and isinstance(getattr(s, "name", None), str)
+            and isinstance(getattr(s, "formulation", None), str))
 
 
 def _search_vector(space, x: np.ndarray) -> np.ndarray:
@@ -211,7 +229,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
             "tol": max(tol, SEEDED_TOL)}
 
 
-def calibrate_for(solvers: Sequence[str], curves, **kwargs) -> dict[str, Calibration]:
+def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, Calibration]:
     """Calibrate once per viscoelastic formulation that the given solvers integrate.
 
     The first formulation (that of the first solver) is an ordinary
@@ -222,8 +240,9 @@ def calibrate_for(solvers: Sequence[str], curves, **kwargs) -> dict[str, Calibra
 
     Parameters
     ----------
-    solvers : sequence of str
-        Solver names (``"abaqus"``, ``"lsdyna"``, ``"ansys"`` or a registered one).
+    solvers : sequence of str or solver records
+        Solver names (``"abaqus"``, ``"lsdyna"``, ``"ansys"`` or a registered one) or
+        solver records (:class:`vhfit.export.Solver`, registered or not).
     curves : Curve, path, or sequence of them
         The data, as for :func:`vhfit.calibrate`.
     **kwargs
