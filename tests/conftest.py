@@ -21,8 +21,11 @@ The profile can also be chosen with the ``HYPOTHESIS_PROFILE`` environment varia
 
 from __future__ import annotations
 
+import contextlib
 import os
 
+import numpy as np
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile(
@@ -45,3 +48,46 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+@pytest.fixture(scope="session")
+def write_ramps():
+    """``write_ramps(folder, model, params, rates=(-1, -30, -1000))``: a model's noise-free
+    constant-rate ramps (engineering strain 0 to -0.5, 21 points, one CSV file a rate with
+    a ``# strain_rate:`` line) written into ``folder``; returns their paths."""
+
+    def write(folder, model, params, rates=(-1.0, -30.0, -1000.0)) -> list[str]:
+        paths = []
+        for r in rates:
+            eps = np.linspace(0.0, -0.5, 21)
+            s = model.stress(params, strain=eps, strain_rate=r, measure="engineering")
+            path = folder / f"ramp_{-r:g}.csv"
+            path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
+                            + "".join(f"{float(e)!r},{float(v)!r}\n" for e, v in zip(eps, s)))
+            paths.append(str(path))
+        return paths
+
+    return write
+
+
+@pytest.fixture
+def ctrl_c_in_fit(monkeypatch):
+    """``with ctrl_c_in_fit(n): cli.main([...])``: the ``vhfit fit`` run in this process
+    inside the block behaves as if Ctrl-C came during its n-th generation."""
+    from vhfit import cli
+
+    @contextlib.contextmanager
+    def cut(n: int = 3):
+        calls = []
+
+        def check(self):
+            calls.append(1)
+            if len(calls) >= n:
+                self.stopped_search = True
+                raise KeyboardInterrupt
+
+        with monkeypatch.context() as m:
+            m.setattr(cli._fit.Signals, "check", check)
+            yield
+
+    return cut

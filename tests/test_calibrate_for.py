@@ -66,9 +66,10 @@ def test_each_fit_equals_a_separate_calibrate_in_its_formulation(data_form):
             assert cal.rmsape > 0.1  # the other law cannot reproduce these data
             for k in P:
                 assert cal.params[k] == pytest.approx(alone.params[k], rel=1e-4)
-    # the seeded second search used 3/8 of the population
+    # the seeded second search used 3/8 of the population, and stopped at a gap of 1e-4
     assert fits["lsdyna"].options["popsize"] == 24 and fits["hereditary"].options[
         "popsize"] == 64
+    assert fits["lsdyna"].options["tol"] == 1e-4 and fits["hereditary"].options["tol"] == 1e-6
 
 
 def test_start_options_seed_half_the_population_around_the_first_fit():
@@ -77,6 +78,9 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
     opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
     init = opts["de_options"]["init"]
     assert opts["popsize"] == 24 and init.shape == (24, 2)  # (C01 share, log10 tau1)
+    assert opts["tol"] == 1e-4  # its search stops at a wider gap; the polish finishes
+    assert start_options(first, curves, formulation="lsdyna", n_prony=1, tol=1e-2)[
+        "tol"] == 1e-2  # a looser tol of the caller's stays
     z0 = [first.params["C01"] / (first.params["C10"] + first.params["C01"]),
           np.log10(first.params["tau1"])]
     np.testing.assert_allclose(init[0], z0, rtol=1e-12)
@@ -86,6 +90,29 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
     assert start_options(first, curves, formulation="lsdyna", n_prony="auto") == {}
     assert start_options(first, curves, formulation="lsdyna", n_prony=1,
                          de_options={"init": "sobol"}) == {}
+
+
+def test_solver_records_are_accepted_as_well_as_names():
+    """A solver record (vhfit.export.Solver) stands for its solver: registered, as its
+    name; not registered, by its own name and formulation."""
+    import dataclasses
+
+    from vhfit.export import get_solver
+
+    lsdyna = get_solver("lsdyna")
+    assert plan_formulations([lsdyna, "abaqus", get_solver("ansys")]) == {
+        "lsdyna": ["lsdyna"], "hereditary": ["abaqus", "ansys"]}
+    mine = dataclasses.replace(get_solver("abaqus"), name="mine",
+                               formulation="lsdyna_deviatoric")  # never registered
+    assert plan_formulations(mine) == {"lsdyna_deviatoric": ["mine"]}
+    curves = ramps("lsdyna")
+    fits = quiet(vhfit.calibrate_for, [lsdyna], curves, n_prony=1, seed=0,
+                 uncertainty=False)
+    alone = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False,
+                  formulation="lsdyna")
+    assert list(fits) == ["lsdyna"] and fits["lsdyna"].params == alone.params
+    with pytest.raises(ValueError, match="give a solver record"):
+        plan_formulations([dataclasses.replace(mine, formulation="nonesuch")])
 
 
 def test_bad_arguments_are_refused():

@@ -121,6 +121,7 @@ def test_demo_end_to_end(demo):
     if importlib.util.find_spec("matplotlib"):
         assert (out / "fit.png").stat().st_size > 10_000
         assert (out / "history.png").is_file()
+        assert _png_description(out / "fit.png") is None  # complete: not marked
     assert not list(out.glob("checkpoint.json*"))  # finished: no checkpoint left over
     res = json.loads((out / "results.json").read_text())
     assert res["status"] == "complete" and res["interrupted"] is False
@@ -387,6 +388,44 @@ def test_fit_writes_everything(noisy, tmp_path, monkeypatch, capsys):
     # "--resume" after a finished fit: nothing to resume
     assert cli.main(["fit", *map(str, noisy), "--out", "res", "--resume", "-q"]) == 2
     assert "no checkpoint" in capsys.readouterr().err
+
+
+def _png_description(path: Path) -> str | None:
+    """The ``Description`` text chunk of a PNG file (None if it has none)."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    i = 8
+    while i < len(data):
+        n = int.from_bytes(data[i:i + 4], "big")
+        kind, body = data[i + 4:i + 8], data[i + 8:i + 8 + n]
+        if kind == b"tEXt" and body.startswith(b"Description\x00"):
+            return body.split(b"\x00", 1)[1].decode("latin-1")
+        i += 12 + n
+    return None
+
+
+@pytest.mark.skipif(not importlib.util.find_spec("matplotlib"), reason="needs matplotlib")
+def test_plots_of_an_unfinished_fit_say_so(noisy, tmp_path, ctrl_c_in_fit):
+    """Every PNG of a fit cut by Ctrl-C says INTERRUPTED (a red line above the figure and
+    the PNG's Description), as its cards do; resumed to a generation cap, NOT CONVERGED."""
+    out = tmp_path / "o"
+    argv = ["fit", *map(str, noisy), "--prony", "1", "--maxiter", "8", "--target", "0",
+            "--for", "abaqus", "--out", str(out), "-q", "--checkpoint-every", "0.001"]
+    with ctrl_c_in_fit(3):
+        assert cli.main(argv) == 1
+    pngs = sorted(out.glob("*.png"))
+    assert {p.name for p in pngs} >= {"fit.png", "history.png"}
+    card = (out / "abaqus.inp").read_text()
+    for p in pngs:
+        d = _png_description(p)
+        assert d == "INTERRUPTED: written by an interrupted vhfit fit (best constants so far, " \
+                    "not converged)", (p.name, d)
+        assert d in card.replace("\n** ", " ")  # the card's own words
+    assert cli.main(argv + ["--resume"]) == 0
+    assert json.loads((out / "results.json").read_text())["stop_reason"] == "maxiter"
+    for p in sorted(out.glob("*.png")):
+        assert _png_description(p) == ("NOT CONVERGED: the search stopped at maxiter before "
+                                       "it converged"), p.name
 
 
 # ============================================ Ctrl-C and --resume (real script)
@@ -718,7 +757,7 @@ def test_max_prony_0_is_refused_before_anything_is_printed(noisy, tmp_path, monk
 
 
 def test_a_checkpoint_that_resumes_into_a_failure_says_start_fresh(tmp_path, monkeypatch,
-                                                                   capsys):
+                                                                   capsys, ctrl_c_in_fit):
     """A Gent fit cut (Ctrl-C) while every individual is still infinite keeps its
     checkpoint (exit 1: it could have found a finite one); resumed, it ends in the bound
     error, which says to start fresh with --force, and the folder stays as it was."""
@@ -726,16 +765,7 @@ def test_a_checkpoint_that_resumes_into_a_failure_says_start_fresh(tmp_path, mon
     data, out = write_locking(tmp_path), tmp_path / "out"
     argv = ["fit", str(data), "--rate", "0.1", "--model", "gent", "--out", str(out),
             "--no-plot", "--checkpoint-every", "0.001"]
-    calls = []
-
-    def signal_at_3(self):  # as if Ctrl-C came during generation 3
-        calls.append(1)
-        if len(calls) >= 3:
-            self.stopped_search = True
-            raise KeyboardInterrupt
-
-    with monkeypatch.context() as m:
-        m.setattr(cli._fit.Signals, "check", signal_at_3)
+    with ctrl_c_in_fit(3):
         assert cli.main(argv) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1].startswith("vhfit: error: interrupted before a result was ready; continue "

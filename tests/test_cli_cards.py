@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from vhfit import cli
@@ -23,18 +22,9 @@ P = dict(C10=0.2, C01=0.1, G1=1.8, tau1=0.01)
 
 
 @pytest.fixture(scope="module")
-def data(tmp_path_factory) -> list[str]:
-    folder = tmp_path_factory.mktemp("cards-data")
-    m = ViscoHyperelastic("mooney_rivlin", 1)
-    paths = []
-    for r in (-1.0, -30.0, -1000.0):
-        eps = np.linspace(0.0, -0.5, 21)
-        s = m.stress(P, strain=eps, strain_rate=r, measure="engineering")
-        path = folder / f"ramp_{-r:g}.csv"
-        path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
-                        + "".join(f"{float(e)!r},{float(v)!r}\n" for e, v in zip(eps, s)))
-        paths.append(str(path))
-    return paths
+def data(tmp_path_factory, write_ramps) -> list[str]:
+    model = ViscoHyperelastic("mooney_rivlin", 1)
+    return write_ramps(tmp_path_factory.mktemp("cards-data"), model, P)
 
 
 def fit(data, out: Path, *flags) -> dict:

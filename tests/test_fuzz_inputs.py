@@ -46,6 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _fuzzing import accepted, one_line_error, refused, write_fresh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -61,32 +62,8 @@ FUZZ = settings(max_examples=EXAMPLES, suppress_health_check=[HealthCheck.too_sl
 SEEDS = st.integers(0, 2**63 - 1)
 #: Inputs each reader's fuzz test has checked in this session (read by the budget test).
 CHECKED: dict[str, int] = {}
-#: Words that say what to do; every error message must contain one.
-FIX_WORDS = re.compile(
-    r"\b(give|use|pass|add|delete|remove|fix|check|repair|name|write|sort|fill|choose|"
-    r"separate|correct|convert|split|drop|rename|save|ignore|negate|keep|set|replace|"
-    r"trim|make|declare|provide|store|say|select|supply|try|put|enter|change|start|rerun|"
-    r"see)\b", re.I)
-
-
 def _count(reader: str, n: int) -> None:
     CHECKED[reader] = CHECKED.get(reader, 0) + n
-
-
-def _one_line_error(msg: str, *, names: str | None) -> None:
-    assert "\n" not in msg, f"error message spans lines: {msg!r}"
-    assert len(msg) < 800, f"error message of {len(msg)} characters"
-    assert FIX_WORDS.search(msg), f"error message says nothing about the fix: {msg!r}"
-    if names is not None:
-        assert names in msg, f"error message does not name {names!r}: {msg!r}"
-
-
-def write_fresh(path: Path, data: bytes) -> Path:
-    """Write ``data`` to a new file at ``path``: rewriting a file in place makes some file
-    systems (ext4's replace-by-truncate rule) flush it to disk on close, 50x slower."""
-    path.unlink(missing_ok=True)
-    path.write_bytes(data)
-    return path
 
 
 def _batch(reader: str, seed: int, make, check, explain) -> dict[str, int]:
@@ -151,9 +128,8 @@ def check_cli_outcome(code: int, err: str, *, names: str | None = None, echo: in
 
 
 # ============================================================ results files
-def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
-    """A real ``vhfit fit`` of two small curves into ``tmp/name`` (seconds)."""
-    data = tmp / "data"
+def _two_curves(data: Path) -> Path:
+    """Two small compression curves (1/s and 100/s) as CSV files in ``data``."""
     data.mkdir(exist_ok=True)
     for rate, k in ((-1.0, 1.2), (-100.0, 1.5)):
         eps = -np.linspace(0.0, 0.2, 6)
@@ -161,6 +137,12 @@ def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
         (data / f"r{abs(rate):g}.csv").write_text(
             f"# strain_rate: {rate}\nstrain,stress_MPa\n"
             + "".join(f"{float(e)!r},{float(s)!r}\n" for e, s in zip(eps, sig)))
+    return data
+
+
+def _fit_folder(tmp: Path, name: str, extra: list[str]) -> Path:
+    """A real ``vhfit fit`` of two small curves into ``tmp/name`` (seconds)."""
+    data = _two_curves(tmp / "data")
     out = tmp / name
     code, _, err = run_cli(["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out",
                             str(out), "--maxiter", "2", "--popsize", "8", "--prony", "1",
@@ -230,6 +212,40 @@ READ_KEYS = ("hyperelastic", "params", "n_prony", "formulation", "rmsape", "opti
 
 
 _BASE_TEXT: dict[int, str] = {}
+
+
+#: Files that are no JSON file of vhfit's at all.
+NOT_A_FILE = [b"", b"[]", b"null", b"42", b"strain,stress\n0,0\n", b"{}"]
+
+
+def damage_bytes(rng: np.random.Generator, text: bytes, word: str, others=()
+                 ) -> tuple[bytes, str, str]:
+    """``text`` (a JSON file) damaged at the byte level, the expectation and what was done:
+    cut short (a full disk, a copy cut short), bytes flipped, another encoding, another
+    file, random bytes, NaN literals (Python's json writes them), indented by hand, or
+    invalid UTF-8 inside ``word``."""
+    how, expect = int(rng.integers(7)), "any"
+    if how == 0:
+        raw, expect = text[: int(rng.integers(len(text)))], "error"
+    elif how == 1:
+        b = bytearray(text)
+        for _ in range(int(rng.integers(1, 4))):
+            b[int(rng.integers(len(b)))] = int(rng.integers(256))
+        raw = bytes(b)
+    elif how == 2:
+        raw = text.decode().encode(str(rng.choice(["utf-16", "utf-8-sig"])))
+    elif how == 3:
+        files = NOT_A_FILE + list(others)
+        raw, expect = files[int(rng.integers(len(files)))], "error"
+    elif how == 4:
+        raw, expect = rng.bytes(int(rng.integers(1, 300))), "error"
+    elif how == 5:
+        raw = text.replace(b'": ', b'": NaN, "x": ', 1)
+    elif rng.random() < 0.5:
+        raw = json.dumps(json.loads(text), indent=int(rng.integers(5))).encode()
+    else:
+        raw = text.replace(word.encode(), word[:3].encode() + b"\xff\xfe" + word[3:].encode(), 1)
+    return raw, expect, f"bytes damaged ({how})"
 
 
 def results_case(rng: np.random.Generator, bases) -> dict:
@@ -317,33 +333,9 @@ def results_case(rng: np.random.Generator, bases) -> dict:
             res["fits"] = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
             what = f"fits = {res['fits']!r}"
     else:  # byte-level damage of the file
-        text = json.dumps(res).encode()
-        how = int(rng.integers(7))
-        if how == 0:  # truncated (a full disk, a copy cut short)
-            raw = text[: int(rng.integers(len(text)))]
-            expect = "error"
-        elif how == 1:  # bytes flipped
-            b = bytearray(text)
-            for _ in range(int(rng.integers(1, 4))):
-                b[int(rng.integers(len(b)))] = int(rng.integers(256))
-            raw = bytes(b)
-        elif how == 2:  # another encoding
-            raw = json.dumps(res).encode(str(rng.choice(["utf-16", "utf-8-sig"])))
-        elif how == 3:  # not a results file at all
-            raw = [b"", b"[]", b"null", b"42", b'"params"', b"strain,stress\n0,0\n",
-                   b"{}", b'{"params": {}, "hyperelastic": "mooney_rivlin"}'][
-                int(rng.integers(8))]
-            expect = "error"
-        elif how == 4:  # random bytes
-            raw = rng.bytes(int(rng.integers(1, 300)))
-            expect = "error"
-        elif how == 5:  # NaN / Infinity literals, as Python's json writes them
-            raw = text.replace(b'"rmsape": ', b'"rmsape": NaN, "x": ', 1)
-        elif how == 6 and rng.random() < 0.5:  # written by hand: indented
-            raw = json.dumps(res, indent=int(rng.integers(5))).encode()
-        elif how == 6:  # invalid UTF-8 inside a string
-            raw = text.replace(b"mooney_rivlin", b"mooney\xff\xferivlin", 1)
-        what = f"bytes damaged ({how})"
+        raw, expect, what = damage_bytes(
+            rng, json.dumps(res).encode(), "mooney_rivlin",
+            others=[b'"params"', b'{"params": {}, "hyperelastic": "mooney_rivlin"}'])
     if raw is None:
         raw = json.dumps(res).encode()
     return {"raw": raw, "expect": expect, "what": what, "folder": folder, "base": base}
@@ -363,10 +355,8 @@ def check_load(case, tmp: Path) -> str:
     try:
         cal = Calibration.load(path)
     except ValueError as exc:
-        assert case["expect"] != "same", f"a results file as written is refused: {exc}"
-        _one_line_error(str(exc), names=path.name)
-        return "error"
-    assert case["expect"] != "error", "a file that is no results file was read"
+        return refused(case["expect"], exc, names=path.name)
+    accepted(case["expect"], cal)
     assert isinstance(cal, Calibration)
     assert list(cal.params) == list(cal.model.param_names)
     assert not any(math.isnan(v) for v in cal.params.values()), cal.params
@@ -426,6 +416,10 @@ def test_cli_results_fuzz(results_bases, tmp_path_factory, seed):
 
 
 # ============================================================== moduli files
+def _explain_data(case) -> str:
+    return f"[{case['what']}; expect {case['expect']}] input:\n{case['data'][:3000]!r}"
+
+
 #: Moduli units in headers: factor to MPa.
 MODULUS_UNITS = {"": 1.0, "MPa": 1.0, "kPa": 1e-3, "Pa": 1e-6, "GPa": 1e3}
 BAD_CELLS = ["nan", "inf", "-inf", "", "abc", "1e400", "--1", "1.2.3", "12 kPa", "N/A",
@@ -632,14 +626,8 @@ def check_moduli(case, path: Path) -> str:
     try:
         items = read_csv(path)
     except ValueError as exc:
-        msg = str(exc)
-        assert case["expect"] != "same", f"valid input rejected: {msg}"
-        _one_line_error(msg, names=path.name)
-        if case["line"] is not None:
-            assert f"line {case['line']}" in msg, f"the message does not name line " \
-                                                  f"{case['line']}: {msg!r}"
-        return "error"
-    assert case["expect"] != "error", f"misleading success: {items!r}"
+        return refused(case["expect"], exc, names=path.name, line=case["line"])
+    accepted(case["expect"], items)
     for it in items:
         if isinstance(it, FrequencySweep):
             for a in (it.frequency, it.storage, it.loss):
@@ -674,7 +662,7 @@ def check_moduli(case, path: Path) -> str:
 def test_moduli_files_fuzz(tmp_path_factory, seed):
     path = tmp_path_factory.getbasetemp() / "fuzz-moduli.csv"
     counts = _batch("moduli", seed, moduli_case, lambda c: check_moduli(c, path),
-                    lambda c: f"[{c['what']}; expect {c['expect']}] input:\n{c['data'][:3000]!r}")
+                    _explain_data)
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
@@ -854,13 +842,8 @@ def check_modes(case, path: Path) -> str:
     try:
         curves = read_csv(path)
     except ValueError as exc:
-        msg = str(exc)
-        assert case["expect"] != "same", f"valid input rejected: {msg}"
-        _one_line_error(msg, names=path.name)
-        if case["line"] is not None:
-            assert f"line {case['line']}" in msg, f"no line {case['line']}: {msg!r}"
-        return "error"
-    assert case["expect"] != "error", f"misleading success: {curves!r}"
+        return refused(case["expect"], exc, names=path.name, line=case["line"])
+    accepted(case["expect"], curves)
     for c in curves:
         assert np.all(np.isfinite(c.strain)) and np.all(np.isfinite(c.stress))
         if c.deformation != "simple_shear":
@@ -888,7 +871,7 @@ def check_modes(case, path: Path) -> str:
 def test_mode_columns_fuzz(tmp_path_factory, seed):
     path = tmp_path_factory.getbasetemp() / "fuzz-modes.csv"
     counts = _batch("modes", seed, modes_case, lambda c: check_modes(c, path),
-                    lambda c: f"[{c['what']}; expect {c['expect']}] input:\n{c['data'][:3000]!r}")
+                    _explain_data)
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
@@ -1096,7 +1079,7 @@ def test_results_file_damaged_is_a_one_line_value_error(tmp_path):
         p = write_fresh(tmp_path / name, text.encode())
         with pytest.raises(ValueError, match=re.escape(str(p))) as exc:
             Calibration.load(p)
-        _one_line_error(str(exc.value), names=name)
+        one_line_error(str(exc.value), names=name)
 
 
 def test_results_file_with_a_huge_n_prony_is_refused_at_once(tmp_path):
@@ -1183,7 +1166,7 @@ def test_moduli_file_with_a_relaxation_modulus_but_no_time_is_a_data_error(tmp_p
     p = write_fresh(tmp_path / "relax.csv", b"E(t) [MPa],loss_MPa\n2,1\n1,1\n")
     with pytest.raises(ValueError, match="no frequency or time column") as exc:
         read_csv(p)
-    _one_line_error(str(exc.value), names="relax.csv")
+    one_line_error(str(exc.value), names="relax.csv")
 
 
 def test_moduli_file_errors_name_the_file_and_the_fix(tmp_path):
@@ -1195,7 +1178,7 @@ def test_moduli_file_errors_name_the_file_and_the_fix(tmp_path):
                        ("negt.csv", b"time_s,E(t) [MPa]\n0,2\n-1,1\n")]:
         with pytest.raises(ValueError) as exc:
             read_csv(write_fresh(tmp_path / name, text))
-        _one_line_error(str(exc.value), names=name)
+        one_line_error(str(exc.value), names=name)
 
 
 # ================================================ checkpoints (fit --resume)
@@ -1230,53 +1213,298 @@ def test_damaged_checkpoint_is_a_one_line_value_error(tmp_path):
         write_fresh(ck, json.dumps(d).encode())
         with pytest.raises(ValueError, match="checkpoint .* delete it") as exc:
             vhfit.calibrate(curves, checkpoint=str(ck), resume=True, **kw)
-        _one_line_error(str(exc.value), names=ck.name)
+        one_line_error(str(exc.value), names=ck.name)
 
 
-def test_checkpoint_fuzz(tmp_path):
-    """Damaged checkpoints of the right fit, resumed: a result or a one-line ValueError.
-
-    Each case runs a (tiny) calibration, so this runs a few hundred cases, not 10**4:
-    the reading itself (JSON, solver state) is what differs from case to case. A state
-    whose population holds a value at the very edge of the unit box (found: a
-    ZeroDivisionError where the law's shape gives no stiffness) is left out: see the
-    report of the change that added this test.
-    """
+@pytest.mark.parametrize("path, value, why", [
+    (("solver", "population", "data", 0), -0.5, "unit cube"),
+    (("solver", "population", "data", 1), 2.0, "unit cube"),
+    (("solver", "population", "data", 2), "nan", "unit cube"),
+    (("solver", "population_energies", "data", 0), "nan", "NaN"),
+    (("solver", "population_energies", "data", 0), -1.0, "errors are negative"),
+    (("solver", "nfev"), 2**70, "not counts"),
+    (("solver", "generations"), -1, "not counts"),
+    (("solver", "elapsed"), -1.0, "not a time"),
+    (("solver", "elapsed"), "inf", "not a time"),
+    (("evaluations",), -1, "not a count"),
+    (("evaluations",), 1e308, "not a count"),
+    (("done",), 1.0, "stop reason"),
+    (("solver", "donor_index", "data", 0), 1, "permutation"),
+    (("solver", "history", "best", "__ndarray__"), "complex128", "'best' row"),
+    (("solver", "history", "nit"), {"__ndarray__": "int64", "shape": [2], "data": [0, 1]},
+     "length"),
+    (("solver", "version"), True, "version"),
+    (("solver", "extras"), [None], "extras")])
+def test_checkpoint_with_values_no_run_writes_is_refused(checkpoint_base, path, value, why):
+    """Values that no search writes in a checkpoint were resumed (found by the fuzz
+    below): members outside the unit cube (constants outside their bounds, tau1 = 1e7 s
+    of a bound 10 s) or NaN (then "the law is undefined at the data", a wrong cause), NaN
+    or negative errors, counts that overflowed mid-search (OverflowError), a negative or
+    infinite time, a stop reason 1.0, a donor index that is no permutation, history rows
+    of complex numbers (TypeError) or of different lengths, version true, extras [None]."""
     import vhfit
 
-    curves, kw, ck, base = _resume_setup(tmp_path)
-    rng = np.random.default_rng(2026)
-    counts = {"ok": 0, "error": 0}
-    while sum(counts.values()) < 200:
-        d = copy.deepcopy(base)
-        paths = [p for p, _ in _paths(d) if p and p[0] not in ("format", "key")
-                 and p[:2] != ("solver", "population")]
+    cb = checkpoint_base
+    d = json.loads(cb["text"])
+    if path[-2:] == ("data", 0) and path[1] == "donor_index":
+        value = d["solver"]["donor_index"]["data"][1]  # a member twice, one never
+    _set(d, path, value)
+    write_fresh(cb["path"], json.dumps(d).encode())
+    with pytest.raises(ValueError, match="checkpoint .* delete it") as exc:
+        vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True, **cb["kw"])
+    one_line_error(str(exc.value), names=cb["path"].name)
+    assert why in str(exc.value), exc.value
+
+
+@pytest.fixture(scope="module")
+def checkpoint_base(tmp_path_factory) -> dict:
+    """A real checkpoint of a tiny fit, and what reads it: the fit's search space,
+    settings and key, and a solver of that search (built as the fit builds it)."""
+    from vhfit.calibration import _checkpoint, _search, _workflow
+
+    tmp = tmp_path_factory.mktemp("fuzz-checkpoint")
+    seen = {}
+    real = _workflow.run_search
+
+    def spy(space, settings, **kw):
+        seen.update(space=space, settings=settings)
+        return real(space, settings, **kw)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_workflow, "run_search", spy)
+        curves, kw, ck, base = _resume_setup(tmp)
+    space, s = seen["space"], seen["settings"]
+    key = _checkpoint.fit_key(space.prob, space.method, s.seed, s.popsize, s.effective_tol,
+                              s.target, s.de_options)
+    crits, _ = _search.stop_criteria(s.effective_tol, s.target, s.stall, None)
+    solver = _search.new_solver(space, s, _search._Objective(space), None, crits)
+    return {"curves": curves, "kw": kw, "path": ck, "base": base, "text": json.dumps(base),
+            "key": key, "solver": solver, "space": space,
+            "paths": [p for p, _ in _paths(base) if p], "arrays": _arrays(base)}
+
+
+#: Numbers a damaged or hand-edited state may hold: the unit box's edges and beyond.
+EDGE_VALUES = [0.0, 1.0, -0.0, 5e-324, -1e-12, 1.0 + 2**-52, 2.0, -0.5, "nan", "inf",
+               "-inf", 1e308, -1e308, 2**70, -1, None, "x", True, [0.5]]
+
+
+def _arrays(tree):
+    """The paths of the stored arrays (``{"__ndarray__": ...}``) in a JSON tree."""
+    return [p for p, v in _paths(tree) if isinstance(v, dict) and "__ndarray__" in v]
+
+
+def checkpoint_case(rng: np.random.Generator, cb: dict) -> dict:
+    """A checkpoint of the fit: as written, or damaged; with its expectation."""
+    d = json.loads(cb["text"])
+    kind = int(rng.integers(10))
+    expect, what, raw = "any", "", None
+    arrays = cb["arrays"]  # (every copy of the base has the same paths)
+    if kind == 0:
+        expect, what = "same", "as written"
+    elif kind in (1, 2):  # a value replaced by one of another type, or a key deleted
+        paths = cb["paths"]
         p = paths[int(rng.integers(len(paths)))]
+        if kind == 1:
+            v = HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]
+            _set(d, p, copy.deepcopy(v))
+            what = f"{'/'.join(map(str, p))} = {v!r}"
+        else:
+            _delete(d, p)
+            what = f"no {'/'.join(map(str, p))}"
+    elif kind in (3, 4):  # numbers in an array: the box's edges, beyond, non-finite
+        a = arrays[int(rng.integers(len(arrays)))]
+        if kind == 3:  # most often the population and its energies
+            a = (("solver", "population"), ("solver", "population_energies"))[
+                int(rng.integers(2))]
+        node = d
+        for k in a:
+            node = node[k]
+        if node["data"]:
+            i = int(rng.integers(len(node["data"])))
+            node["data"][i] = EDGE_VALUES[int(rng.integers(len(EDGE_VALUES)))]
+            what = f"{'/'.join(map(str, a))}[{i}] = {node['data'][i]!r}"
+    elif kind == 5:  # an array's dtype, shape or length changed
+        a = arrays[int(rng.integers(len(arrays)))]
+        node = d
+        for k in a:
+            node = node[k]
         how = int(rng.integers(3))
         if how == 0:
-            _set(d, p, copy.deepcopy(HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))]))
+            node["__ndarray__"] = str(rng.choice(["complex128", "object", "<U3", "float16",
+                                                  "int8", "bool", "bogus", "V8", "M8[s]"]))
         elif how == 1:
-            _delete(d, p)
+            node["shape"] = [[-1], [0], [], [16], [1, 16], [4, 4], [2**40], [8, 2, 1],
+                             "8", [None]][int(rng.integers(10))]
+        else:
+            node["data"] = node["data"][: int(rng.integers(len(node["data"]) + 1))] \
+                if rng.random() < 0.5 else node["data"] * 2
+        what = f"{'/'.join(map(str, a))} reshaped ({how}): {node}"
+    elif kind == 6:  # another fit, another format or version
+        k = [("format",), ("key",), ("solver", "format"), ("solver", "version"),
+             ("solver", "parameter_count"), ("solver", "strategy"),
+             ("solver", "extras")][int(rng.integers(7))]
+        old = d
+        for x in k:
+            old = old[x]
+        _set(d, k, {"format": "vhfit-checkpoint-1", "key": "0" * 64}.get(k[-1], 2)
+             if rng.random() < 0.5 else HOSTILE_VALUES[int(rng.integers(len(HOSTILE_VALUES)))])
+        expect = "error" if json.dumps(old) != json.dumps(_get(d, k)) else "any"
+        what = f"{'/'.join(k)} = {_get(d, k)!r}"
+    elif kind == 7:  # the checkpoint's own numbers: what was done, evaluated, spent
+        k = [("done",), ("evaluations",), ("solver", "elapsed"), ("solver", "nfev"),
+             ("solver", "generations"), ("solver", "evaluations"),
+             ("solver", "population_size")][int(rng.integers(7))]
+        v = (EDGE_VALUES + ["converged", "", "maxiter", 0.5])[int(rng.integers(23))]
+        _set(d, k, v)
+        what = f"{'/'.join(k)} = {v!r}"
+    elif kind == 8:  # the random generator's state
+        rs = d["solver"]["random_state"]
+        paths = [p for p, _ in _paths(rs) if p]
+        p = paths[int(rng.integers(len(paths)))]
+        v = [-1, 2**128, 2**200, 0, "PCG64DXSM", "MT19937", 1.5, None, "x", []][
+            int(rng.integers(10))]
+        _set(rs, p, v)
+        what = f"random_state/{'/'.join(map(str, p))} = {v!r}"
+    else:
+        raw, expect, what = damage_bytes(rng, json.dumps(d).encode(), "best1bin")
+    if raw is None:
         raw = json.dumps(d).encode()
-        write_fresh(ck, raw[: int(rng.integers(len(raw)))] if how == 2 else raw)
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                cal = vhfit.calibrate(curves, checkpoint=str(ck), resume=True, **kw)
-        except ValueError as exc:
-            _one_line_error(str(exc), names=ck.name)
-            counts["error"] += 1
-            continue
-        except Exception as exc:
-            raise AssertionError(f"crash {type(exc).__name__}: {exc} ({p}, {how})") from exc
-        assert not math.isnan(cal.rmsape)
-        counts["ok"] += 1
-    _count("checkpoint", sum(counts.values()))
+    return {"raw": raw, "expect": expect, "what": what}
+
+
+def _get(tree, path):
+    for k in path:
+        tree = tree[k]
+    return tree
+
+
+def check_checkpoint(case, cb: dict, rng: np.random.Generator) -> str:
+    """Read the case into the fit's solver as a resumed fit does: one line naming the file,
+    or a state a search can go on from (a box-bounded finite population, errors that
+    are errors, a count and a time that are ones); then, sometimes, one more generation."""
+    from vhfit.calibration import _checkpoint
+
+    path = write_fresh(cb["path"], case["raw"])
+    solver = cb["solver"]
+    try:
+        state, evaluations, done, elapsed = _checkpoint.resume(path, cb["key"], solver)
+    except ValueError as exc:
+        return refused(case["expect"], exc, names=path.name)
+    accepted(case["expect"], state)
+    pop, e = solver.population, solver.population_energies
+    assert pop.dtype == np.float64 and pop.shape == (solver.num_population_members, 2)
+    assert np.isfinite(pop).all() and (pop >= 0).all() and (pop <= 1).all(), pop
+    assert e.dtype == np.float64 and not np.isnan(e).any() and (e >= 0).all(), e
+    idx = solver._random_population_index
+    assert sorted(idx.tolist()) == list(range(len(pop))), idx  # SciPy's donor draw
+    assert isinstance(evaluations, int) and evaluations >= 0, evaluations
+    assert done is None or (isinstance(done, str) and done), done
+    assert math.isfinite(elapsed) and elapsed >= 0, elapsed
+    if case["expect"] == "same":
+        np.testing.assert_array_equal(pop.ravel(), cb["base"]["solver"]["population"]["data"])
+    if rng.random() < 0.3:  # go on: a generation, the stopping tests, the history
+        next(solver)
+        solver.converged()
+        h = solver.history
+        assert np.isfinite(solver.population).all() and len(h.best) == len(h.nit)
+    return "ok"
+
+
+@FUZZ
+@given(seed=SEEDS)
+def test_checkpoint_file_fuzz(checkpoint_base, seed):
+    """Checkpoints of a real fit, damaged: read into that fit's solver as ``--resume`` does
+    (no fit per case: 10**4 cases in seconds)."""
+    rng = np.random.default_rng(seed ^ 0xC4EC)
+    counts = _batch("checkpoint", seed, lambda r: checkpoint_case(r, checkpoint_base),
+                    lambda c: check_checkpoint(c, checkpoint_base, rng),
+                    lambda c: f"[{c['what']}; expect {c['expect']}] file:\n{c['raw'][:3000]!r}")
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
+def test_checkpoint_fuzz_through_calibrate(checkpoint_base):
+    """A few of the same damaged checkpoints resumed by ``calibrate`` itself: a result
+    within the bounds, or a one-line ValueError."""
+    import vhfit
+
+    cb = checkpoint_base
+    rng = np.random.default_rng(2026)
+    counts = {"ok": 0, "error": 0}
+    while sum(counts.values()) < 40:
+        case = checkpoint_case(rng, cb)
+        write_fresh(cb["path"], case["raw"])
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                cal = vhfit.calibrate(cb["curves"], checkpoint=str(cb["path"]), resume=True,
+                                      **cb["kw"])
+        except ValueError as exc:
+            one_line_error(str(exc), names=cb["path"].name)
+            counts["error"] += 1
+            continue
+        except Exception as exc:
+            raise AssertionError(f"crash {type(exc).__name__}: {exc} ({case['what']})") from exc
+        assert math.isfinite(cal.rmsape), case["what"]
+        for name, v in cal.params.items():
+            lo, hi = cal.bounds[name]
+            assert lo <= v <= hi, (name, v, lo, hi, case["what"])
+        counts["ok"] += 1
+    assert counts["ok"] > 0 and counts["error"] > 0
+
+
+def _cut_cli_fit(tmp_path: Path, ctrl_c) -> tuple[list[str], Path, Path]:
+    """``vhfit fit`` of two small curves cut (Ctrl-C) in generation 3: its arguments, its
+    ``--out`` folder and the checkpoint it left there."""
+    data = _two_curves(tmp_path / "data")
+    out = tmp_path / "out"
+    argv = ["fit", str(data / "r1.csv"), str(data / "r100.csv"), "--out", str(out),
+            "--maxiter", "6", "--popsize", "8", "--prony", "1", "--for", "abaqus",
+            "--no-plot", "-q", "--checkpoint-every", "0.001"]
+    with ctrl_c(3):
+        assert run_cli(argv)[0] == 1
+    return argv, out, out / "checkpoint.json"
+
+
+def test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it(tmp_path,
+                                                                          ctrl_c_in_fit):
+    """A checkpoint whose bytes are no UTF-8: 'vhfit: error: 'utf-8' codec can't decode
+    byte 0xbc' (found by the fuzz below: the folder's guard read it as text to restore it
+    on bad input); now the checkpoint's own one-line error, and the file kept as it was."""
+    argv, out, ck = _cut_cli_fit(tmp_path, ctrl_c_in_fit)
+    raw = b"\xbc" + ck.read_bytes()[1:]
+    write_fresh(ck, raw)
+    code, _, err = run_cli(argv + ["--resume"])
+    assert check_cli_outcome(code, err, names=str(ck)) == "error"
+    assert "delete it" in err and ck.read_bytes() == raw
+
+
+def test_cli_resume_of_damaged_checkpoints(tmp_path, ctrl_c_in_fit):
+    """A handful of the same damages on a checkpoint ``vhfit fit`` left when cut (Ctrl-C),
+    resumed by ``vhfit fit --resume``: exit 0, or exit 2 with one line naming the
+    checkpoint and the folder as it was."""
+    argv, out, ck = _cut_cli_fit(tmp_path, ctrl_c_in_fit)
+    text = ck.read_text()
+    base = json.loads(text)
+    cb = {"text": text, "arrays": _arrays(base), "paths": [p for p, _ in _paths(base) if p]}
+    rng = np.random.default_rng(7)
+    outcomes = set()
+    for _ in range(6):
+        case = checkpoint_case(rng, cb)
+        for f in out.iterdir():  # the folder as the cut run left it, with the damaged file
+            if f.name != ck.name:
+                f.unlink()
+        write_fresh(ck, case["raw"])
+        code, _, err = run_cli(argv + ["--resume"])
+        outcome = check_cli_outcome(code, err, names=str(out))
+        if outcome == "error":
+            assert sorted(p.name for p in out.iterdir()) == [ck.name], case["what"]
+            assert ck.read_bytes() == case["raw"], case["what"]
+        outcomes.add(outcome)
+    assert outcomes == {"ok", "error"}
+
+
 # ====================================================================== budget
-def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
+def test_fuzz_budget_per_reader(results_bases, tmp_path_factory, request):
     """Counts the inputs each reader's fuzz test really checked (runs it if it has not).
 
     This test comes after the fuzz tests in the file, so in a whole run it only reads the
@@ -1288,6 +1516,8 @@ def test_fuzz_budget_per_reader(results_bases, tmp_path_factory):
         "cli_options": lambda: test_cli_option_values_fuzz(tmp_path_factory),
         "moduli": lambda: test_moduli_files_fuzz(tmp_path_factory),
         "modes": lambda: test_mode_columns_fuzz(tmp_path_factory),
+        "checkpoint": lambda: test_checkpoint_file_fuzz(
+            request.getfixturevalue("checkpoint_base")),
     }
     for reader, run in runs.items():
         if reader not in CHECKED:

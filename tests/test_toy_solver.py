@@ -14,7 +14,6 @@ from __future__ import annotations
 import dataclasses
 import json
 
-import numpy as np
 import pytest
 
 import vhfit
@@ -84,18 +83,9 @@ def toy():
 
 
 @pytest.fixture(scope="module")
-def data(tmp_path_factory) -> list[str]:
-    folder = tmp_path_factory.mktemp("toy-data")
-    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1, formulation=FORM)
-    paths = []
-    for r in (-1.0, -30.0, -1000.0):
-        eps = np.linspace(0.0, -0.5, 21)
-        s = m.stress(P, strain=eps, strain_rate=r, measure="engineering")
-        path = folder / f"ramp_{-r:g}.csv"
-        path.write_text(f"# strain_rate: {r}\nstrain,stress_MPa\n"
-                        + "".join(f"{float(e)!r},{float(v)!r}\n" for e, v in zip(eps, s)))
-        paths.append(str(path))
-    return paths
+def data(tmp_path_factory, write_ramps) -> list[str]:
+    model = vhfit.ViscoHyperelastic("mooney_rivlin", 1, formulation=FORM)
+    return write_ramps(tmp_path_factory.mktemp("toy-data"), model, P)
 
 
 @pytest.fixture(scope="module")

@@ -15,8 +15,9 @@ import numpy as np
 __all__ = ["atomic_write", "json_default", "dumps"]
 
 
-def atomic_write(path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file and a rename: never a torn file.
+def atomic_write(path, text: str | bytes) -> None:
+    """Write ``text`` (or bytes) to ``path`` via a temporary file and a rename: never a
+    torn file.
 
     The data and then the directory entry are flushed to disk, so after a crash or a
     power cut the file holds either the old or the new text. Temporary files left by
@@ -34,7 +35,7 @@ def atomic_write(path, text: str) -> None:
         except OSError:
             mode = 0o666 & ~_umask()
         os.chmod(tmp, mode)
-        with os.fdopen(fd, "w") as f:
+        with os.fdopen(fd, "wb" if isinstance(text, bytes) else "w") as f:
             f.write(text)
             f.flush()
             os.fsync(f.fileno())

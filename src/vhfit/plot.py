@@ -23,8 +23,10 @@ histories with holds or unloading get stress–time panels (:func:`plot_stress_t
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import os
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -48,6 +50,7 @@ __all__ = [
     "plot_master_curve",
     "plot_shift_factors",
     "plot_spectrum_residuals",
+    "marked",
 ]
 
 INSTALL_HINT = "plots need matplotlib: pip install 'vhfit[plot]' (or pip install matplotlib)"
@@ -83,11 +86,60 @@ def _figure(path, nrows: int = 1, ncols: int = 1, **kw) -> tuple[Any, Any]:
     return fig, (fig.subplots(nrows, ncols, squeeze=False) if nrows else None)
 
 
+#: The mark of the figures drawn inside :func:`marked` (None: no mark).
+_MARK: contextvars.ContextVar[str | None] = contextvars.ContextVar("vhfit_plot_mark",
+                                                                   default=None)
+
+
+@contextlib.contextmanager
+def marked(text: str) -> Iterator[None]:
+    """Mark every figure drawn inside the block with ``text``: a red line above the
+    figure, and the PNG's ``Description`` (what an interrupted fit's plots say).
+
+    Parameters
+    ----------
+    text : str
+        The mark, e.g. ``"INTERRUPTED: best parameters so far, not converged"``.
+
+    Returns
+    -------
+    context manager
+        Figures drawn by this module's functions inside it carry the mark.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> from vhfit.plot import marked, plot_fit
+    >>> m = vhfit.ViscoHyperelastic("neo_hooke", 0)
+    >>> eps = np.linspace(0.0, -0.3, 8)
+    >>> c = vhfit.Curve(strain=eps, stress=m.stress({"C10": 0.1}, strain=eps,
+    ...                 strain_rate=-1.0, measure="engineering"), strain_rate=-1.0)
+    >>> cal = vhfit.calibrate([c], hyperelastic="neo_hooke", n_prony=0, seed=0)
+    >>> import io
+    >>> with marked("INTERRUPTED"):
+    ...     fig = plot_fit(cal, [c], io.BytesIO())
+    >>> fig.texts[-1].get_text()  # above the title
+    'INTERRUPTED'
+    """
+    token = _MARK.set(str(text))
+    try:
+        yield
+    finally:
+        _MARK.reset(token)
+
+
 def _finish(fig, path):
+    mark = _MARK.get()
+    meta = {}
+    if mark is not None:
+        fig.text(0.5, 1.0, mark, ha="center", va="bottom", color="red", fontsize=11,
+                 fontweight="bold")
+        meta = {"Description": mark}
     if hasattr(path, "write"):  # a file object (the HTML report draws in memory): a PNG,
-        fig.savefig(path, dpi=100, format="png")  # laid out by the figure's own layout
+        fig.savefig(path, dpi=100, format="png", metadata=meta,  # laid out by the figure
+                    bbox_inches="tight" if mark else None)  # (the mark is above it)
     elif path is not None:
-        fig.savefig(os.fspath(path), dpi=120, bbox_inches="tight")
+        fig.savefig(os.fspath(path), dpi=120, bbox_inches="tight", metadata=meta)
     return fig
 
 

@@ -15,7 +15,7 @@ import numpy as np
 from vhfit._io import atomic_write, dumps
 from vhfit.modes import get_deformation
 
-__all__ = ["fit_key", "save", "load", "damaged", "FORMAT"]
+__all__ = ["fit_key", "save", "load", "resume", "damaged", "FORMAT"]
 
 FORMAT = "vhfit-checkpoint-2"
 
@@ -67,7 +67,30 @@ def load(path, key: str) -> tuple[dict, int, str | None]:
             f"checkpoint {path} belongs to a different fit (data, model, seed or options "
             "differ, or an older vhfit wrote it); delete it or drop --resume"
         )
-    return data["solver"], int(data["evaluations"]), data.get("done")
+    evaluations, done = data["evaluations"], data.get("done")
+    if type(evaluations) is not int or not 0 <= evaluations < 2**62:
+        raise ValueError(f"its evaluation count {evaluations!r} is not a count")
+    if done is not None and not (isinstance(done, str) and done):
+        raise ValueError(f"its stop reason {done!r} is not one")
+    return data["solver"], evaluations, done
+
+
+def resume(path, key: str, solver) -> tuple[dict, int, str | None, float]:
+    """Restore the checkpoint ``path`` of the fit ``key`` into ``solver`` (a new
+    :class:`vhfit.optimize.DifferentialEvolutionSolver` of that fit): its state, the
+    individuals evaluated before it, the stop reason if the search had ended, and the
+    seconds it had run. Anything unreadable or damaged is one ``ValueError`` naming the
+    file and saying to delete it."""
+    try:
+        state, evaluations, done = load(path, key)
+        solver.load_state(state)
+        elapsed = float(state["elapsed"])
+        if (solver.population_energies < 0.0).any():  # errors: >= 0, or +inf
+            raise ValueError("its population's errors are negative")
+    except (ValueError, KeyError, TypeError, AttributeError, IndexError,
+            OverflowError) as exc:
+        raise damaged(path, exc) from None
+    return state, evaluations, done, elapsed
 
 
 def damaged(path, exc: Exception) -> ValueError:

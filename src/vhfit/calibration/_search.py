@@ -132,20 +132,16 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     search vector inside the bounds, replaces the first member of the first population.
     """
     s = settings
-    seed, workers, popsize, maxiter = s.seed, s.workers, s.popsize, s.maxiter
+    seed, workers, popsize = s.seed, s.workers, s.popsize
     tol, target, de_options = s.effective_tol, s.target, s.de_options
-    dbounds = space.bounds()
-    if not dbounds:  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
+    if not space.bounds():  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
         return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
-    from vhfit.optimize import DifferentialEvolutionSolver
-
     opts = {**space.de_options, **check_de_options(de_options)}
     if workers != 1 and opts["updating"] != "deferred":
         raise ValueError(
             "updating='immediate' evaluates one trial at a time and cannot use workers: "
             "use workers=1 or deferred updating"
         )
-    npop, cap = popsize or space.popsize, maxiter or space.maxiter
     key = _checkpoint.fit_key(space.prob, space.method, seed, popsize, tol, target, de_options)
     ckpt = None if checkpoint is None else str(checkpoint)
     left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
@@ -156,26 +152,12 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
         track.finish = _EarlyFinish(space, target)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
-        with warnings.catch_warnings():
-            # any prefix of a scrambled Sobol sequence fills the box well; its
-            # "balance" needs a power of two only for quadrature, not for a start
-            warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
-            solver = DifferentialEvolutionSolver(
-                objective, dbounds, maxiter=cap, population_size=npop, tol=0.0, atol=0.0,
-                rng=np.random.default_rng(seed), polish=False, callback=track,
-                vectorized=opts["updating"] == "deferred", stop=crits, history=True, x0=x0,
-                **opts)
+        solver = new_solver(space, s, objective, track, crits, x0=x0)
         with solver:
             track.solver = solver
             finished = None
             if s.resume and ckpt is not None and os.path.exists(ckpt):
-                try:
-                    state, done_before, finished = _checkpoint.load(ckpt, key)
-                    solver.load_state(state)
-                    elapsed = float(state["elapsed"])
-                except (ValueError, KeyError, TypeError, AttributeError, IndexError,
-                        OverflowError) as exc:
-                    raise _checkpoint.damaged(ckpt, exc) from None
+                state, done_before, finished, elapsed = _checkpoint.resume(ckpt, key, solver)
                 track.state, track.evaluations = state, done_before
                 objective.nfev = done_before
                 t0 -= elapsed
@@ -195,6 +177,27 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             history = _history(solver, setup)
     return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0,
                   polished)
+
+
+def new_solver(space, settings, objective, callback=None, stop=None, x0=None):
+    """The search's :class:`vhfit.optimize.DifferentialEvolutionSolver` over ``space``
+    (its population, generations, seed and solver options from ``settings``; ``x0``, if
+    given, the first member of its first population), before any generation: the one a
+    checkpoint of this search is resumed into."""
+    from vhfit.optimize import DifferentialEvolutionSolver
+
+    s = settings
+    opts = {**space.de_options, **check_de_options(s.de_options)}
+    with warnings.catch_warnings():
+        # any prefix of a scrambled Sobol sequence fills the box well; its
+        # "balance" needs a power of two only for quadrature, not for a start
+        warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
+        return DifferentialEvolutionSolver(
+            objective, space.bounds(), maxiter=s.maxiter or space.maxiter,
+            population_size=s.popsize or space.popsize, tol=0.0, atol=0.0,
+            rng=np.random.default_rng(s.seed), polish=False, callback=callback,
+            vectorized=opts["updating"] == "deferred", stop=stop, history=True, x0=x0,
+            **opts)
 
 
 def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:

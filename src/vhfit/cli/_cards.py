@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import textwrap
 import warnings
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -21,7 +21,7 @@ import numpy as np
 
 from vhfit._io import atomic_write
 from vhfit.cli._common import UsageError, one_line
-from vhfit.export import export, get_solver, supported_laws
+from vhfit.export import LiveMapping, export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
 from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
 from vhfit.modes import get_deformation
@@ -35,7 +35,7 @@ __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
 JSON_FILE = "material.json"
 
 
-class _CardFiles(Mapping):
+class _CardFiles(LiveMapping):
     """Card key -> file name in a results folder: each registered solver's card
     (``NAME + suffix``), its variants (``NAME_VARIANT + suffix``) and ``json``."""
 
@@ -47,15 +47,6 @@ class _CardFiles(Mapping):
             out.update({f"{s}_{v}": f"{s}_{v}{rec.suffix}" for v in rec.variants})
         out["json"] = JSON_FILE
         return out
-
-    def __getitem__(self, key: str) -> str:
-        return self._now()[key]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._now())
-
-    def __len__(self) -> int:
-        return len(self._now())
 
 
 #: Card key -> file name (read from the solver records at each use).

@@ -213,7 +213,7 @@ def _out_folder(args, default: str) -> Iterator[Path]:
     out = prepare_out(args.out, default, force=args.force, resume=args.resume)
     existed = out.resolve() in existed
     names = set(os.listdir(out)) if existed else set()
-    saved = {n: (out / n).read_text() for n in names
+    saved = {n: (out / n).read_bytes() for n in names  # (bytes: a damaged one too)
              if n.startswith(CHECKPOINT) and (out / n).is_file()}
     try:
         yield out
@@ -232,7 +232,7 @@ def _existing_out(given: str | None, default: str) -> set[Path]:
     return {p.resolve() for p in cands if p.is_dir()}
 
 
-def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, str]) -> None:
+def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, bytes]) -> None:
     """Undo a run's writes into ``out`` (see :func:`_out_folder`)."""
     try:
         for p in out.iterdir():
@@ -240,7 +240,7 @@ def _restore(out: Path, existed: bool, names: set[str], saved: dict[str, str]) -
                 p.unlink()
         for n, data in saved.items():
             p = out / n
-            if not p.is_file() or p.read_text() != data:
+            if not p.is_file() or p.read_bytes() != data:
                 atomic_write(p, data)
         if not existed and not any(out.iterdir()):
             out.rmdir()

@@ -3,6 +3,7 @@ solver cards (through ``_cards``), the plots and ``report.html`` (through ``_rep
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 from pathlib import Path
@@ -14,6 +15,7 @@ from vhfit.calibration import (
 )
 from vhfit.cli import _moduli
 from vhfit.cli._cards import (
+    unfinished,
     write_cards,
 )
 from vhfit.cli._common import (
@@ -53,11 +55,14 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
     cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
-    plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo, raw=raw)
-    written.update({p: "plot" for p in plots.values()})
-    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
-                                     label=label, inputs=inputs, interrupted=interrupted,
-                                     comparison=comparison)
+    note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
+    with plot.marked(note.split(";")[0]) if note else contextlib.nullcontext():
+        plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo,
+                                       raw=raw)
+        written.update({p: "plot" for p in plots.values()})
+        page, no_page = write_fit_report(cal, curves, out, cards, plots, args,
+                                         command=command, label=label, inputs=inputs,
+                                         interrupted=interrupted, comparison=comparison)
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 

@@ -25,10 +25,11 @@ Units: the model's own consistent set — N, mm, s, MPa; density in tonne/mm³.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 
 from vhfit.export._common import Material, generator, resolve
 from vhfit.export._solvers import (
+    LiveMapping,
     Solver,
     card_body,
     get_solver,
@@ -73,23 +74,11 @@ for _record in (_ABAQUS, _LSDYNA, _ANSYS):
     register_solver(_record)
 
 
-class _Formats(Mapping):
+class _Formats(LiveMapping):
     """Export target -> usual file suffix: every registered solver, and ``json``."""
 
     def _now(self) -> dict[str, str]:
         return {**{r.name: r.suffix for r in records()}, "json": ".json"}
-
-    def __getitem__(self, key: str) -> str:
-        return self._now()[key]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._now())
-
-    def __len__(self) -> int:
-        return len(self._now())
-
-    def __repr__(self) -> str:
-        return repr(self._now())
 
 
 #: Export target -> usual file suffix (read from the solver records at each use).

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 
 __all__ = ["Solver", "register_solver", "unregister_solver", "get_solver", "solver_of",
-           "solvers", "records", "names", "card_body"]
+           "solvers", "records", "names", "card_body", "LiveMapping"]
 
 
 @dataclass(frozen=True)
@@ -233,6 +233,26 @@ def card_body(text: str) -> str:
     prefixes = tuple(r.comment for r in _SOLVERS.values() if r.comment)
     return "\n".join(ln for ln in text.splitlines()
                      if ln.strip() and not ln.lstrip().startswith(prefixes)).upper()
+
+
+class LiveMapping(Mapping):
+    """A read-only mapping built anew from the solver registry at each use, so that it
+    follows solvers registered later: a subclass gives :meth:`_now`, the mapping now."""
+
+    def _now(self) -> dict:
+        raise NotImplementedError
+
+    def __getitem__(self, key):
+        return self._now()[key]
+
+    def __iter__(self) -> Iterator:
+        return iter(self._now())
+
+    def __len__(self) -> int:
+        return len(self._now())
+
+    def __repr__(self) -> str:
+        return repr(self._now())
 
 
 class _Names(Sequence):

@@ -176,6 +176,27 @@ def _check_bounds_and_x0(parsed, x0):
     return x0_arr.reshape(lb.size)
 
 
+def _damaged_values(pop, energies, cv, index, counts, elapsed) -> str:
+    """What in a loaded state no run can have produced ('' if nothing): members outside
+    the unit cube or not finite, NaN energies, negative or non-finite constraint
+    violations, a donor index that is no permutation, negative or huge counts, a
+    negative or non-finite time."""
+    if not (np.isfinite(pop).all() and (pop >= 0.0).all() and (pop <= 1.0).all()):
+        return "population has members outside the unit cube [0, 1] or not finite"
+    if np.isnan(energies).any():
+        return "population energies hold NaN"
+    if not (np.isfinite(cv).all() and (cv >= 0.0).all()):
+        return "constraint violations are negative or not finite"
+    if index.dtype.kind not in "iu" or not np.array_equal(np.sort(index),
+                                                         np.arange(index.size)):
+        return "donor index is not a permutation of the population"
+    if not all(0 <= n < 2**62 for n in counts):
+        return f"counts (nfev, generations, evaluations) {counts} are not counts"
+    if not (math.isfinite(elapsed) and elapsed >= 0.0):
+        return f"elapsed time {elapsed!r} is not a time"
+    return ""
+
+
 class DifferentialEvolutionSolver(_SciPySolver):
     """SciPy's differential evolution solver, with vhfit's extras.
 
@@ -559,6 +580,10 @@ integrality, vectorized
             raise ValueError(
                 "load_state: the state's population arrays do not fit together (damaged "
                 "state); pass the dict that state_dict() returned")
+        why = _damaged_values(pop, energies, cv, index, (nfev, gen, nevals), elapsed)
+        if why:
+            raise ValueError(f"load_state: the state's {why} (damaged state); pass the dict "
+                             "that state_dict() returned")
         self.population, self.population_energies = pop, energies
         self.feasible, self.constraint_violation = feasible, cv
         self.num_population_members = NP
@@ -588,7 +613,7 @@ integrality, vectorized
             raise ValueError(
                 f"load_state: not a solver state (format {fmt!r}, expected "
                 f"{_STATE_FORMAT!r}); pass the dict that state_dict() returned")
-        if state.get("version") != _STATE_VERSION:
+        if type(state.get("version")) is not int or state.get("version") != _STATE_VERSION:
             raise ValueError(
                 f"load_state: state version {state.get('version')!r} is not supported "
                 f"(this vhfit reads version {_STATE_VERSION}); resume with the vhfit "
@@ -618,7 +643,11 @@ integrality, vectorized
             raise ValueError(
                 f"load_state: the state was saved with strategy {sid!r} but this solver "
                 f"uses {mine!r}; build the solver with the saved run's strategy")
-        if bool(state.get("extras")) != self._vh_extras:
+        if not isinstance(state.get("extras"), bool):
+            raise ValueError(
+                f"load_state: the state's extras entry is {state.get('extras')!r}, not true "
+                "or false (damaged state); pass the dict that state_dict() returned")
+        if state.get("extras") != self._vh_extras:
             how = "with" if state.get("extras") else "without"
             raise ValueError(
                 f"load_state: the state was saved by a solver {how} vhfit's extras "

@@ -76,6 +76,19 @@ class DEHistory:
         )
 
 
+#: The history's per-generation rows and the dtype kinds they are stored with.
+_ROWS = {"nit": "iu", "nfev": "iu", "best": "f", "mean": "f", "time": "f",
+         "population_size": "iu"}
+
+
+def _column(a, name: str, kinds: str) -> np.ndarray:
+    """A stored history row: a 1-D array of ints (``kinds`` "iu") or floats ("f")."""
+    if not isinstance(a, np.ndarray) or a.ndim != 1 or a.dtype.kind not in kinds:
+        raise ValueError(f"the history's {name!r} row is not a 1-D array of "
+                         f"{'integers' if 'i' in kinds else 'floats'} (damaged state)")
+    return a
+
+
 class _Recorder:
     """Cheap append-only recorder; also feeds the :class:`StopState`.
 
@@ -144,16 +157,19 @@ class _Recorder:
     def load(self, data: dict, energies: np.ndarray) -> None:
         """Restore :meth:`dump`'s rows; `energies` are the current population's."""
         d = from_plain(data)
-        self.nit = d["nit"].tolist()
-        self.nfev = d["nfev"].tolist()
-        self.time = d["time"].tolist()
-        self.size = d["population_size"].tolist()
-        self.snap_nit = d["snapshot_nit"].tolist()
+        rows = {k: _column(d[k], k, kind) for k, kind in _ROWS.items()}
+        if len({a.shape for a in rows.values()}) != 1:
+            raise ValueError("the history's rows differ in length (damaged state)")
+        self.nit = rows["nit"].tolist()
+        self.nfev = rows["nfev"].tolist()
+        self.time = rows["time"].tolist()
+        self.size = rows["population_size"].tolist()
+        self.snap_nit = _column(d["snapshot_nit"], "snapshot_nit", "iu").tolist()
         self.snap_pop = list(d["snapshot_populations"])
         self.snap_e = list(d["snapshot_energies"])
         st = self.state = StopState()
-        st.best_history = d["best"].tolist()
-        st.mean_history = d["mean"].tolist()
+        st.best_history = rows["best"].tolist()
+        st.mean_history = rows["mean"].tolist()
         if self.nit:
             st.nit, st.nfev, st.elapsed = self.nit[-1], self.nfev[-1], self.time[-1]
             st.best, st.mean = st.best_history[-1], st.mean_history[-1]
