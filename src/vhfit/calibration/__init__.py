@@ -25,10 +25,16 @@ from vhfit.calibration._result import (
     CalibrationWarning,
     set_html_report,
 )
-from vhfit.calibration._settings import CalibrationSettings, RecordedCallable
+from vhfit.calibration._settings import (
+    CalibrationSettings,
+    RecordedCallable,
+    bound_problem,
+    bounds_terms,
+)
 from vhfit.calibration._workflow import CalibrationError, calibrate
 
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
+           "bound_problem", "bounds_terms",
            "plan_formulations", "start_options"]

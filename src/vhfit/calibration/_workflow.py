@@ -22,6 +22,7 @@ from vhfit.calibration._settings import (
     DEFAULT_TAU_STRATEGY,
     DEFAULT_TOL,
     CalibrationSettings,
+    bounds_for_terms,
 )
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import TestItem, is_moduli, read_csv
@@ -250,6 +251,13 @@ def calibrate(
     n_prony = s.n_prony
     if n_prony is None:
         n_prony = 0 if unidentified else DEFAULT_N_PRONY
+        named = sorted(set(s.bounds) - set(bounds_for_terms(s.bounds, n_prony))
+                       ) if isinstance(s.bounds, dict) else []
+        if named:
+            raise ValueError(
+                f"bounds name {', '.join(named)} but the fit has no Prony terms by default "
+                f"({unidentified}): give n_prony=N (command line: --prony N) to fit some, "
+                "or drop those bounds")
     rate_msgs: list[str] = []
     if s.check_rates:
         n_check = s.max_prony if isinstance(n_prony, str) else int(n_prony)
@@ -317,7 +325,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     s = settings
     model = ViscoHyperelastic(s.hyperelastic, n_prony, rtol=s.rtol, formulation=s.formulation)
     tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
-                                s.decades_above, s.bounds)
+                                s.decades_above, bounds_for_terms(s.bounds, n_prony))
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     space = SPACES[s.method](prob)
     found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
@@ -375,11 +383,12 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
             return (f"{head}: its search bounds ({side}) leave the {hm.name} law undefined "
                     f"at the data's deformation everywhere, but {name} = "
                     f"{new[1] if above else new[0]:g} is not; widen them with the bounds= keyword, "
-                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}}")
+                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}} (command line: "
+                    f"--bounds {name}={new[0]:g}:{new[1]:g})")
     if inside:
         return (f"{head}: some parameter sets within the bounds have a finite error but the "
-                "search did not reach them; narrow the bounds (bounds= keyword) or give a "
-                "larger popsize")
+                "search did not reach them; narrow the bounds (bounds= keyword; command line: "
+                "--bounds NAME=LO:HI) or give a larger popsize (--popsize)")
     return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
             "its constants; check the data's strain and units, or choose another law")
 

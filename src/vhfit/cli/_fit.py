@@ -48,7 +48,7 @@ from vhfit.cli._common import (
 from vhfit.cli._inputs import read_curves, sha256
 from vhfit.cli._outputs import write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
-from vhfit.cli._settings import check_shift, fit_settings
+from vhfit.cli._settings import check_shift, cli_bounds, fit_settings
 from vhfit.formulations import FORMULATIONS
 
 __all__ = ["cmd_fit", "cmd_demo", "run_fit", "read_curves", "CARD_FILES",
@@ -68,6 +68,8 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
         raise UsageError("--force and --resume contradict each other: give one")
     _check_fit_flags(args)
     _check_card_flags(args)
+    if args.bounds:  # checked with the law before anything is read or written
+        cli_bounds(args, resolve_model_name(args.model))
     curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
     # temperatures without shift information: nothing written
     shift_law, at_ref = check_shift(curves, args)
@@ -296,8 +298,7 @@ def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Pr
         ) from None
     except CalibrationError as exc:  # no finite fit: the data, law or bounds
         progress.close()
-        how = (" (bounds= is a keyword of vhfit.calibrate; on the command line choose "
-               "another --model)" if "bounds=" in str(exc) else "")
+        how = ""
         if args.resume:
             how += (f"; the checkpoint in {out} holds this failed search and resumes only "
                     "into it: start fresh with --force instead of --resume")
