@@ -176,8 +176,8 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     tau_b, auto = search_bounds(
         model, ref.items, kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY),
         kwargs.get("decades_below", DEFAULT_DECADES_BELOW),
-        kwargs.get("decades_above", DEFAULT_DECADES_ABOVE), bounds_for_terms(kwargs.get("bounds", "auto"),
-                                                                int(n_prony)))
+        kwargs.get("decades_above", DEFAULT_DECADES_ABOVE),
+        bounds_for_terms(kwargs.get("bounds", "auto"), int(n_prony)))
     space = SPACES[method](Problem(model, ref.items, tau_b, auto,
                                    kwargs.get("g_inf_min", 1e-6),
                                    kwargs.get("objective", "rmsape")))
