@@ -276,7 +276,7 @@ def calibrate(
     elif unidentified and cal.n_prony > 0:
         msg = (f"the data cannot separate elastic from viscous response ({unidentified}): "
                f"the {cal.n_prony} Prony term(s) are not identified by them; add tests at "
-               "other rates, a hold or an unloading, or fit n_prony=0")
+               "other rates, a hold or an unloading, or fit n_prony=0 (command line: --prony 0)")
         warnings.warn(msg, CalibrationWarning, stacklevel=2)
         warns.insert(0, msg)
         heads.insert(0, msg)

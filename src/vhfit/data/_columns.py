@@ -70,6 +70,9 @@ _ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate", "strain2", "stretch
               "deformation", "ignore")
 #: Symbols that name a quantity: after its keyword a descriptive word, never a unit.
 _SYMBOLS = {"sigma", "σ", "epsilon", "eps", "ε", "lambda", "λ", "gamma", "γ"}
+#: Symbols a lab writes after a quantity's name (``shear_stress_tau_kPa``,
+#: ``stress_sigma_MPa``, ``strain_eps``): they name it again, never a unit.
+_NAME_SYMBOLS = _SYMBOLS | {"tau", "τ"}
 _GROUP_NAMES = {"curve", "test", "specimen", "name"}
 #: Headers of a text column naming each row's test (its values: deformation names).
 _DEFORMATION_NAMES = {"deformation", "deformation_mode", "mode", "test_mode", "test_type",
@@ -164,8 +167,10 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
         if unit is not None:
             return rest, unit
         quals = []
-        while rest and rest[0] in qualifiers:
-            quals.append(rest.pop(0))
+        while rest and (rest[0] in qualifiers or rest[0] in _NAME_SYMBOLS):
+            tok = rest.pop(0)
+            if tok not in _NAME_SYMBOLS:  # a symbol names the quantity: no qualifier
+                quals.append(tok)
         return quals, "_".join(rest)
 
     # rate: "strain_rate", "rate [1/s]", "nominal_strain_rate_per_s" (not "..._from_rate")
@@ -184,9 +189,11 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
             if tok == "t" and _unit_factor("time", u) is None:
                 break
             return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
+    other_roles = set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS | _CHANNEL_WORDS)
     if tokens[0] in _SHEAR_WORDS or (
-            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS
-                                                     | _CHANNEL_WORDS)):
+            ("shear" in tokens or set(tokens) & _SHEAR_WORDS and set(tokens) & _STRAIN_WORDS)
+            and not other_roles):
+        # 'strain_gamma': the symbol γ says the strain is an amount of shear
         # "gamma", "shear_strain", "amount_of_shear": the amount of shear γ
         k = next(i for i, t in enumerate(tokens) if t in _SHEAR_WORDS | {"shear"})
         quals, u = after_unit(k, _STRAIN_WORDS | _SHEAR_WORDS | {"amount", "of", "shear"})
@@ -215,7 +222,7 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
                 rest = []
             if "shear" in rest:  # "stretch_or_shear_amount": γ on simple-shear rows
                 return _Col(index, header, "stretch", 0.5, u, "or_shear")
-            other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS
+            other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS - _NAME_SYMBOLS
             return _Col(index, header, "stretch", 0.5 + (1.5 if other else 0.0), u)
     return None
 

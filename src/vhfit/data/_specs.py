@@ -242,7 +242,8 @@ def _split_rows(
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
-            f"rates but rate={rate!r} was given: drop rate= to get one curve per rate"
+            f"rates but rate={rate!r} was given: drop rate= (command line: --rate) to get one "
+            "curve per rate"
         )
     return _Groups(rows, rate_vals, len(gcols), key_cols, by_rate, members)
 
@@ -379,7 +380,7 @@ def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str)
             raise DataError(
                 f"{_Where(cname, table.source, None)()}: column {plan.deformation.header!r} "
                 f"says {text!r} but deformation={given!r} was given: drop deformation= "
-                "(the column names each row's test)"
+                "(command line: --deformation; the column names each row's test)"
             )
         return dfm
     if opts.deformation is not None:
