@@ -335,3 +335,50 @@ def test_nominal_and_measured_temperatures_that_disagree_name_both_and_the_flag(
     items, _ = read_curves([str(path)], parser.parse_args(
         ["fit", str(path), "--columns", "temperature=nominal_temperature_C"]))
     assert [i.temperature for i in items] == [25.0, 50.0]
+
+
+# ============================================ temperatures of stress–strain files
+def _shear_file(path: Path, nominal: float, measured) -> Path:
+    gamma = np.linspace(0.0, 0.3, len(measured))
+    rows = "".join(f"{g:.3f},{20.0 * g:.4f},{nominal:.1f},{m:.2f}\n"
+                   for g, m in zip(gamma, measured))
+    path.write_text("shear_strain_gamma,shear_stress_kPa,nominal_temperature_C,"
+                    "measured_sample_temperature_C\n" + rows)
+    return path
+
+
+def test_temperature_columns_of_a_stress_strain_file_are_read_or_refused(tmp_path, capsys):
+    """Recognised with their descriptive words; agreeing within their rounding, the finer
+    one is read; disagreeing, refused naming both and --columns temperature=NAME; a curve
+    is at one temperature (its readings within CURVE_TEMPERATURE_SPREAD); --columns
+    temperature= ignores the column."""
+    ok = _shear_file(tmp_path / "ok.csv", 40.0, [40.02, 40.01, 39.98, 40.03])
+    [c] = vhfit.read_csv(ok)
+    assert c.temperature == pytest.approx(40.01)
+    assert c.metadata["columns"]["temperature"] == "measured_sample_temperature_C"
+    off = _shear_file(tmp_path / "off.csv", 40.0, [38.6, 38.7, 38.8, 38.8])
+    msg = refused(["fit", str(off)], tmp_path / "out", capsys, "files")
+    assert "'nominal_temperature_C' and 'measured_sample_temperature_C' could both be the " \
+           "temperature but differ (40 vs 38.6)" in msg, msg
+    assert msg.endswith("(command line: --columns temperature=nominal_temperature_C)"), msg
+    parser = build_parser()
+    [c], _ = read_curves([str(off)], parser.parse_args(
+        ["fit", str(off), "--columns", "temperature=measured_sample_temperature_C"]))
+    assert c.temperature == pytest.approx(38.725)
+    [c], _ = read_curves([str(off)], parser.parse_args(
+        ["fit", str(off), "--columns", "temperature="]))
+    assert c.temperature is None
+    drift = _shear_file(tmp_path / "drift.csv", 40.0, [40.0, 45.0, 50.0, 55.0])
+    msg = refused(["fit", str(drift), "--columns", "temperature=measured_sample_temperature_C"],
+                  tmp_path / "out2", capsys)
+    assert re.search(r"column 'measured_sample_temperature_C': the temperature goes from 40 "
+                     r"to 55 within one curve: .*--columns temperature=\)$", msg), msg
+
+
+def test_stress_strain_files_at_two_temperatures_are_not_merged(tmp_path, capsys):
+    """Before, their temperature columns were ignored and the tests fitted as if at one
+    temperature; now they need a shift, as tests with '# temperature:' lines do."""
+    a = _shear_file(tmp_path / "a.csv", 20.0, [20.0, 20.0, 20.0, 20.0])
+    b = _shear_file(tmp_path / "b.csv", 60.0, [60.0, 60.0, 60.0, 60.0])
+    msg = refused(["fit", str(a), str(b), "--rate", "0.01"], tmp_path / "out", capsys)
+    assert "tests at 2 temperatures" in msg and "--shift" in msg, msg
