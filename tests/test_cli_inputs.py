@@ -382,3 +382,18 @@ def test_stress_strain_files_at_two_temperatures_are_not_merged(tmp_path, capsys
     b = _shear_file(tmp_path / "b.csv", 60.0, [60.0, 60.0, 60.0, 60.0])
     msg = refused(["fit", str(a), str(b), "--rate", "0.01"], tmp_path / "out", capsys)
     assert "tests at 2 temperatures" in msg and "--shift" in msg, msg
+
+
+def test_bound_problem_and_bounds_terms_are_the_one_check_of_both_doors():
+    """``vhfit.calibration.bound_problem`` words the fix without the flag or keyword (each
+    door adds its own); ``bounds_terms`` is how many Prony terms a fit may have."""
+    from vhfit.calibration import bound_problem, bounds_terms
+
+    assert (bounds_terms(3), bounds_terms("auto", 7), bounds_terms(None)) == (3, 7, 2)
+    assert bound_problem("alpha1", -40.0, 40.0, "ogden", 0) is None
+    assert bound_problem("tau2", 1e-3, 1.0, "yeoh", 2) is None
+    assert bound_problem("tau3", 1e-3, 1.0, "yeoh", 2).startswith("unknown parameter")
+    assert bound_problem("C20", -1.0, 1.0, "yeoh", 0) is None  # Yeoh's C20 may be < 0
+    assert "physical range" in bound_problem("C10", -1.0, 1.0, "yeoh", 0)
+    assert "physical range" in bound_problem("beta", 0.5, 1.5, "van_der_waals", 0)
+    assert bound_problem("beta", 0.0, 1.0, "van_der_waals", 0) is None
