@@ -447,7 +447,7 @@ def test_no_curves_is_a_clear_error():
         (dict(n_prony="many"), "n_prony"),
         (dict(method="simplex"), "method"),
         (dict(g_inf_min=1.5), "g_inf_min"),
-        (dict(bounds={"nope": (0, 1)}), "unknown parameter 'nope'"),
+        (dict(bounds={"nope": (0, 1)}), r"bounds\['nope'\] = \(0, 1\): unknown parameter"),
         (dict(bounds={"tau1": (1.0, 0.1)}), "tau1"),
         (dict(bounds="wide"), "bounds"),
         (dict(hyperelastic="no_such_model"), "available"),
