@@ -296,15 +296,16 @@ def test_select_of_a_value_that_is_not_there_lists_those_present(tmp_path, capsy
 
 # ================================================= column names as labs write them
 def test_descriptive_suffixes_are_names_not_units(tmp_path):
-    """'_gamma', '_tau', '_sigma' after a quantity's name say what it is; the temperature
-    columns of a stress–strain file are other channels."""
+    """'_gamma', '_tau', '_sigma' after a quantity's name say what it is; '_C' after a
+    temperature is its unit."""
     gamma = np.array([0.0, 0.1, 0.2, 0.3])
     tau_kpa = np.array([0.0, 10.0, 19.0, 27.0])
     path = write(tmp_path / "shear.csv", "shear_strain_gamma,shear_stress_tau_kPa,"
                  "nominal_temperature_C,measured_sample_temperature_C",
-                 zip(gamma, tau_kpa, [25.0] * 4, [24.6, 24.7, 24.8, 24.8]))
+                 zip(gamma, tau_kpa, [25.0] * 4, [25.01, 24.99, 25.02, 25.0]))
     [c] = vhfit.read_csv(path, n_points=None)
     assert c.deformation == "simple_shear"
+    assert c.temperature == pytest.approx(25.005)
     assert np.allclose(np.trim_zeros(c.target_stress), tau_kpa[1:] / 1000.0)
     path = write(tmp_path / "shear2.csv", "strain_gamma,stress_sigma_MPa",
                  zip(gamma, tau_kpa / 1000.0))
