@@ -398,3 +398,17 @@ def test_bound_problem_and_bounds_terms_are_the_one_check_of_both_doors():
     assert "physical range" in bound_problem("C10", -1.0, 1.0, "yeoh", 0)
     assert "physical range" in bound_problem("beta", 0.5, 1.5, "van_der_waals", 0)
     assert bound_problem("beta", 0.0, 1.0, "van_der_waals", 0) is None
+
+
+@pytest.mark.parametrize("header, unit", [("sample_temperature", ""), ("temperature_C", "C"),
+                                          ("temp [K]", "K"), ("measured_temperature_degC",
+                                                              "degC")])
+def test_a_word_after_temperature_is_no_unit(tmp_path, header, unit):
+    """Only C, K or F (and their spellings) after a temperature are its unit; other words
+    qualify it ('sample_temperature' is a temperature without a unit)."""
+    path = tmp_path / "t.csv"
+    path.write_text(f"strain,stress_MPa,{header}\n0.0,0.0,30.1\n0.1,1.0,30.2\n")
+    [c] = vhfit.read_csv(path)
+    assert c.temperature == pytest.approx(30.15)
+    from vhfit.data._columns import _classify
+    assert _classify(2, header).unit.lower() == unit.lower()

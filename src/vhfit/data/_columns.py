@@ -44,10 +44,11 @@ _TIME_UNITS = {"": 1.0, "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "secon
 _RATE_UNITS = {"": 1.0, "1/s": 1.0, "/s": 1.0, "s-1": 1.0, "1/sec": 1.0, "/sec": 1.0,
                "mm/mm/s": 1.0, "1/ms": 1e3, "1/min": 1 / 60, "/min": 1 / 60, "min-1": 1 / 60,
                "1/h": 1 / 3600, "/h": 1 / 3600, "%/s": 0.01, "%/min": 0.01 / 60}
-#: A test's temperature is kept in the unit it is written in (°C or K): shift laws are
-#: written in that scale; 'C' and 'K' are units after a temperature only.
+#: A test's temperature is kept in the unit it is written in (°C, K or °F): shift laws
+#: are written in that scale; 'C', 'K' and 'F' are units after a temperature only.
 _TEMPERATURE_UNITS = {"": 1.0, "c": 1.0, "°c": 1.0, "degc": 1.0, "deg/c": 1.0, "celsius": 1.0,
-                      "k": 1.0, "kelvin": 1.0}
+                      "k": 1.0, "kelvin": 1.0, "f": 1.0, "°f": 1.0, "degf": 1.0,
+                      "fahrenheit": 1.0}
 _UNITS = {"stress": _STRESS_UNITS, "strain": _STRAIN_UNITS, "stretch": _STRETCH_UNITS,
           "time": _TIME_UNITS, "rate": _RATE_UNITS, "temperature": _TEMPERATURE_UNITS}
 _UNIT_HINT = {
@@ -56,7 +57,7 @@ _UNIT_HINT = {
     "stretch": "none",
     "time": "s, ms, min or h",
     "rate": "1/s, 1/min, %/s or %/min",
-    "temperature": "C or K",
+    "temperature": "C, K or F",
 }
 
 _STRESS_WORDS = {"stress", "sigma", "σ", "spannung"}
