@@ -126,7 +126,13 @@ def calibrate(
         decade more below than the paper's Eq. 22, where a real τ1 can sit.
     bounds : "auto" or dict
         Search bounds; a dict overrides the automatic ones per parameter
-        (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
+        (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s; equal limits fix a
+        parameter). Each name is a constant of the law or a Prony term ``G<i>``/``tau<i>``
+        the fit may have (i <= ``n_prony``; with ``"auto"`` <= ``max_prony``, each N's fit
+        using the terms it has), its limits low <= high, finite (a constant the law is
+        linear in may be unbounded) and inside the physical range (the law's own, G_i >=
+        0, τ_i > 0): else a one-line ``ValueError`` before any computation (command line:
+        ``--bounds NAME=LO:HI``).
     objective : {"rmsape", "rmse", "relative_l2"} or callable
         Eq. 20 in percent (default) or an alternative of :mod:`vhfit.objective`; per-curve
         and per-point weights of the curves apply.
