@@ -412,3 +412,31 @@ def test_a_word_after_temperature_is_no_unit(tmp_path, header, unit):
     assert c.temperature == pytest.approx(30.15)
     from vhfit.data._columns import _classify
     assert _classify(2, header).unit.lower() == unit.lower()
+
+
+def test_a_fit_past_a_user_limit_of_a_modulus_says_so():
+    """An upper limit on G1 below the data's: the exact solve of the separable method
+    holds only the lower limits, so the fit passes it; the result names the parameter,
+    the limits and the settings that hold them (first lines and warnings), and those
+    settings do."""
+    m = vhfit.ViscoHyperelastic("neo_hooke", 1)
+    true = dict(C10=0.1, G1=0.5, tau1=0.01)
+    eps = np.linspace(-0.02, -0.4, 15)
+    curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
+                                                      measure="engineering"), strain_rate=r)
+              for r in (-1.0, -100.0)]
+    with pytest.warns(vhfit.CalibrationWarning) as rec:
+        cal = vhfit.calibrate(curves, hyperelastic="neo_hooke", n_prony=1, seed=0,
+                              bounds={"G1": (0.0, 0.2)}, uncertainty=False)
+    assert cal.params["G1"] > 0.2
+    msg = (f"G1 = {cal.params['G1']:.6g} is outside the limits (0, 0.2) given in bounds: the "
+           "exact solve of the moduli and the final polish keep only their physical range; to "
+           "hold these limits fit with method='full' and polish=False (command line: "
+           "--method full --no-polish)")
+    assert cal.headlines[0] == msg and msg in cal.warnings
+    assert msg in [str(w.message) for w in rec]
+    held = vhfit.calibrate(curves, hyperelastic="neo_hooke", n_prony=1, seed=0,
+                           bounds={"G1": (0.0, 0.2)}, uncertainty=False, method="full",
+                           polish=False, maxiter=200)
+    assert held.params["G1"] <= 0.2
+    assert not any("outside the limits" in w for w in held.warnings)

@@ -286,7 +286,37 @@ def calibrate(
         warnings.warn(msg, CalibrationWarning, stacklevel=2)
         warns.insert(0, msg)
         heads.insert(0, msg)
+    for msg in outside_bounds(s.bounds, cal.params):  # never silently past a user's limit
+        warnings.warn(msg, CalibrationWarning, stacklevel=2)
+        warns.insert(0, msg)
+        heads.insert(0, msg)
     return replace(cal, warnings=warns, headlines=heads, options=options, **_shift_of(ref))
+
+
+def outside_bounds(bounds, params: dict) -> list[str]:
+    """One message per fitted constant outside the limits the user gave in ``bounds``.
+
+    The search keeps every parameter within its limits, but the exact solve of the
+    moduli (the constants the law is linear in, and the G_i) holds only their lower
+    limits, and the final polish only their physical range: an upper limit given there
+    may be passed. Such a result is named, with the settings that hold every limit.
+    """
+    if not isinstance(bounds, dict):
+        return []
+    out = []
+    for name, (lo, hi) in bounds.items():
+        if name not in params:
+            continue
+        v, lo, hi = float(params[name]), float(lo), float(hi)
+        slack = 1e-9 * max(abs(b) for b in (lo, hi, 1e-300) if np.isfinite(b))
+        if lo - slack <= v <= hi + slack:
+            continue
+        out.append(
+            f"{name} = {v:.6g} is outside the limits ({lo:g}, {hi:g}) given in bounds: the "
+            "exact solve of the moduli and the final polish keep only their physical range; "
+            "to hold these limits fit with method='full' and polish=False (command line: "
+            "--method full --no-polish)")
+    return out
 
 
 def _shift_of(ref) -> dict:
