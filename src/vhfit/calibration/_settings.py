@@ -195,7 +195,25 @@ def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
 
 def bounds_for_terms(bounds: Any, n_prony: int) -> Any:
     """``bounds`` of a fit with ``n_prony`` terms: without the entries of Prony terms it
-    does not have (an order scan's smaller N); "auto" as it is."""
+    does not have (an order scan's smaller N); "auto" as it is.
+
+    Parameters
+    ----------
+    bounds : "auto" or dict
+        ``calibrate``'s ``bounds=``.
+    n_prony : int
+        The fit's number of Prony terms.
+
+    Returns
+    -------
+    "auto" or dict
+
+    Examples
+    --------
+    >>> from vhfit.calibration._settings import bounds_for_terms
+    >>> bounds_for_terms({"C10": (0, 1), "tau1": (1, 2), "G3": (0, 5)}, 2)
+    {'C10': (0, 1), 'tau1': (1, 2)}
+    """
     if not isinstance(bounds, dict):
         return bounds
     out = {}

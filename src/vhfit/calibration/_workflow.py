@@ -300,6 +300,25 @@ def outside_bounds(bounds, params: dict) -> list[str]:
     moduli (the constants the law is linear in, and the G_i) holds only their lower
     limits, and the final polish only their physical range: an upper limit given there
     may be passed. Such a result is named, with the settings that hold every limit.
+
+    Parameters
+    ----------
+    bounds : "auto" or dict
+        ``calibrate``'s ``bounds=``.
+    params : dict
+        The fitted constants.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from vhfit.calibration._workflow import outside_bounds
+    >>> outside_bounds({"G1": (0.0, 0.2)}, {"G1": 0.1})
+    []
+    >>> outside_bounds({"G1": (0.0, 0.2)}, {"G1": 0.5})[0][:46]
+    'G1 = 0.5 is outside the limits (0, 0.2) given '
     """
     if not isinstance(bounds, dict):
         return []
