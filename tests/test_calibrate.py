@@ -447,7 +447,7 @@ def test_no_curves_is_a_clear_error():
         (dict(n_prony="many"), "n_prony"),
         (dict(method="simplex"), "method"),
         (dict(g_inf_min=1.5), "g_inf_min"),
-        (dict(bounds={"nope": (0, 1)}), "unknown parameter 'nope'"),
+        (dict(bounds={"nope": (0, 1)}), r"bounds\['nope'\] = \(0, 1\): unknown parameter"),
         (dict(bounds={"tau1": (1.0, 0.1)}), "tau1"),
         (dict(bounds="wide"), "bounds"),
         (dict(hyperelastic="no_such_model"), "available"),
@@ -635,7 +635,8 @@ def test_gent_past_its_locking_stretch_raises_naming_the_bound_and_the_fix(tmp_p
         r"finite error in 50 generations\): its search bounds \(Jm <= " + f"{hi:g}"
         + r"\) leave the gent law undefined at the data's deformation everywhere, but Jm = "
         + f"{fix:g}" + r" is not; widen them with the bounds= keyword, e\.g\. "
-        r"bounds=\{'Jm': \(0\.1, " + f"{fix:g}" + r"\)\}", msg), msg
+        r"bounds=\{'Jm': \(0\.1, " + f"{fix:g}" + r"\)\} \(command line: --bounds Jm=0\.1:"
+        + f"{fix:g}" + r"\)", msg), msg
     assert not ck.exists()
     # the fix named works: a finite fit, its constants within their bounds, Jm past I1 - 3
     cal = calibrate(stretched(lam), hyperelastic="gent", seed=0,

@@ -146,10 +146,12 @@ def valid_csv(rng: np.random.Generator) -> CsvCase:
             cols.append(("strain_rate", np.full(n, rate)))
         else:
             kwargs["rate"] = rate
-    if rng.random() < 0.3:  # an extra column the reader must ignore
-        cols.insert(int(rng.integers(len(cols) + 1)),
-                    (str(rng.choice(["force_N", "displacement_mm", "temperature_C"])),
-                     rng.uniform(-100, 100, n)))
+    if rng.random() < 0.3:  # an extra column the reader must ignore, or a temperature
+        extra = str(rng.choice(["force_N", "displacement_mm", "temperature_C"]))
+        # a test is at one temperature: its readings drift by less than a degree
+        vals = (rng.uniform(-100, 100) + rng.uniform(0, 1, n) if extra == "temperature_C"
+                else rng.uniform(-100, 100, n))
+        cols.insert(int(rng.integers(len(cols) + 1)), (extra, vals))
     quote = sep in (",", ";", "\t") and rng.random() < 0.15
     lines = [f"# {w}" for w in rng.choice(["specimen A", "machine: Instron", "operator"],
                                           size=int(rng.integers(0, 3)))]
@@ -191,6 +193,9 @@ def valid_csv(rng: np.random.Generator) -> CsvCase:
     case.sep = sep  # type: ignore[attr-defined]
     case.cols = [h for h, _ in cols]  # type: ignore[attr-defined]
     case.e_idx, case.s_idx = e_idx, s_idx  # type: ignore[attr-defined]
+    heads = [h for h, _ in cols]
+    case.temperature = (float(np.mean(meant[heads.index("temperature_C")]))  # type: ignore
+                        if "temperature_C" in heads else None)
     case.what = f"valid ({enc}, sep {sep!r}, {kind}, {unit or 'MPa'}, {measure})"
     return case
 
@@ -418,6 +423,9 @@ def check_csv(case: CsvCase, path: Path) -> str:
             assert cv.strain_rate == pytest.approx(case.rate, rel=1e-12)
         if case.time is not None:
             np.testing.assert_allclose(cv.time, case.time, rtol=1e-12)
+        T = getattr(case, "temperature", None)  # set by the generator of valid files
+        if T is not None:  # a temperature column: the mean of its readings
+            assert cv.temperature == pytest.approx(T, rel=1e-12, abs=1e-12)
     return "ok"
 
 

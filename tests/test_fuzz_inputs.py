@@ -883,7 +883,9 @@ HOSTILE_TEXTS = ["", " ", "abc", "nan", "NaN", "inf", "-inf", "1e400", "-1e400",
                  "a:b", "wlf:", "wlf:1,2", "arrhenius:1e5", "wlf:1,2,3", "wlf:nan,1",
                  "uniaxial", "Pure Shear", "biaxial", "abaqus", "ls-dyna,ansys", "abaqus,,",
                  "hereditary", "lsdyna_deviatoric", "auto", "all", "C10=0:1", "x=1", "\x00",
-                 "--", "-5", "1e5:-1e5", "=x", "stress=", "region=", "=", "a=b=c"]
+                 "--", "-5", "1e5:-1e5", "=x", "stress=", "region=", "=", "a=b=c",
+                 "alpha1=-40:40", "tau1=0:1", "G1=-1:0", "C10=1:1", "tau3=1:2", "C10=0:inf",
+                 "C10=nan:1", "c10=0:1", "tau1=1e-3:", "=0:1", "C10=1:0", "G2=0:1e400"]
 
 
 def _real(lo: float, hi: float, *, log: bool = False, signed: bool = False):
@@ -908,6 +910,45 @@ def _whole_number(lo: int, hi: int, extra: tuple = ()):
 
 def _pick(pairs):
     return lambda rng: pairs[int(rng.integers(len(pairs)))]
+
+
+#: --bounds of the default law (Mooney–Rivlin) with up to 2 Prony terms (the default N)
+BOUND_NAMES = {"c10": "C10", "c01": "C01", "g1": "G1", "tau1": "tau1", "g2": "G2",
+               "tau2": "tau2"}
+
+
+def _bounds_value(rng):
+    """``--bounds NAME=LO:HI``: a valid one (text, meaning), or one the law refuses (an
+    unknown name, LO >= HI, a negative τ or G_i) with meaning '?'."""
+    spelled = list(BOUND_NAMES)[int(rng.integers(len(BOUND_NAMES)))]
+    name = BOUND_NAMES[spelled]
+    if rng.random() < 0.5:
+        spelled = spelled.upper() if rng.random() < 0.5 else name
+    if name.startswith("tau"):
+        lo, hi = sorted(10.0 ** rng.uniform(-6, 4, 2))
+    elif name.startswith("G"):
+        lo, hi = sorted(rng.uniform(0, 100, 2))
+    else:
+        lo, hi = sorted(rng.uniform(-10, 10, 2))
+    lo, hi = float(lo), float(hi)
+    how = int(rng.integers(6))
+    if how == 0:  # a name the law does not have with this N
+        spelled = ["alpha1", "tau3", "G3", "mu", "C20", "tau0"][int(rng.integers(6))]
+        return f"{spelled}={lo!r}:{hi!r}", "?"
+    if how == 1:  # the limits swapped, or equal
+        return f"{spelled}={hi!r}:{hi if rng.random() < 0.3 else lo!r}", "?"
+    if how == 2 and name[0] in "Gt":  # a modulus or time below 0
+        return f"{spelled}={-hi!r}:{hi!r}", "?"
+    return f"{spelled}={lo!r}:{hi!r}", (spelled, lo, hi)
+
+
+def _is_bound(v):
+    """What any accepted --bounds must be: a known name, finite LO < HI, in range."""
+    name, lo, hi = v
+    if name.lower() not in BOUND_NAMES or not (_finite(lo) and _finite(hi) and lo < hi):
+        return False
+    return lo > 0 if name.lower().startswith("tau") else (
+        lo >= 0 if name.lower().startswith("g") else True)
 
 
 def _window_value(rng):
@@ -993,7 +1034,8 @@ OPTIONS = [
     Opt("--measure", FIT + SIM + CHK, "measure", _pick([("true", "true"),
                                                         ("engineering", "engineering")]),
         lambda v: v in ("true", "engineering")),
-    # the readers' choices (--bounds does not exist yet: add it here when it lands)
+    Opt("--bounds", FIT, "bounds", _bounds_value, _is_bound),
+    # the readers' choices
     Opt("--select", FIT + CHK, "select", _pick([("region=cortex", ("region", "cortex")),
                                                 (" set = 1 ", ("set", "1"))]),
         lambda v: len(v) == 2 and all(isinstance(x, str) and x for x in v)),

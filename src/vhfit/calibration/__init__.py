@@ -29,11 +29,16 @@ from vhfit.calibration._result import (
     grade,
     set_html_report,
 )
-from vhfit.calibration._settings import CalibrationSettings, RecordedCallable
+from vhfit.calibration._settings import (
+    CalibrationSettings,
+    RecordedCallable,
+    bound_problem,
+    bounds_terms,
+)
 from vhfit.calibration._workflow import CalibrationError, calibrate
 
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
-           "plan_formulations", "start_options", "grade", "GOOD_FIT", "WITHIN_FIT",
-           "ROUGH_FIT"]
+           "bound_problem", "bounds_terms", "plan_formulations", "start_options", "grade",
+           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT"]

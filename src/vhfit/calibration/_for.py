@@ -21,7 +21,7 @@ import numpy as np
 
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._result import Calibration
-from vhfit.calibration._settings import DEFAULT_TOL, FULL_TOL
+from vhfit.calibration._settings import DEFAULT_TOL, FULL_TOL, bounds_for_terms
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.calibration._workflow import (
     DEFAULT_DECADES_ABOVE,
@@ -225,7 +225,8 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     tau_b, auto = search_bounds(
         model, ref.items, kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY),
         kwargs.get("decades_below", DEFAULT_DECADES_BELOW),
-        kwargs.get("decades_above", DEFAULT_DECADES_ABOVE), kwargs.get("bounds", "auto"))
+        kwargs.get("decades_above", DEFAULT_DECADES_ABOVE),
+        bounds_for_terms(kwargs.get("bounds", "auto"), int(n_prony)))
     space = SPACES[method](Problem(model, ref.items, tau_b, auto,
                                    kwargs.get("g_inf_min", 1e-6),
                                    kwargs.get("objective", "rmsape")))

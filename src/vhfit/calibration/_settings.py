@@ -6,13 +6,15 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
 from vhfit.formulations import get_formulation
 
-__all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable"]
+__all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable",
+           "bound_problem", "bounds_terms", "bounds_for_terms"]
 
 DEFAULT_TOL = 1e-6
 DEFAULT_TAU_STRATEGY = "free"
@@ -75,6 +77,7 @@ def _choices(a: dict) -> None:
     if not (a["bounds"] == "auto" if isinstance(a["bounds"], str) else
             isinstance(a["bounds"], dict)):
         _fail("bounds", a["bounds"], "give 'auto' or a dict name -> (low, high)")
+    _user_bounds(a)
     w = a["workers"]
     if not (callable(w) or (_is_int(w) and (w >= 1 or w == -1))):
         _fail("workers", w, "give -1, a whole number >= 1, or a map-like callable")
@@ -87,6 +90,154 @@ def _choices(a: dict) -> None:
         _fail("checkpoint", ck, "give a file path or None")
     if a["resume"] and ck is None:
         _fail("resume", a["resume"], "resuming needs checkpoint=PATH (the file to resume from)")
+
+
+_PRONY_NAME = re.compile(r"^(G|tau)([1-9][0-9]*)$")
+
+
+def bounds_terms(n_prony: Any, max_prony: int = 5) -> int:
+    """The most Prony terms a fit with ``n_prony`` (a number, ``"auto"`` or None) may have:
+    the Prony names a ``bounds=`` entry may use (``G1``, ``tau1``, ... up to this index).
+
+    Examples
+    --------
+    >>> from vhfit.calibration import bounds_terms
+    >>> bounds_terms(3), bounds_terms("auto", max_prony=6), bounds_terms(None)
+    (3, 6, 2)
+    """
+    if isinstance(n_prony, str):
+        return int(max_prony)
+    if n_prony is None:
+        from vhfit.calibration._identify import DEFAULT_N_PRONY
+        return DEFAULT_N_PRONY
+    return int(n_prony)
+
+
+def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
+                  n_terms: int) -> str | None:
+    """Why the search limits ``(low, high)`` given for one parameter cannot be used, as
+    the fix to make, or None when they can.
+
+    The parameter must be one of the law's constants or a Prony term ``G<i>``/``tau<i>``
+    with i <= ``n_terms``; ``low <= high`` (equal limits fix the parameter); the limits
+    finite (a linear constant of the law may be unbounded: ±inf) and inside the
+    parameter's physical range: the law's own range for its constants (e.g. C10 >= 0 of
+    neo-Hooke, λm >= 1 of Arruda–Boyce), G_i >= 0 (a Prony modulus), τ_i > 0 (s).
+
+    Parameters
+    ----------
+    name : str
+        The parameter, as the model names it (``"C10"``, ``"alpha1"``, ``"tau2"``).
+    low, high : float
+        The limits given.
+    hyperelastic : str or Hyperelastic
+        The law (an unknown name: only the Prony terms and the numbers are checked).
+    n_terms : int
+        The most Prony terms of the fit (:func:`bounds_terms`).
+
+    Returns
+    -------
+    str or None
+        What is wrong and how to fix it (one line, without the parameter's name first),
+        or None.
+
+    Examples
+    --------
+    >>> from vhfit.calibration import bound_problem
+    >>> bound_problem("alpha1", -40.0, 40.0, "ogden", 1) is None
+    True
+    >>> bound_problem("C10", -1.0, 1.0, "neo_hooke", 1)
+    'outside the physical range of C10 of the neo_hooke law, [0, inf]: give limits within it'
+    >>> bound_problem("tau1", 0.0, 1.0, "neo_hooke", 1)
+    'a relaxation time is > 0 s: give 0 < low'
+    """
+    from vhfit import hyperelastic as _hyper
+
+    try:
+        law = _hyper.get(hyperelastic)
+    except ValueError:
+        law = None
+    prony = _PRONY_NAME.match(str(name))
+    if law is None and not prony:
+        return None  # a constant of a law not registered (yet): its fit names the law
+    names = list(law.param_names) if law is not None else []
+    if str(name) not in names and not (prony and int(prony.group(2)) <= n_terms):
+        terms = [f"{g}{i}" for i in range(1, n_terms + 1) for g in ("G", "tau")]
+        terms_txt = (f"with up to {n_terms} Prony term(s)" if n_terms else
+                     "without Prony terms")
+        what = (f"the {law.name} law {terms_txt}" if law is not None
+                else f"a fit {terms_txt}")
+        more = (" (more terms: raise n_prony; command line: --prony N)" if prony else "")
+        return (f"unknown parameter of {what}{more}; give one of "
+                f"{', '.join(names + terms) or 'none'}")
+    try:
+        lo, hi = float(low), float(high)
+    except (TypeError, ValueError):
+        return "give two numbers (low, high)"
+    if math.isnan(lo) or math.isnan(hi):
+        return "give two numbers (low, high), not NaN"
+    if lo > hi:
+        return "the lower limit is above the upper: give low <= high"
+    unbounded_ok = law is not None and not prony and names.index(str(name)) in law.linear_index
+    if not (math.isfinite(lo) and math.isfinite(hi)) and not unbounded_ok:
+        return ("give finite limits (only a constant the law is linear in may be "
+                "unbounded)")
+    if prony and prony.group(1) == "tau":
+        return None if lo > 0 else "a relaxation time is > 0 s: give 0 < low"
+    if prony:
+        return None if lo >= 0 else "a Prony modulus G_i is >= 0: give low >= 0"
+    plo, phi = law.bounds[names.index(str(name))]
+    if lo < plo or hi > phi:
+        return (f"outside the physical range of {name} of the {law.name} law, "
+                f"[{plo:g}, {phi:g}]: give limits within it")
+    return None
+
+
+def bounds_for_terms(bounds: Any, n_prony: int) -> Any:
+    """``bounds`` of a fit with ``n_prony`` terms: without the entries of Prony terms it
+    does not have (an order scan's smaller N); "auto" as it is.
+
+    Parameters
+    ----------
+    bounds : "auto" or dict
+        ``calibrate``'s ``bounds=``.
+    n_prony : int
+        The fit's number of Prony terms.
+
+    Returns
+    -------
+    "auto" or dict
+
+    Examples
+    --------
+    >>> from vhfit.calibration._settings import bounds_for_terms
+    >>> bounds_for_terms({"C10": (0, 1), "tau1": (1, 2), "G3": (0, 5)}, 2)
+    {'C10': (0, 1), 'tau1': (1, 2)}
+    """
+    if not isinstance(bounds, dict):
+        return bounds
+    out = {}
+    for k, v in bounds.items():
+        m = _PRONY_NAME.match(str(k))
+        if m is None or int(m.group(2)) <= n_prony:
+            out[k] = v
+    return out
+
+
+def _user_bounds(a: dict) -> None:
+    """Each entry of a ``bounds`` dict: a known parameter, limits in its physical range."""
+    b = a["bounds"]
+    if not isinstance(b, dict):
+        return
+    n_terms = bounds_terms(a["n_prony"], a["max_prony"] if _is_int(a["max_prony"]) else 5)
+    for name, v in b.items():
+        if not isinstance(name, str):
+            _fail("bounds", b, f"name the parameters by text, not {name!r}")
+        if not (isinstance(v, (tuple, list)) and len(v) == 2):
+            _fail(f"bounds[{name!r}]", v, "give a pair (low, high)")
+        fix = bound_problem(name, v[0], v[1], a["hyperelastic"], n_terms)
+        if fix is not None:
+            _fail(f"bounds[{name!r}]", v, fix)
 
 
 def _pairs(a: dict) -> None:

@@ -23,6 +23,7 @@ from vhfit.calibration._settings import (
     DEFAULT_TAU_STRATEGY,
     DEFAULT_TOL,
     CalibrationSettings,
+    bounds_for_terms,
 )
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import TestItem, is_moduli, read_csv
@@ -126,7 +127,13 @@ def calibrate(
         decade more below than the paper's Eq. 22, where a real τ1 can sit.
     bounds : "auto" or dict
         Search bounds; a dict overrides the automatic ones per parameter
-        (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s).
+        (``{"tau1": (1e-5, 1e-3), "C10": (0, 1)}``; τ bounds in s; equal limits fix a
+        parameter). Each name is a constant of the law or a Prony term ``G<i>``/``tau<i>``
+        the fit may have (i <= ``n_prony``; with ``"auto"`` <= ``max_prony``, each N's fit
+        using the terms it has), its limits low <= high, finite (a constant the law is
+        linear in may be unbounded) and inside the physical range (the law's own, G_i >=
+        0, τ_i > 0): else a one-line ``ValueError`` before any computation (command line:
+        ``--bounds NAME=LO:HI``).
     objective : {"rmsape", "rmse", "relative_l2"} or callable
         Eq. 20 in percent (default) or an alternative of :mod:`vhfit.objective`; per-curve
         and per-point weights of the curves apply.
@@ -251,6 +258,13 @@ def calibrate(
     n_prony = s.n_prony
     if n_prony is None:
         n_prony = 0 if unidentified else DEFAULT_N_PRONY
+        named = sorted(set(s.bounds) - set(bounds_for_terms(s.bounds, n_prony))
+                       ) if isinstance(s.bounds, dict) else []
+        if named:
+            raise ValueError(
+                f"bounds name {', '.join(named)} but the fit has no Prony terms by default "
+                f"({unidentified}): give n_prony=N (command line: --prony N) to fit some, "
+                "or drop those bounds")
     rate_msgs: list[str] = []
     if s.check_rates:
         n_check = s.max_prony if isinstance(n_prony, str) else int(n_prony)
@@ -275,11 +289,60 @@ def calibrate(
     elif unidentified and cal.n_prony > 0:
         msg = (f"the data cannot separate elastic from viscous response ({unidentified}): "
                f"the {cal.n_prony} Prony term(s) are not identified by them; add tests at "
-               "other rates, a hold or an unloading, or fit n_prony=0")
+               "other rates, a hold or an unloading, or fit n_prony=0 (command line: --prony 0)")
+        warnings.warn(msg, CalibrationWarning, stacklevel=2)
+        warns.insert(0, msg)
+        heads.insert(0, msg)
+    for msg in outside_bounds(s.bounds, cal.params):  # never silently past a user's limit
         warnings.warn(msg, CalibrationWarning, stacklevel=2)
         warns.insert(0, msg)
         heads.insert(0, msg)
     return replace(cal, warnings=warns, headlines=heads, options=options, **_shift_of(ref))
+
+
+def outside_bounds(bounds, params: dict) -> list[str]:
+    """One message per fitted constant outside the limits the user gave in ``bounds``.
+
+    The search keeps every parameter within its limits, but the exact solve of the
+    moduli (the constants the law is linear in, and the G_i) holds only their lower
+    limits, and the final polish only their physical range: an upper limit given there
+    may be passed. Such a result is named, with the settings that hold every limit.
+
+    Parameters
+    ----------
+    bounds : "auto" or dict
+        ``calibrate``'s ``bounds=``.
+    params : dict
+        The fitted constants.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from vhfit.calibration._workflow import outside_bounds
+    >>> outside_bounds({"G1": (0.0, 0.2)}, {"G1": 0.1})
+    []
+    >>> outside_bounds({"G1": (0.0, 0.2)}, {"G1": 0.5})[0][:46]
+    'G1 = 0.5 is outside the limits (0, 0.2) given '
+    """
+    if not isinstance(bounds, dict):
+        return []
+    out = []
+    for name, (lo, hi) in bounds.items():
+        if name not in params:
+            continue
+        v, lo, hi = float(params[name]), float(lo), float(hi)
+        slack = 1e-9 * max(abs(b) for b in (lo, hi, 1e-300) if np.isfinite(b))
+        if lo - slack <= v <= hi + slack:
+            continue
+        out.append(
+            f"{name} = {v:.6g} is outside the limits ({lo:g}, {hi:g}) given in bounds: the "
+            "exact solve of the moduli and the final polish keep only their physical range; "
+            "to hold these limits fit with method='full' and polish=False (command line: "
+            "--method full --no-polish)")
+    return out
 
 
 def _shift_of(ref) -> dict:
@@ -358,7 +421,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     s = settings
     model = ViscoHyperelastic(s.hyperelastic, n_prony, rtol=s.rtol, formulation=s.formulation)
     tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
-                                s.decades_above, s.bounds)
+                                s.decades_above, bounds_for_terms(s.bounds, n_prony))
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     space = SPACES[s.method](prob)
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
@@ -420,11 +483,12 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
             return (f"{head}: its search bounds ({side}) leave the {hm.name} law undefined "
                     f"at the data's deformation everywhere, but {name} = "
                     f"{new[1] if above else new[0]:g} is not; widen them with the bounds= keyword, "
-                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}}")
+                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}} (command line: "
+                    f"--bounds {name}={new[0]:g}:{new[1]:g})")
     if inside:
         return (f"{head}: some parameter sets within the bounds have a finite error but the "
-                "search did not reach them; narrow the bounds (bounds= keyword) or give a "
-                "larger popsize")
+                "search did not reach them; narrow the bounds (bounds= keyword; command line: "
+                "--bounds NAME=LO:HI) or give a larger popsize (--popsize)")
     return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
             "its constants; check the data's strain and units, or choose another law")
 

@@ -18,7 +18,7 @@ from vhfit.export.check import card_solver, check_card
 __all__ = ["cmd_check"]
 
 _DATA_OPTIONS = ("rate", "measure", "deformation", "points", "trim_strain", "trim_time",
-                 "columns", "units", "group_by", "select")
+                 "columns", "units", "group_by", "select", "sort")
 
 
 def cmd_check(args, argv=()) -> int:

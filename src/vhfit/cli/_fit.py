@@ -49,7 +49,7 @@ from vhfit.cli._common import (
 from vhfit.cli._inputs import read_curves, sha256
 from vhfit.cli._outputs import write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
-from vhfit.cli._settings import check_shift, fit_settings
+from vhfit.cli._settings import check_shift, cli_bounds, fit_settings
 from vhfit.comparison import compare
 from vhfit.data import is_moduli
 from vhfit.formulations import FORMULATIONS
@@ -76,6 +76,9 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
                          "resume one law's fit (--model LAW), or drop --resume")
     _check_fit_flags(args)
     _check_card_flags(args, laws)
+    if args.bounds:  # checked with each law before anything is read or written
+        for law in laws or [resolve_model_name(args.model)]:
+            cli_bounds(args, law)
     with warnings.catch_warnings(record=True) as caught:  # what the readers assumed
         warnings.simplefilter("always")
         curves, inputs = read_curves(args.curves, args)  # bad data: nothing written
@@ -389,8 +392,7 @@ def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Pr
         ) from None
     except CalibrationError as exc:  # no finite fit: the data, law or bounds
         progress.close()
-        how = (" (bounds= is a keyword of vhfit.calibrate; on the command line choose "
-               "another --model)" if "bounds=" in str(exc) else "")
+        how = ""
         if args.resume:
             how += (f"; the checkpoint in {out} holds this failed search and resumes only "
                     "into it: start fresh with --force instead of --resume")

@@ -85,9 +85,9 @@ def read_curves(paths: Sequence[str], args) -> tuple[list, list[dict]]:
 
 
 def _data_choices(args) -> dict[str, Any]:
-    """read_csv's ``columns=``, ``units=``, ``group_by=`` and ``select=`` from ``--columns``,
-    ``--units``, ``--group-by`` and ``--select`` (pairs as parsed, or as a results file
-    records them)."""
+    """read_csv's ``columns=``, ``units=``, ``group_by=``, ``select=`` and ``sort=`` from
+    ``--columns``, ``--units``, ``--group-by``, ``--select`` and ``--sort`` (pairs as parsed,
+    or as a results file records them)."""
     kw: dict[str, Any] = {}
     columns: dict[str, Any] = {}
     for role, name in args.columns or []:
@@ -107,7 +107,7 @@ def _data_choices(args) -> dict[str, Any]:
         select.setdefault(col, []).append(value)
     select = {c: v[0] if len(v) == 1 else v for c, v in select.items()}
     for key, val in (("columns", columns), ("units", units), ("select", select),
-                     ("group_by", list(args.group_by or []))):
+                     ("group_by", list(args.group_by or [])), ("sort", bool(args.sort))):
         if val:
             kw[key] = val
     return kw

@@ -138,7 +138,7 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
 def _jsonable(d: dict) -> dict:
     out = {k: v for k, v in d.items() if not k.startswith("_") and not callable(v)}
     for later in ("deformation", "formulation", "tref", "shift", "columns", "units",
-                  "group_by", "select"):
+                  "group_by", "select", "bounds"):
         if out.get(later, "") is None:  # not given: the record is as before the flag
             del out[later]
     return out

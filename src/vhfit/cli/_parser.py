@@ -170,6 +170,31 @@ def _pair(flag: str, form: str, *, empty: bool = False) -> Callable[[str], tuple
     return conv
 
 
+def _bound(text: str) -> tuple[str, float, float]:
+    """``--bounds NAME=LO:HI`` as (NAME, LO, HI): finite numbers, LO < HI (whether NAME is
+    a parameter of the law, and LO:HI inside its physical range, is checked with the law:
+    ``cli/_settings.py``)."""
+    form = "give NAME=LO:HI, e.g. alpha1=-40:40 (tau in s, moduli in MPa)"
+    name, sep, rng = text.partition("=")
+    lo, sep2, hi = rng.partition(":")
+    name = name.strip()
+    if not sep or not sep2 or not name or not lo.strip() or not hi.strip():
+        raise argparse.ArgumentTypeError(f"--bounds {text!r}: {form}")
+    try:
+        low, high = float(lo), float(hi)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--bounds {text!r}: LO and HI are not numbers; "
+                                         f"{form}") from None
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise argparse.ArgumentTypeError(f"--bounds {text!r}: give finite LO and HI "
+                                         f"(e.g. {name}=-1e3:1e3 for a wide range)")
+    if not low < high:
+        raise argparse.ArgumentTypeError(f"--bounds {text!r}: LO must be below HI; give "
+                                         f"{name}={min(low, high):g}:{max(low, high):g} "
+                                         "with LO < HI")
+    return name, low, high
+
+
 def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
     """--columns, --units, --group-by and --select of the files' reader."""
     p.add_argument("--columns", type=_pair("--columns", "ROLE=NAME, e.g. stress=stress_kPa",
@@ -191,6 +216,9 @@ def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
                    action="append", metavar="COLUMN=VALUE", default=default,
                    help="keep only the rows where COLUMN holds VALUE (repeatable; the same "
                         "column twice keeps either value)")
+    p.add_argument("--sort", action="store_true", default=False if default is None else default,
+                   help="sort each curve's rows by time (by |strain| without a time "
+                        "column) instead of refusing rows out of order")
 
 
 def _solvers(text: str) -> list[str]:
@@ -349,6 +377,10 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                         "arrhenius:E_A[,T0] (default: built from the sweeps' overlap and "
                         "fitted by WLF); a WLF shift goes into the Abaqus and Ansys cards")
     _add_data_choices(p)
+    p.add_argument("--bounds", type=_bound, action="append", metavar="NAME=LO:HI",
+                   help="search limits of one parameter instead of the automatic ones, e.g. "
+                        "alpha1=-40:40 or tau1=1e-3:10 (tau in s, moduli in MPa; "
+                        "repeatable, each parameter once; within its physical range)")
     _add_fit_options(p, demo=False)
     p.set_defaults(func=cmd_fit)
 
@@ -361,7 +393,8 @@ def _add_demo(sub, common: argparse.ArgumentParser) -> None:
                                    "Table 5 parameters at -0.0018, -0.18, -59.5, -820 1/s) and "
                                    "write every output into a fresh folder.")
     _add_fit_options(p, demo=True)
-    p.set_defaults(func=cmd_demo, shift=None, tref=None)  # one temperature: no shift
+    # one temperature: no shift; the default search limits
+    p.set_defaults(func=cmd_demo, shift=None, tref=None, bounds=None)
 
 
 def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:

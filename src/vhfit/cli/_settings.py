@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from vhfit import tts
-from vhfit.calibration import CalibrationSettings
+from vhfit import hyperelastic, tts
+from vhfit.calibration import CalibrationSettings, bound_problem, bounds_terms
 from vhfit.cli._common import UsageError, one_line
 
-__all__ = ["fit_settings", "check_shift"]
+__all__ = ["fit_settings", "check_shift", "cli_bounds"]
 
 
 def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = None,
@@ -54,12 +54,74 @@ def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = No
         kw["shift_factors"] = shift_law
     if args.tref is not None:
         kw["T_ref"] = args.tref
+    bounds = cli_bounds(args, model)
+    if bounds:
+        kw["bounds"] = bounds
     return CalibrationSettings(
         model, args.prony, tau_strategy=strategy, method=args.method, seed=args.seed,
         workers=args.workers, popsize=args.popsize, maxiter=args.maxiter, target=args.target,
         polish=not args.no_polish, g_inf_min=args.g_inf_min, max_time=args.max_time,
         checkpoint=checkpoint, checkpoint_every=args.checkpoint_every, resume=args.resume,
         **kw)
+
+
+def cli_bounds(args, model: str) -> dict[str, tuple[float, float]] | None:
+    """``calibrate``'s ``bounds=`` from ``--bounds NAME=LO:HI`` (repeatable), checked
+    against the law and the number of Prony terms before anything is read or written.
+
+    A name is matched case-insensitively to the parameter it names (``ALPHA1`` is
+    ``alpha1``); a parameter given twice, a name the law with ``--prony`` terms does not
+    have, or limits outside the parameter's physical range are one-line errors naming
+    ``--bounds`` and the fix.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed options of ``vhfit fit`` (``bounds``: (NAME, LO, HI) triples or None).
+    model : str
+        The law, resolved.
+
+    Returns
+    -------
+    dict or None
+        Parameter -> (LO, HI); None without ``--bounds``.
+
+    Raises
+    ------
+    UsageError
+        The first bad ``--bounds`` (one line).
+
+    Examples
+    --------
+    >>> from vhfit.cli._parser import build_parser
+    >>> args = build_parser().parse_args(["fit", "a.csv", "--model", "ogden",
+    ...                                   "--bounds", "Alpha1=-40:40"])
+    >>> cli_bounds(args, "ogden")
+    {'alpha1': (-40.0, 40.0)}
+    """
+    given = args.bounds
+    if not given:
+        return None
+    n_terms = bounds_terms(args.prony, args.max_prony)
+    try:
+        names = list(hyperelastic.get(model).param_names)
+    except ValueError:  # a law not registered: run_fit names it
+        names = []
+    names += [f"{g}{i}" for i in range(1, n_terms + 1) for g in ("G", "tau")]
+    canonical = {n.lower(): n for n in names}
+    out: dict[str, tuple[float, float]] = {}
+    for name, lo, hi in given:
+        text = f"--bounds {name}={lo:g}:{hi:g}"
+        name = canonical.get(name.lower(), name)
+        if name in out:
+            raise UsageError(f"{text}: {name} given twice; give each parameter once")
+        fix = bound_problem(name, lo, hi, model, n_terms)
+        if fix is not None:
+            if "unknown parameter" in fix:
+                fix += " (see 'vhfit models'; --model chooses the law)"
+            raise UsageError(f"{text}: {fix}")
+        out[name] = (lo, hi)
+    return out
 
 
 def _shift_law(args):

@@ -44,20 +44,27 @@ _TIME_UNITS = {"": 1.0, "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "secon
 _RATE_UNITS = {"": 1.0, "1/s": 1.0, "/s": 1.0, "s-1": 1.0, "1/sec": 1.0, "/sec": 1.0,
                "mm/mm/s": 1.0, "1/ms": 1e3, "1/min": 1 / 60, "/min": 1 / 60, "min-1": 1 / 60,
                "1/h": 1 / 3600, "/h": 1 / 3600, "%/s": 0.01, "%/min": 0.01 / 60}
+#: A test's temperature is kept in the unit it is written in (°C, K or °F): shift laws
+#: are written in that scale; 'C', 'K' and 'F' are units after a temperature only.
+_TEMPERATURE_UNITS = {"": 1.0, "c": 1.0, "°c": 1.0, "degc": 1.0, "deg/c": 1.0, "celsius": 1.0,
+                      "k": 1.0, "kelvin": 1.0, "f": 1.0, "°f": 1.0, "degf": 1.0,
+                      "fahrenheit": 1.0}
 _UNITS = {"stress": _STRESS_UNITS, "strain": _STRAIN_UNITS, "stretch": _STRETCH_UNITS,
-          "time": _TIME_UNITS, "rate": _RATE_UNITS}
+          "time": _TIME_UNITS, "rate": _RATE_UNITS, "temperature": _TEMPERATURE_UNITS}
 _UNIT_HINT = {
     "stress": "Pa, kPa, MPa, GPa, N/mm2, psi, kgf/cm2",
     "strain": "none, -, mm/mm or %",
     "stretch": "none",
     "time": "s, ms, min or h",
     "rate": "1/s, 1/min, %/s or %/min",
+    "temperature": "C, K or F",
 }
 
 _STRESS_WORDS = {"stress", "sigma", "σ", "spannung"}
 _STRAIN_WORDS = {"strain", "epsilon", "eps", "ε", "dehnung"}
 _STRETCH_WORDS = {"stretch", "lambda", "λ", "lam", "lambda1", "λ1"}
 _TIME_WORDS = {"time", "zeit", "t"}
+_TEMPERATURE_WORDS = {"temperature", "temp"}
 _RATE_NAMES = {"strainrate", "epsdot", "eps_dot", "de/dt", "dε/dt", "edot"}
 _ENG_WORDS = {"engineering", "eng", "nominal", "nom", "piola", "pk1", "first", "1st"}
 _TRUE_WORDS = {"true", "cauchy"}
@@ -67,9 +74,12 @@ _SHEAR_WORDS = {"gamma", "γ"}  # the amount of shear of simple shear, alone
 #: Measured channels, never an amount of shear ('shear_force_N', 'shear_displacement_mm').
 _CHANNEL_WORDS = {"force", "load", "displacement", "disp", "position", "extension"}
 _ROLE_KEYS = ("strain", "stretch", "stress", "time", "rate", "strain2", "stretch2", "stress2",
-              "deformation", "ignore")
+              "deformation", "temperature", "ignore")
 #: Symbols that name a quantity: after its keyword a descriptive word, never a unit.
 _SYMBOLS = {"sigma", "σ", "epsilon", "eps", "ε", "lambda", "λ", "gamma", "γ"}
+#: Symbols a lab writes after a quantity's name (``shear_stress_tau_kPa``,
+#: ``stress_sigma_MPa``, ``strain_eps``): they name it again, never a unit.
+_NAME_SYMBOLS = _SYMBOLS | {"tau", "τ"}
 _GROUP_NAMES = {"curve", "test", "specimen", "name"}
 #: Headers of a text column naming each row's test (its values: deformation names).
 _DEFORMATION_NAMES = {"deformation", "deformation_mode", "mode", "test_mode", "test_type",
@@ -164,8 +174,10 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
         if unit is not None:
             return rest, unit
         quals = []
-        while rest and rest[0] in qualifiers:
-            quals.append(rest.pop(0))
+        while rest and (rest[0] in qualifiers or rest[0] in _NAME_SYMBOLS):
+            tok = rest.pop(0)
+            if tok not in _NAME_SYMBOLS:  # a symbol names the quantity: no qualifier
+                quals.append(tok)
         return quals, "_".join(rest)
 
     # rate: "strain_rate", "rate [1/s]", "nominal_strain_rate_per_s" (not "..._from_rate")
@@ -177,6 +189,14 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
         return _Col(index, header, "rate", float(k > 0 and tokens[k - 1] not in
                                                  _STRAIN_WORDS | _STRETCH_WORDS | _ENG_WORDS),
                     u)
+    # temperature: "temperature_C", "nominal_temperature_C", "measured_sample_temperature_C"
+    if set(tokens) & _TEMPERATURE_WORDS:
+        k = next(i for i, t in enumerate(tokens) if t in _TEMPERATURE_WORDS)
+        words = tokens[:k] + tokens[k + 1:]
+        u = unit if unit is not None else ""
+        if unit is None and words and _unit_factor("temperature", words[-1]) is not None:
+            u = words.pop()  # 'C' or 'K' after the words: the unit
+        return _Col(index, header, "temperature", 1.0 if words else 0.0, u)
     # time: "time_s", "t [ms]", "test time (min)"
     for k, tok in enumerate(tokens):
         if tok in _TIME_WORDS and (tok != "t" or k == 0):
@@ -184,9 +204,11 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
             if tok == "t" and _unit_factor("time", u) is None:
                 break
             return _Col(index, header, "time", float(k > 0 or bool(quals)), u)
+    other_roles = set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS | _CHANNEL_WORDS)
     if tokens[0] in _SHEAR_WORDS or (
-            "shear" in tokens and not set(tokens) & (_STRESS_WORDS | _STRETCH_WORDS
-                                                     | _CHANNEL_WORDS)):
+            ("shear" in tokens or set(tokens) & _SHEAR_WORDS and set(tokens) & _STRAIN_WORDS)
+            and not other_roles):
+        # 'strain_gamma': the symbol γ says the strain is an amount of shear
         # "gamma", "shear_strain", "amount_of_shear": the amount of shear γ
         k = next(i for i, t in enumerate(tokens) if t in _SHEAR_WORDS | {"shear"})
         quals, u = after_unit(k, _STRAIN_WORDS | _SHEAR_WORDS | {"amount", "of", "shear"})
@@ -215,7 +237,7 @@ def _classify_tokens(index: int, header: str, tokens: list[str], unit: str | Non
                 rest = []
             if "shear" in rest:  # "stretch_or_shear_amount": γ on simple-shear rows
                 return _Col(index, header, "stretch", 0.5, u, "or_shear")
-            other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS
+            other = (before | set(rest)) - _ENG_WORDS - _AXIAL_WORDS - _NAME_SYMBOLS
             return _Col(index, header, "stretch", 0.5 + (1.5 if other else 0.0), u)
     return None
 
@@ -240,6 +262,7 @@ class _Plan:
     deform2: _Col | None = None  # λ2 or λ2 − 1 of a biaxial test
     stress2: _Col | None = None  # stress in direction 2
     deformation: _Col | None = None  # a text column naming each row's test
+    temperature: _Col | None = None  # the test temperature of each row
     #: other columns that could hold a role's quantity (plan role -> columns), to be
     #: compared with the chosen one by value (``_ambiguous._settle``)
     alternates: dict[str, list[_Col]] = field(default_factory=dict)
@@ -286,10 +309,12 @@ def _resolve_columns(
     stress2 = _best_column(cols, explicit, ("stress2",), "second stress", src,
                            prefer_measure=measure, pool=alts.setdefault("stress2", []))
     dcol = _best_column(cols, explicit, ("deformation",), "deformation", src)
+    temp = _best_column(cols, explicit, ("temperature",), "temperature", src,
+                        pool=alts.setdefault("temperature", []))
     plan = _Plan(deform, stress, time, rate, deform2=deform2, stress2=stress2,
-                 deformation=dcol, ignored=ignored)
+                 deformation=dcol, ignored=ignored, temperature=temp)
     for role, col in (("deform", deform), ("stress", stress), ("time", time), ("rate", rate),
-                      ("deform2", deform2), ("stress2", stress2)):
+                      ("deform2", deform2), ("stress2", stress2), ("temperature", temp)):
         if col is not None:
             plan.factors[role] = _column_factor(col, units, src)
         if col is not None and alts.get(role):

@@ -106,7 +106,8 @@ def _second_path(
             raise DataError(
                 f"{where()}: a {deformation} curve needs its second stretch at each sample: "
                 "give stretch2= (λ2) or strain2= (λ2 − 1)"
-                + "".join(f", or use deformation={n!r} if λ2 = λ1" for n in tied[:1])
+                + "".join(f", or use deformation={n!r} (command line: --deformation {n}) "
+                          "if λ2 = λ1" for n in tied[:1])
             )
         if strain2 is not None and stretch2 is not None:
             raise DataError(f"{where()}: both strain2= and stretch2= given: give one of them")
@@ -132,7 +133,7 @@ def _second_path(
             raise DataError(
                 f"{where()}: stress2= is the stress in the second loaded direction, which "
                 f"only {' and '.join(map(repr, with_two_directions()))} tests have: drop it, or "
-                "correct deformation="
+                "correct deformation= (command line: --deformation)"
             )
         s2 = where.array("stress2", stress2, n)
     return e2, s2

@@ -37,7 +37,8 @@ def _check_points_args(n_points: Any, by: Any, where: _Where
         if not ok:
             raise DataError(
                 f"{where()}: n_points={n_points!r}: give a whole number >= 1, None for the "
-                "measured samples, or 'all' for every sample without binning"
+                "measured samples, or 'all' for every sample without binning (command line: "
+                "--points N|all)"
             )
         n_points = int(n_points)
     if by is not None and by not in _BYS:

@@ -76,7 +76,7 @@ def _parse_rate_value(value: Any, where: _Where) -> float:
     if not np.isfinite(r) or r == 0.0:
         raise DataError(
             f"{where()}: strain_rate={value!r}: give a finite, non-zero rate in 1/s "
-            "(negative in compression)"
+            "(negative in compression; command line: --rate R)"
         )
     return r
 
@@ -153,7 +153,8 @@ def _clean_time_series(eps, sig, t, keep, where):
                    "it, or ignore it (read_csv(..., columns={'time': None}, rate=...); command "
                    "line: --columns time= --rate R)")
         else:
-            fix = ("sort the rows by time (read_csv(..., sort=True)); if the file holds "
+            fix = ("sort the rows by time (read_csv(..., sort=True); command line: --sort); "
+                   "if the file holds "
                    "several tests, give each its own curve (a 'test' column)")
         raise DataError(
             f"{where(keep[k + 1])}: time goes back from {t[k]:g} to {t[k + 1]:g} s: {fix}"
@@ -303,7 +304,7 @@ def _check_kinematics(eps, t, rate, keep, where, shear=False):
                 f"{where(keep[k + 1])}: strain goes back from {eps[k]:g} to {eps[k + 1]:g}: "
                 "a constant-rate curve must be monotonic; if this test loads and unloads "
                 "give its time column, if the rows are out of order sort them "
-                "(read_csv(..., sort=True))"
+                "(read_csv(..., sort=True); command line: --sort)"
             )
     if not shear and (eps <= -1.0).any():
         k = int(np.flatnonzero(eps <= -1.0)[0])

@@ -242,7 +242,8 @@ def _split_rows(
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
-            f"rates but rate={rate!r} was given: drop rate= to get one curve per rate"
+            f"rates but rate={rate!r} was given: drop rate= (command line: --rate) to get one "
+            "curve per rate"
         )
     return _Groups(rows, rate_vals, len(gcols), key_cols, by_rate, members)
 
@@ -266,7 +267,11 @@ def _group_columns(
 #: What each plan role holds, for messages, and its unit.
 _QUANTITY = {"deform": ("strain", ""), "stress": ("stress", " MPa"), "time": ("time", " s"),
              "rate": ("strain rate", " 1/s"), "deform2": ("second strain", ""),
-             "stress2": ("second stress", " MPa")}
+             "stress2": ("second stress", " MPa"), "temperature": ("temperature", "")}
+#: A test is at one temperature: the readings of a curve's temperature column lie within
+#: this many degrees (a measured channel drifts a little, e.g. by self-heating at high
+#: rates); the curve's temperature is their mean.
+CURVE_TEMPERATURE_SPREAD = 2.0
 
 
 def _settle_columns(table: _Table, plan: _Plan, rows: np.ndarray) -> None:
@@ -298,7 +303,8 @@ def _used_columns(table: _Table, plan: _Plan, gcols: list[int],
     """Columns a text-column check leaves alone: read, grouping, selecting or ignored."""
     used = set(gcols) | plan.ignored
     used |= {c.index for c in (plan.deform, plan.stress, plan.time, plan.rate, plan.deform2,
-                               plan.stress2, plan.deformation) if c is not None}
+                               plan.stress2, plan.deformation, plan.temperature)
+             if c is not None}
     used |= {_col_index(table, h, "select") for h in (select or {})}
     return used
 
@@ -373,15 +379,46 @@ def _group_spec(
         "rate": None if plan.rate is None else plan.rate.header,
     }
     for role, col in (("strain2", plan.deform2), ("stress2", plan.stress2),
-                      ("deformation", plan.deformation)):
+                      ("deformation", plan.deformation), ("temperature", plan.temperature)):
         if col is not None:
             cmeta["columns"][role] = col.header
+    if plan.temperature is not None:
+        cmeta["temperature"] = _curve_temperature(table, plan.temperature, r, cname,
+                                                  opts.meta.get("temperature"))
     return dict(
         strain=d, stress=s, strain_rate=crate, time=t, measure=opts.measure, mode=opts.mode,
         name=cname, weight=opts.weight, n_points=n_points, by=by,
         compression_positive=opts.compression_positive, source=src, rows=labels,
         metadata=cmeta, deformation=dfm, **more,
     )
+
+
+def _curve_temperature(table: _Table, col: _Col, r: np.ndarray, cname: str,
+                       line: str | None) -> float:
+    """The temperature of the curve made of rows ``r``: the mean of its temperature
+    column's readings, which must lie within :data:`CURVE_TEMPERATURE_SPREAD` of each
+    other (and of a '# temperature:' line, if the file has one)."""
+    h = col.header
+    ignore = ("or ignore the column with columns={'temperature': None} (command line: "
+              "--columns temperature=)")
+    T = table.floats(col.index, r, empty=f"the temperature is missing: fill it in, {ignore}")
+    where = _Where(cname, table.source, None)()
+    if T.max() - T.min() > CURVE_TEMPERATURE_SPREAD:
+        raise DataError(
+            f"{where}, column {h!r}: the temperature goes from {T.min():g} to {T.max():g} "
+            f"within one curve: a test is at one temperature; give each its own curve (a "
+            f"'test' column, or group_by= / --group-by COLUMN), {ignore}")
+    mean = float(np.mean(T))
+    if line is not None:
+        try:
+            stated = float(line)
+        except ValueError:
+            stated = None
+        if stated is not None and abs(stated - mean) > CURVE_TEMPERATURE_SPREAD:
+            raise DataError(
+                f"{where}: the '# temperature: {line}' line and column {h!r} ({mean:g}) "
+                f"disagree: correct the line, {ignore}")
+    return mean
 
 
 def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str) -> Any:
@@ -397,7 +434,7 @@ def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str)
             raise DataError(
                 f"{_Where(cname, table.source, None)()}: column {plan.deformation.header!r} "
                 f"says {text!r} but deformation={given!r} was given: drop deformation= "
-                "(the column names each row's test)"
+                "(command line: --deformation; the column names each row's test)"
             )
         return dfm
     if opts.deformation is not None:

@@ -406,7 +406,8 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
         raise DataError(f"{_label(items[k], k)}: no temperature, beside tests at "
                         f"{len(known)} temperatures: say which is the reference "
                         "(vhfit.tts.reduce_to_reference(items, T_ref=...)) or give every "
-                        "test its temperature")
+                        "test its temperature (command line: a '# temperature: T' line in "
+                        "its file)")
     source = shift_factors
     if shift_factors is None:
         moduli = [it for it, T in zip(items, temps) if T is not None
