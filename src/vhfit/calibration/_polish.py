@@ -69,7 +69,7 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
         e1 = float(np.sqrt(2 * res.cost))
     except (ValueError, np.linalg.LinAlgError):
         return x0, e0, counter["n"]
-    if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1):
+    if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1) and prob.admissible(x1)[0]:
         return x1, e1, counter["n"]
     return x0, e0, counter["n"]
 

@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
 from vhfit.model import ViscoHyperelastic
@@ -319,17 +320,20 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
                                 formulation=model.formulation)
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
-                   prob.g_inf_min, prob.objective_spec)
+                   prob.g_inf_min, prob.objective_spec, prob.stability_range,
+                   prob.user_bounds)
     return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
 
 
-def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dict
-           ) -> Calibration:
+def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dict,
+           headlines=(), notes=()) -> Calibration:
     """The result of one search (``found``, a ``Search``) ending at ``x`` with error ``err``
     after ``nfev`` evaluations: terms sorted, merged and pruned, g, intervals, checks and
-    warnings, as ``settings`` ask; ``options`` is the record of how the fit ran."""
-    msgs: list[str] = []
-    heads: list[str] = []
+    warnings, as ``settings`` ask; ``options`` is the record of how the fit ran;
+    ``headlines`` (warnings that head the summary) and ``notes`` (further warnings) come
+    from the search (constants on a search bound, the unconstrained fit)."""
+    heads: list[str] = list(headlines)
+    msgs: list[str] = list(headlines) + list(notes)
     nh = model.hyperelastic.n_params
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, settings.prune_tol,
                                         msgs)
@@ -363,7 +367,9 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     msgs += time_window_warnings(model, x, curves)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)
-    stab = drucker(model.hyperelastic, x[:nh], settings.stability_range)
+    # the range the search's admissible set used (a bare Problem has none: the settings')
+    sr = prob.stability_range or settings.stability_range or data_stability_range(curves)
+    stab = drucker(model.hyperelastic, x[:nh], sr)
     if not stab.stable:
         msgs.append(stab.describe())
     for m in msgs:
