@@ -283,6 +283,21 @@ def test_cli_stability_range_reaches_the_fit(tmp_path, monkeypatch):
                      "-q", "--out", "o"]) == 0
     res = json.loads((tmp_path / "o" / "results.json").read_text())
     assert res["options"]["stability_range"] == [0.5, 2.0]
+    assert res["settings"]["stability_range"] == [0.5, 2.0]  # the fit's settings record
+    assert vhfit.Calibration.load(tmp_path / "o" / "results.json").settings.stability_range \
+        == (0.5, 2.0)
+
+
+def test_the_default_stability_range_is_recorded_as_the_datas():
+    curves = [vhfit.Curve(strain=np.linspace(-0.02, -0.4, 15),
+                          stress=-np.linspace(0.01, 0.5, 15), measure="engineering")]
+    cal = fit(curves, n_prony=0, uncertainty=False)
+    assert cal.settings.stability_range is None  # the setting: "the data's range"
+    lo, hi = data_stability_range(curves)
+    assert cal.options["stability_range"] == [lo, hi]  # the range used
+    assert cal.stability.stretch_range == (lo, hi)
+    # λ = 0.6 compressed: ln(1/0.6) · 1.25 either side
+    assert hi == pytest.approx(0.6 ** -1.25, rel=1e-12) and lo == pytest.approx(1 / hi)
 
 
 @pytest.mark.parametrize("value", ["2:0.5", "0.5", "a:b", "1.2:3", "0:2"])
@@ -295,3 +310,107 @@ def test_cli_bad_stability_range_is_one_line_exit_2(value, tmp_path, monkeypatch
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--stability-range" in err[0] and "0 < LO < 1 < HI" in err[0]
     assert not (tmp_path / "o").exists()
+
+
+# ------------------------------------------------- the user's bounds on linear constants
+def mr_uniaxial_engineering(C10, C01, lam):
+    """Mooney–Rivlin nominal uniaxial stress in closed form: 2 (λ − λ⁻²)(C10 + C01/λ)."""
+    return 2 * (lam - lam**-2) * (C10 + C01 / lam)
+
+
+def mr_curve(C10=0.2, C01=0.1, end=-0.4, n=15, **kw):
+    eps = np.linspace(end / n, end, n)
+    s = mr_uniaxial_engineering(C10, C01, 1 + eps)
+    return vhfit.Curve(strain=eps, stress=s, measure="engineering", **kw)
+
+
+@pytest.mark.parametrize("polish", [True, False])
+def test_an_active_upper_bound_on_a_linear_constant_holds_in_the_exact_solve(polish):
+    from scipy.optimize import lsq_linear
+
+    c = mr_curve()  # C10 = 0.2, stable everywhere: only the user's bound can bind
+    cal = fit([c], n_prony=0, polish=polish, uncertainty=False, bounds={"C10": (0.05, 0.15)})
+    # reference: Eq. 20 (residuals over the curve's mean |stress|) is plain least squares
+    # for one curve; on the closed form with C10 <= 0.15, by scipy's bounded solver
+    lam = 1 + c.strain
+    A = np.column_stack([mr_uniaxial_engineering(1, 0, lam), mr_uniaxial_engineering(0, 1, lam)])
+    ref = lsq_linear(A, c.stress, bounds=([0.05, -np.inf], [0.15, np.inf]), tol=1e-14)
+    assert ref.x[0] == pytest.approx(0.15, abs=1e-12)  # the bound is active
+    assert 0.05 <= cal.params["C10"] <= 0.15
+    assert cal.params["C10"] == pytest.approx(ref.x[0], abs=1e-12)
+    # C01 solves a 1-D least squares with C10 fixed: conditioning ~1, rounding-level error
+    assert cal.params["C01"] == pytest.approx(ref.x[1], rel=1e-9)
+    rms = 100 * np.sqrt(np.mean((A @ ref.x - c.stress) ** 2)) / np.mean(np.abs(c.stress))
+    assert cal.rmsape == pytest.approx(rms, rel=1e-9) and cal.rmsape > 1.0
+
+
+def _mr_rate_curves(truth, rates=(-1.0, -100.0)):
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    eps = np.linspace(-0.04, -0.4, 12)
+    return [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=r,
+                                                    measure="engineering"),
+                        strain_rate=r, measure="engineering") for r in rates]
+
+
+def test_active_bounds_on_a_law_constant_and_a_prony_modulus_hold_with_prony_terms():
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    curves = _mr_rate_curves(truth)
+    free = fit(curves, n_prony=1, seed=0, uncertainty=False)
+    assert free.rmsape < 1e-3  # without the bounds the truth is recovered
+    for bounds, name, hi in (({"C10": (0.0, 0.15)}, "C10", 0.15),
+                             ({"G1": (0.0, 0.5)}, "G1", 0.5)):
+        cal = fit(curves, n_prony=1, seed=0, uncertainty=False, bounds=bounds)
+        assert bounds[name][0] <= cal.params[name] <= hi
+        # the truth lies beyond the bound: the best fit within it presses against it
+        assert cal.params[name] == pytest.approx(hi, rel=1e-6)
+        assert cal.rmsape > 100 * free.rmsape
+
+
+@pytest.mark.parametrize("bounds", [{"C10": (0.0, 0.1)}, {"G1": (0.0, 0.5)}])
+def test_the_polish_of_the_full_search_keeps_the_users_bounds(bounds):
+    # the full method's box holds the bounds; its polish must as well
+    curves = _mr_rate_curves(dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01))
+    cal = fit(curves, n_prony=1, seed=0, uncertainty=False, method="full", maxiter=30)
+    (name, (lo, hi)), = bounds.items()
+    assert cal.params[name] > hi  # unbounded, the search goes past it
+    cal = fit(curves, n_prony=1, seed=0, uncertainty=False, method="full", maxiter=30,
+              bounds=bounds)
+    assert lo <= cal.params[name] <= hi
+
+
+def test_a_bound_on_a_linear_constant_that_excludes_the_best_sign_is_held():
+    # the separable search's arc of Mooney–Rivlin directions honours an upper bound <= 0
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    cal = fit(_mr_rate_curves(truth), n_prony=1, seed=0, uncertainty=False,
+              bounds={"C01": (-0.02, -0.01)})
+    assert -0.02 <= cal.params["C01"] <= -0.01
+    assert cal.params["C01"] == pytest.approx(-0.01, rel=1e-6)
+    assert cal.stability.stable
+
+
+def test_bounds_that_leave_no_stiffness_are_a_clear_error():
+    m = vhfit.ViscoHyperelastic("yeoh", 1)
+    truth = dict(C10=0.2, C20=-0.01, C30=0.002, G1=1.0, tau1=0.01)
+    eps = np.linspace(-0.02, -0.5, 12)
+    curves = [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=r,
+                                                      measure="engineering"),
+                          strain_rate=r, measure="engineering") for r in (-1.0, -100.0)]
+    with pytest.raises(vhfit.CalibrationError,
+                       match=r"bounds given on C10 leave the yeoh law no positive initial"):
+        fit(curves, "yeoh", n_prony=1, seed=0, popsize=8, bounds={"C10": (0.0, 0.0)})
+
+
+def test_a_shape_without_stiffness_assembles_to_no_constants_not_a_division_by_zero():
+    from vhfit.calibration._space import Problem, SeparableSpace
+
+    curves = _mr_rate_curves(dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01))
+    model = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    prob = Problem(model, curves, np.array([[-4.0, 1.0]]),
+                   {"C10": (0.0, 1.0), "C01": (-1.0, 1.0), "G1": (0.0, 10.0)}, 1e-6)
+    space = SeparableSpace(prob)
+    x = space.assemble(np.zeros(2), 0.0, np.array([0.0]), np.array([0.01]))
+    assert np.isnan(x[:2]).all() and x[2:].tolist() == [0.0, 0.01]
+    assert prob.errors(x[None, :])[0] == np.inf
+    # a shape with stiffness but no long-term modulus keeps its shape at a vanishing scale
+    y = space.assemble(np.array([0.6, 0.4]), 0.0, np.array([1.0]), np.array([0.01]))
+    assert y[0] / y[1] == pytest.approx(1.5) and 0 < y[0] < 1e-11

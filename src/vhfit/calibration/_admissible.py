@@ -192,10 +192,10 @@ def lsi(A: np.ndarray, y: np.ndarray, G: np.ndarray, h: np.ndarray
     return c, float(np.linalg.norm(res))
 
 
-def angle_range(adm: Admissible, nonneg) -> tuple[float, float]:
+def angle_range(adm: Admissible, nonneg, nonpos=(False, False)) -> tuple[float, float]:
     """The arc [θ_lo, θ_hi] of directions (cos θ, sin θ) of two linear constants that are
     admissible on the grid (a law without nonlinear constants), within the half-plane
-    μ0 > 0; ``nonneg`` says which of the two must be ≥ 0 as well.
+    μ0 > 0; ``nonneg`` (``nonpos``) says which of the two must be ≥ 0 (≤ 0) as well.
 
     Every inequality g · (cos θ, sin θ) ≥ 0 is an arc of length π; their intersection is
     one arc (empty: (nan, nan)).
@@ -203,7 +203,8 @@ def angle_range(adm: Admissible, nonneg) -> tuple[float, float]:
     X = np.array([adm.hm.example], dtype=np.float64)  # nonlinear constants: any valid
     G = adm.rows(X)[0]  # (3n + 1, 2), the μ0 row last
     theta0 = math.atan2(G[-1, 1], G[-1, 0])
-    G = np.vstack([G] + [np.eye(2)[k][None, :] for k in range(2) if nonneg[k]])
+    G = np.vstack([G] + [np.eye(2)[k][None, :] for k in range(2) if nonneg[k]]
+                  + [-np.eye(2)[k][None, :] for k in range(2) if nonpos[k]])
     G = G[np.linalg.norm(G, axis=1) > 0]
     lo, hi = -math.pi / 2, math.pi / 2
     for g in G:

@@ -122,6 +122,15 @@ class SeparableSpace:
         # shape of two linear constants: a direction (cos θ, sin θ) on the admissible arc
         # (docs/theory.md §11); more: the constants themselves (redundant scale), signed
         # where the law allows, the inadmissible ones rejected by Problem.errors
+        # bounds the user gave on linear constants (the law's and the G_i): limits of the
+        # least squares solves, whatever the search's own ranges
+        user = prob.user_bounds
+        self.nonpos = [hm.param_names[k] in user and prob.bounds[hm.param_names[k]][1] <= 0
+                       for k in self.amp]
+        self.limits = [(j, *map(float, prob.bounds[hm.param_names[k]]))
+                       for j, k in enumerate(self.amp) if hm.param_names[k] in user]
+        self.g_limits = [(i, *map(float, prob.bounds[f"G{i + 1}"]))
+                         for i in range(prob.model.n_prony) if f"G{i + 1}" in user]
         self.angle = not self.exact and len(self.amp) == 2
         if self.angle:
             self.theta = self._arc()
@@ -136,7 +145,7 @@ class SeparableSpace:
         if adm is None:
             adm = Admissible(prob.hm, (1.0 / 1.01, 1.01))
             adm.grid = []  # the μ0 row alone
-        lo, hi = angle_range(adm, self.nonneg)
+        lo, hi = angle_range(adm, self.nonneg, self.nonpos)
         if not lo < hi:
             raise ValueError(
                 f"no {prob.hm.name} law is Drucker-stable over the stretch range "
@@ -218,8 +227,16 @@ class SeparableSpace:
         C[:, :, 1:] = H.transpose(0, 2, 1)
         C *= prob.scale[None, :, None]
         finite = np.isfinite(C).all(axis=(1, 2)) & admissible(prob.adm, hyper)
+        if self.limits or self.g_limits:  # the user's bounds on linear constants
+            with np.errstate(all="ignore"):
+                E_shape = 3.0 * np.asarray(prob.hm.initial_shear_modulus(hyper),
+                                           dtype=np.float64).reshape(-1)
+            finite &= np.isfinite(E_shape) & (E_shape > 0)
         for p in np.flatnonzero(finite):
             A = C[p]
+            if self.limits or self.g_limits:
+                amps[p], err[p] = self._limited(A, ys, hyper[p] / E_shape[p], kappa)
+                continue
             a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
                 # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
@@ -229,6 +246,33 @@ class SeparableSpace:
             amps[p] = a
             err[p] = rn
         return amps, err
+
+    def _limited(self, A, ys, unit, kappa) -> tuple[np.ndarray, float]:
+        """(E∞, G_i) of one individual by least squares under the user's bounds on linear
+        constants: the law's constant k is ``unit[k]`` E∞ (the shape scaled to E∞ = 1),
+        so each of its limits is a linear inequality on E∞; with G_i ≥ 0, E∞ ≥ 0 and the
+        g∞ floor E∞ ≥ κ ΣG_i (:func:`vhfit.calibration._admissible.lsi`). Returns the
+        amplitudes and the residual norm (inf: the limits cannot all hold)."""
+        n = A.shape[1]
+        rows, h = [np.eye(n)], [np.zeros(n)]
+        if kappa > 0:
+            rows.append(np.concatenate([[1.0], np.full(n - 1, -kappa)])[None, :])
+            h.append(np.zeros(1))
+        limits = [(self.amp[j], unit[self.amp[j]] * np.eye(n)[0], lo, hi)
+                  for j, lo, hi in self.limits]
+        limits += [(None, np.eye(n)[1 + i], lo, hi) for i, lo, hi in self.g_limits]
+        for _, g, lo, hi in limits:
+            if np.isfinite(lo):
+                rows.append(g[None, :])
+                h.append(np.array([lo]))
+            if np.isfinite(hi):
+                rows.append(-g[None, :])
+                h.append(np.array([-hi]))
+        a, rn = lsi(A, ys, np.vstack(rows), np.concatenate(h))
+        if not np.all(np.isfinite(a)):
+            return np.zeros(n), np.inf
+        # lsi meets each inequality to rounding: no constant a hair outside its bounds
+        return np.maximum(a, 0.0), rn
 
     def solve_constants(self, hyper, constrained: bool = True
                         ) -> tuple[np.ndarray, np.ndarray]:
@@ -242,8 +286,9 @@ class SeparableSpace:
         :func:`vhfit.calibration._admissible.lsi`), each at or above its lower limit
         where the law or the user's bounds set one. Returns the constants (P, n_h) and
         the errors (P,); +inf where the law is invalid or the result has no stiffness.
-        ``constrained=False``: plain least squares, no inequality at all (the best
-        unconstrained fit, reported beside the result).
+        A user's upper bound on a linear constant is a limit too. ``constrained=False``:
+        without the Drucker inequalities and μ0 > 0 (the best unconstrained fit, reported
+        beside the result), the limits kept.
         """
         prob, amp = self.prob, self.amp
         P, m = hyper.shape[0], len(amp)
@@ -257,26 +302,29 @@ class SeparableSpace:
         names = [prob.hm.param_names[k] for k in amp]
         lo = np.array([prob.bounds[n][0] if (n in prob.user_bounds or nn) else -np.inf
                        for n, nn in zip(names, self.nonneg)])
-        if not constrained:
-            lo[:] = -np.inf
-        bounded = np.flatnonzero(np.isfinite(lo))
+        hi = np.full(m, np.inf)  # upper limits: only the user's
+        for j, _, h_j in self.limits:
+            hi[j] = h_j
+        bounded, capped = np.flatnonzero(np.isfinite(lo)), np.flatnonzero(np.isfinite(hi))
         rows = (np.zeros((P, 0, m)) if prob.adm is None or not constrained
                 else prob.adm.rows(hyper))
         ys = prob.y * prob.scale
         out = np.array(hyper, dtype=np.float64, copy=True)
         err = np.full(P, np.inf)
-        eye = np.eye(m)[bounded]
+        limit_rows = np.vstack([np.eye(m)[bounded], -np.eye(m)[capped]])
+        limit_h = np.concatenate([lo[bounded], -hi[capped]])
         for p in range(P):
             A = cols[p].T
             if not np.all(np.isfinite(A)):
                 continue
             G = rows[p][np.all(np.isfinite(rows[p]), axis=1)]
-            G = np.vstack([G, eye])
             # strictly inside the tangent inequalities, by a hair of the data's scale
             c0, *_ = np.linalg.lstsq(A, ys, rcond=None)
-            h = np.concatenate([STRICT * np.linalg.norm(G[: G.shape[0] - bounded.size], axis=1)
-                                * np.linalg.norm(c0), lo[bounded]])
-            c, rn = lsi(A, ys, G, h)
+            h = np.concatenate([STRICT * np.linalg.norm(G, axis=1) * np.linalg.norm(c0),
+                                limit_h])
+            c, rn = lsi(A, ys, np.vstack([G, limit_rows]), h)
+            # lsi meets each limit to rounding: no constant a hair outside its bounds
+            c = np.clip(c, lo, hi)
             out[p, amp] = c
             err[p] = rn
         with np.errstate(all="ignore"):
@@ -303,15 +351,30 @@ class SeparableSpace:
         return self.assemble(hyper[0], amps[0, 0], amps[0, 1:], tau[0])
 
     def assemble(self, shape, E_inf, G, tau) -> np.ndarray:
-        """Full parameter vector from a law's shape, its E∞, and the Prony terms."""
+        """Full parameter vector from a law's shape, its E∞, and the Prony terms.
+
+        A shape without a positive initial modulus (μ0 ≤ 0, e.g. every linear constant
+        zero: a search that found nothing finite) cannot be scaled to any E∞: its linear
+        constants come back NaN (the error of such a vector is +inf). The linear
+        constants the user bounded are kept within those bounds (the least squares met
+        them up to rounding).
+        """
         hm = self.prob.hm
         shape = np.array(shape, dtype=np.float64)
         with np.errstate(all="ignore"):
             E_shape = 3.0 * float(hm.initial_shear_modulus(shape))
-        if E_inf <= 0 or not np.isfinite(E_shape) or E_shape <= 0:
-            # no long-term stiffness at all: keep the shape at a vanishing scale
-            E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
-        shape[self.amp] *= E_inf / E_shape
+        if not (np.isfinite(E_shape) and E_shape > 0):
+            shape[self.amp] = np.nan  # no stiffness to scale: no constants either
+        else:
+            if E_inf <= 0:
+                # no long-term stiffness at all: keep the shape at a vanishing scale
+                E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
+            shape[self.amp] *= E_inf / E_shape
+            for j, lo, hi in self.limits:
+                shape[self.amp[j]] = min(max(shape[self.amp[j]], lo), hi)
+        G = np.array(G, dtype=np.float64, copy=True)
+        for i, lo, hi in self.g_limits:
+            G[i] = min(max(G[i], lo), hi)
         x = np.empty(self.prob.model.n_params)
         nh = hm.n_params
         x[:nh] = shape

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import os
 import time
 import warnings
@@ -431,6 +432,11 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
     hm = prob.hm
     head = (f"the {hm.name} fit found no parameter set with a finite error "
             f"({nfev} evaluated, stop: {stop})")
+    stiff = _stiffness_from_bounds(prob)
+    if stiff:
+        return (f"{head}: the bounds given on {stiff} leave the {hm.name} law no positive "
+                "initial shear modulus (a material without stiffness); widen them with the "
+                "bounds= keyword (command line: --bounds)")
     inside = False
     for k in range(hm.n_params):
         if k in hm.linear_index:
@@ -458,6 +464,41 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
                 "larger popsize")
     return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
             "its constants; check the data's strain and units, or choose another law")
+
+
+def _stiffness_from_bounds(prob: Problem) -> str:
+    """The linear constants whose bounds the user gave, if with them no law of the search
+    box has a positive initial shear modulus μ0; else "".
+
+    μ0 is linear in the linear constants: for given other constants its largest value is
+    at a corner of their bounds. The other constants are tried at the law's example
+    values and at every corner of their search bounds (μ0 of the built-in laws is at
+    most bilinear in them, e.g. Ogden's Σ μ_i α_i / 2).
+    """
+    hm = prob.hm
+    lin = list(hm.linear_index)
+    given = [hm.param_names[k] for k in lin if hm.param_names[k] in prob.user_bounds]
+    if not given:
+        return ""
+    other = [k for k in range(hm.n_params) if k not in lin]
+    shapes = [np.asarray(hm.example, dtype=np.float64)]
+    for corner in itertools.product(*[prob.bounds[hm.param_names[k]] for k in other]):
+        x = shapes[0].copy()
+        x[other] = corner
+        shapes.append(x)
+    for ex in shapes:
+        U = np.repeat(ex[None, :], len(lin) + 1, axis=0)
+        U[:, lin] = 0.0
+        U[np.arange(1, len(lin) + 1), lin] = 1.0
+        with np.errstate(all="ignore"):
+            mu = np.asarray(hm.initial_shear_modulus(U), dtype=np.float64).reshape(-1)
+        best = mu[0]
+        for c, k in zip(mu[1:] - mu[0], lin):
+            lo, hi = (float(v) for v in prob.bounds[hm.param_names[k]])
+            best += max(c * lo, c * hi) if c != 0 else 0.0
+        if not (np.isfinite(best) and best <= 0):
+            return ""
+    return ", ".join(given)
 
 
 def _probe_values(lo: float, hi: float, plo: float, phi: float) -> list[float]:
