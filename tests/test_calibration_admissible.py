@@ -359,11 +359,16 @@ def test_active_bounds_on_a_law_constant_and_a_prony_modulus_hold_with_prony_ter
     assert free.rmsape < 1e-3  # without the bounds the truth is recovered
     for bounds, name, hi in (({"C10": (0.0, 0.15)}, "C10", 0.15),
                              ({"G1": (0.0, 0.5)}, "G1", 0.5)):
-        cal = fit(curves, n_prony=1, seed=0, uncertainty=False, bounds=bounds)
+        cal = fit(curves, n_prony=1, seed=0, uncertainty=False, bounds=bounds, polish=False)
         assert bounds[name][0] <= cal.params[name] <= hi
         # the truth lies beyond the bound: the best fit within it presses against it
         assert cal.params[name] == pytest.approx(hi, rel=1e-6)
         assert cal.rmsape > 100 * free.rmsape
+        # and it is the best fit within it: scipy's bounded least squares on every
+        # constant from there (the polish) finds nothing lower
+        polished = fit(curves, n_prony=1, seed=0, uncertainty=False, bounds=bounds)
+        assert bounds[name][0] <= polished.params[name] <= hi
+        assert cal.rmsape == pytest.approx(polished.rmsape, rel=1e-4)
 
 
 @pytest.mark.parametrize("bounds", [{"C10": (0.0, 0.1)}, {"G1": (0.0, 0.5)}])
@@ -414,3 +419,24 @@ def test_a_shape_without_stiffness_assembles_to_no_constants_not_a_division_by_z
     # a shape with stiffness but no long-term modulus keeps its shape at a vanishing scale
     y = space.assemble(np.array([0.6, 0.4]), 0.0, np.array([1.0]), np.array([0.01]))
     assert y[0] / y[1] == pytest.approx(1.5) and 0 < y[0] < 1e-11
+
+
+def test_a_stability_range_that_leaves_out_the_reference_state_is_refused():
+    c = mr_curve()
+    for bad in ((1.2, 3.0), (0.5, 0.9), (0.0, 2.0)):
+        with pytest.raises(ValueError, match=r"stability_range = .*0 < low < 1 < high"):
+            vhfit.calibrate([c], n_prony=0, stability_range=bad)
+
+
+def test_a_checkpoint_of_another_stability_range_is_refused(tmp_path):
+    curves = _mr_rate_curves(dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01))
+    ck = tmp_path / "ck.json"
+    fit(curves, n_prony=1, seed=0, maxiter=3, uncertainty=False, checkpoint=ck,
+        checkpoint_every=0.0, stability_range=(0.5, 2.0))
+    assert ck.exists()
+    with pytest.raises(ValueError, match="belongs to a different fit"):
+        fit(curves, n_prony=1, seed=0, maxiter=3, uncertainty=False, checkpoint=ck,
+            resume=True, stability_range=(0.6, 2.0))
+    # the same range resumes it
+    fit(curves, n_prony=1, seed=0, maxiter=3, uncertainty=False, checkpoint=ck, resume=True,
+        stability_range=(0.5, 2.0))
