@@ -60,13 +60,17 @@ class Problem:
         return admissible(self.adm, X[:, : self.hm.n_params])
 
     def errors(self, X: np.ndarray) -> np.ndarray:
-        """Objective of parameter sets X (P, n_params); inf where invalid or inadmissible."""
+        """Objective of parameter sets X (P, n_params); inf where invalid or inadmissible
+        (the model is evaluated only for the admissible ones)."""
         X = np.atleast_2d(X)
-        r = self.residuals(X)
+        ok = self.admissible(X)
+        e = np.full(X.shape[0], np.inf)
+        if not ok.any():
+            return e
+        r = self.residuals(X if ok.all() else X[ok])
         with np.errstate(all="ignore", over="ignore"):
-            e = np.sqrt(np.sum(r * r, axis=1))
+            e[ok] = np.sqrt(np.sum(r * r, axis=1))
         e[~np.isfinite(e)] = np.inf
-        e[~self.admissible(X)] = np.inf
         return e
 
     def residuals(self, X: np.ndarray) -> np.ndarray:
@@ -213,10 +217,17 @@ class SeparableSpace:
     def solve_linear(self, hyper, tau):
         """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)."""
         prob = self.prob
-        base, H = prob.batch.shape_columns(hyper, tau)
         P, N = tau.shape
         amps = np.zeros((P, 1 + N))
         err = np.full(P, np.inf)
+        # inadmissible shapes are rejected before the model is evaluated for them
+        keep = np.flatnonzero(admissible(prob.adm, hyper))
+        if keep.size < P:
+            a, e = self.solve_linear(hyper[keep], tau[keep]) if keep.size else (amps[:0],
+                                                                              err[:0])
+            amps[keep], err[keep] = a, e
+            return amps, err
+        base, H = prob.batch.shape_columns(hyper, tau)
         from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
 
         ys = prob.y * prob.scale
@@ -226,7 +237,7 @@ class SeparableSpace:
         C[:, :, 0] = base
         C[:, :, 1:] = H.transpose(0, 2, 1)
         C *= prob.scale[None, :, None]
-        finite = np.isfinite(C).all(axis=(1, 2)) & admissible(prob.adm, hyper)
+        finite = np.isfinite(C).all(axis=(1, 2))  # (every shape here is admissible)
         if self.limits or self.g_limits:  # the user's bounds on linear constants
             with np.errstate(all="ignore"):
                 E_shape = 3.0 * np.asarray(prob.hm.initial_shear_modulus(hyper),
