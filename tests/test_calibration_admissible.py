@@ -248,6 +248,7 @@ def test_a_constant_still_on_its_bound_heads_the_summary():
     head = [h for h in cal.headlines if "search bound" in h]
     assert len(head) == 1 and "alpha1 >= -50" in head[0]
     assert "bounds={'alpha1'" in head[0] and "after one automatic widening" in head[0]
+    assert "--bounds alpha1=-" in head[0]  # and the command line's flag
     assert head[0] in cal.warnings
     # the summary's first lines
     assert "ended on its search bound alpha1 >= -50" in "\n".join(cal.summary().splitlines()[:6])

@@ -265,5 +265,6 @@ def bound_hit_headlines(prob, x: np.ndarray, hits: dict[str, str], widened: dict
             f"{name} = {x[k]:.6g} ended on its search bound {name} "
             f"{'>=' if side == 'low' else '<='} {b:g} ({how}): the best fit may lie beyond it; "
             f"widen it with the bounds= keyword, e.g. "
-            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}}")
+            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
+            f"{name}={sug[0]:g}:{sug[1]:g})")
     return out
