@@ -274,7 +274,9 @@ def test_g_inf_floor_is_respected_and_reported():
     # all stiffness in a very slow branch: the unconstrained best has g_inf -> 0
     truth = dict(C10=1e-7, C01=0.0, G1=1.0, tau1=5.0)
     curves = synthetic(truth, (-1.0, -10.0))
-    cal = calibrate(curves, n_prony=1, seed=0, g_inf_min=0.01)
+    # target=0: run to the best (a fit at g_inf just above the floor already meets the
+    # default target here, with C01 slightly negative, still Drucker-stable)
+    cal = calibrate(curves, n_prony=1, seed=0, g_inf_min=0.01, target=0.0)
     assert cal.g_inf >= 0.01 * (1 - 1e-9)
     assert any("floor" in w for w in cal.warnings)
 

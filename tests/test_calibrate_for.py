@@ -77,14 +77,16 @@ def test_start_options_seed_half_the_population_around_the_first_fit():
     first = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
     opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
     init = opts["de_options"]["init"]
-    assert opts["popsize"] == 24 and init.shape == (24, 2)  # (C01 share, log10 tau1)
+    # (direction θ of (C10, C01), log10 tau1): the first fit's θ and τ, then the cloud
+    assert opts["popsize"] == 24 and init.shape == (24, 2)
     assert opts["tol"] == 1e-4  # its search stops at a wider gap; the polish finishes
     assert start_options(first, curves, formulation="lsdyna", n_prony=1, tol=1e-2)[
         "tol"] == 1e-2  # a looser tol of the caller's stays
-    z0 = [first.params["C01"] / (first.params["C10"] + first.params["C01"]),
+    z0 = [np.arctan2(first.params["C01"], first.params["C10"]),
           np.log10(first.params["tau1"])]
     np.testing.assert_allclose(init[0], z0, rtol=1e-12)
-    assert np.all(init[:, 0] >= 0) and np.all(init[:, 0] <= 1)
+    # every direction seeded keeps a positive initial modulus, 2 (C10 + C01) > 0
+    assert np.all(np.cos(init[:, 0]) + np.sin(init[:, 0]) > 0)
     near = np.abs(init[:, 1] - z0[1]) < 1.0
     assert near[:12].mean() > near[12:].mean()  # the cloud, then the Sobol half
     assert start_options(first, curves, formulation="lsdyna", n_prony="auto") == {}

@@ -283,24 +283,37 @@ def test_a_polynomial_law_without_prony_terms_needs_no_search():
 
 
 @pytest.mark.filterwarnings("ignore:Drucker-UNSTABLE")
-def test_exact_solve_keeps_linear_constants_at_their_lower_limits():
-    """Data that a negative C01 would fit better: the search keeps C01 ≥ 0 by default
-    and honours a user's negative lower limit."""
+def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
+    """Data of a law (C01 < 0) unstable in equibiaxial tension inside the data's stretch
+    range: the exact solve returns the best law stable there (C01 < 0 still, between the
+    truth and the non-negative proxy), the truth where the range allows it, and a user's
+    lower limit C01 >= 0 is honoured."""
     truth = dict(C10=0.3, C01=-0.05)
     m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
     eps = np.linspace(0.0, 1.0, 50)
     curves = [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=1.0),
                           strain_rate=1.0, measure="true")]
     cal = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False)
-    assert cal.params["C01"] == 0.0 and cal.params["C10"] > 0
-    free = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
-                           bounds={"C01": (-1.0, 1.0)})
-    assert free.params["C01"] == pytest.approx(-0.05, rel=5e-3)
-    assert free.params["C10"] == pytest.approx(0.3, rel=5e-3)
-    # no lower limit at all: the constant is split into a ± pair of columns. Another
-    # solver of the same linear least squares (no search, no polish): the two agree to
-    # rounding times the conditioning, κ ≈ 11 for these two relative-error-weighted
-    # columns, κ²·eps ≈ 3e-14, far inside 1e-9
+    lo, hi = cal.options["stability_range"]
+    assert not vhfit.stability.drucker(m.hyperelastic, [0.3, -0.05], (lo, hi)).stable
+    assert cal.stability.stable and -0.05 < cal.params["C01"] < 0
+    pos = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                          bounds={"C01": (0.0, 1.0)})
+    assert pos.params["C01"] == 0.0 and pos.params["C10"] > 0
+    assert cal.rmsape < pos.rmsape
+    # a negative lower limit of the user's, above the stable best's C01: it is the answer
+    low = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                          bounds={"C01": (-0.01, 1.0)})
+    assert cal.params["C01"] < -0.01
+    assert low.params["C01"] == pytest.approx(-0.01, abs=1e-12)
+    assert cal.rmsape < low.rmsape < pos.rmsape
+    near = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
+                           stability_range=(0.8, 1.25))
+    assert near.params["C01"] == pytest.approx(-0.05, rel=1e-9)
+    assert near.params["C10"] == pytest.approx(0.3, rel=1e-9)
+    assert "unconstrained_fit" not in near.options  # the constraint is not active there
+    assert "unconstrained_fit" in cal.options  # it is here
+    # no lower limit at all given: the same as the law's own (none)
     unbounded = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                                 bounds={"C01": (-np.inf, np.inf)})
-    assert unbounded.params == pytest.approx(free.params, rel=1e-9)
+    assert unbounded.params == pytest.approx(cal.params, rel=1e-9)

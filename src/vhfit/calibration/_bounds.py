@@ -3,13 +3,16 @@ small-strain tests) and moduli that can reach the data."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
 
-__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES"]
+__all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
+           "bound_hit_headlines", "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -88,7 +91,9 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
     each G_i, the smallest value that makes that term alone (the other linear constants
     zero, the nonlinear ones at the law's example values; a Prony term at the shortest τ
     of its bounds ``tau_b``, log10 s, where its response is weakest) reach
-    |σ| ≥ |σ_target| at every objective point. Lower limits are 0. Nonlinear constants
+    |σ| ≥ |σ_target| at every objective point. Lower limits are 0, or −upper where the
+    law allows either sign (the admissible set of docs/theory.md §11 then bounds them).
+    Nonlinear constants
     (e.g. Ogden α, λm, Jm) get their physical bounds, narrowed by :data:`SEARCH_RANGES`
     where those are open-ended, or [-10, 10] if unbounded.
     """
@@ -127,7 +132,8 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
                 ratio = np.concatenate([ratio, moduli / (e_unit if e_unit > 0 else np.nan)])
             ys = np.concatenate([y_true, *y_other, moduli])
             hi = float(np.nanmax(ratio)) if np.isfinite(ratio).any() else float(np.max(ys))
-            out[name] = (max(0.0, lo_p), hi)
+            # either sign where the law allows it: the admissible set decides
+            out[name] = (-hi if lo_p < 0 else max(0.0, lo_p), hi)
         elif name in ranges:
             out[name] = (max(lo_p, ranges[name][0]), min(hi_p, ranges[name][1]))
         else:
@@ -179,3 +185,86 @@ def search_bounds(model: ViscoHyperelastic, curves, tau_strategy, decades_below:
     elif bounds != "auto":
         raise ValueError(f"bounds = {bounds!r}: give 'auto' or a dict name -> (low, high)")
     return np.asarray(tau_b, dtype=np.float64), auto
+
+
+#: A searched constant within this fraction of its search range from a bound "sits on" it.
+HIT_MARGIN = 1e-3
+
+#: A bound that was hit moves outward by this many widths of the search range.
+WIDEN = 2.0
+
+#: Exponents (Ogden α) are widened at most to |α| ln λ ≤ this over the stability range,
+#: so that λ^α stays far inside float64 (e^300 ≈ 1e130).
+MAX_EXPONENT_LOG = 300.0
+
+
+def _searched_shape(prob) -> list[int]:
+    """The law's dimensionless nonlinear constants (α, λm, Jm, ...): searched by DE."""
+    hm = prob.hm
+    return [k for k in range(hm.n_params) if k not in hm.linear_index and hm.units[k] != "MPa"]
+
+
+def bound_hits(prob, x: np.ndarray) -> dict[str, str]:
+    """Searched nonlinear constants of ``x`` within :data:`HIT_MARGIN` of a search bound
+    that is not the law's physical limit: name -> "low" or "high"."""
+    hm, out = prob.hm, {}
+    for k in _searched_shape(prob):
+        name = hm.param_names[k]
+        lo, hi = (float(v) for v in prob.bounds[name])
+        plo, phi = (float(v) for v in hm.bounds[k])
+        margin = HIT_MARGIN * (hi - lo)
+        if not hi > lo:
+            continue
+        if x[k] - lo <= margin and lo > plo:
+            out[name] = "low"
+        elif hi - x[k] <= margin and hi < phi:
+            out[name] = "high"
+    return out
+
+
+def widen_bounds(prob, hits: dict[str, str]) -> dict[str, tuple[float, float]]:
+    """The search bounds with each hit bound moved :data:`WIDEN` widths outward, inside
+    the law's physical limits (an open one approached to 1 % of the remaining gap) and,
+    for an exponent α, inside |α| ≤ :data:`MAX_EXPONENT_LOG` / max |ln λ| of the
+    stability range. Bounds the user gave are kept (not in the result's changes)."""
+    hm, out = prob.hm, dict(prob.bounds)
+    ell = max(-math.log(prob.stability_range[0]), math.log(prob.stability_range[1]))
+    for name, side in hits.items():
+        if name in prob.user_bounds:
+            continue
+        k = hm.param_names.index(name)
+        lo, hi = (float(v) for v in prob.bounds[name])
+        plo, phi = (float(v) for v in hm.bounds[k])
+        if name.startswith("alpha"):
+            cap = MAX_EXPONENT_LOG / ell
+            plo, phi = max(plo, -cap), min(phi, cap)
+        w = WIDEN * (hi - lo)
+        if side == "low":
+            new = lo - w
+            lo = new if new > plo else plo + 0.01 * (lo - plo)
+        else:
+            new = hi + w
+            hi = new if new < phi else phi - 0.01 * (phi - hi)
+        out[name] = (lo, hi)
+    return out
+
+
+def bound_hit_headlines(prob, x: np.ndarray, hits: dict[str, str], widened: dict) -> list[str]:
+    """One sentence per constant still on a search bound: which, where, how to move it."""
+    out = []
+    for name, side in hits.items():
+        k = prob.hm.param_names.index(name)
+        lo, hi = (float(v) for v in prob.bounds[name])
+        b = lo if side == "low" else hi
+        span = hi - lo
+        sug = (lo - WIDEN * span, hi) if side == "low" else (lo, hi + WIDEN * span)
+        how = ("given in bounds=" if name in prob.user_bounds else
+               "after one automatic widening" if name in widened else
+               "of the automatic search range")
+        out.append(
+            f"{name} = {x[k]:.6g} ended on its search bound {name} "
+            f"{'>=' if side == 'low' else '<='} {b:g} ({how}): the best fit may lie beyond it; "
+            f"widen it with the bounds= keyword, e.g. "
+            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
+            f"{name}={sug[0]:g}:{sug[1]:g})")
+    return out

@@ -42,6 +42,8 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
                    sorted(prob.bounds.items()))).encode())
     if form != "hereditary":  # (hereditary keys stay as they were)
         h.update(repr(("formulation", form)).encode())
+    # the admissible set searched (docs/theory.md §11): another range, another search
+    h.update(repr(("stability_range", prob.stability_range)).encode())
     return h.hexdigest()
 
 

@@ -13,12 +13,14 @@ evaluations of a fresh one.
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
 
+from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._result import Calibration
 from vhfit.calibration._settings import DEFAULT_TOL, FULL_TOL, bounds_for_terms
@@ -135,8 +137,9 @@ def _search_vector(space, x: np.ndarray) -> np.ndarray:
         return z
     amp = [x[k] for k in space.amp]
     z = []
-    if space.beta:
-        z.append(amp[1] / (amp[0] + amp[1]))
+    if space.angle:  # the direction of the two linear constants, turned onto the arc
+        th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
+        z.append(th + 2 * math.pi * round((mid - th) / (2 * math.pi)))
     elif len(space.amp) > 1 and not space.exact:
         z += amp
     z += [x[k] for k in space.other]
@@ -227,9 +230,11 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
         kwargs.get("decades_below", DEFAULT_DECADES_BELOW),
         kwargs.get("decades_above", DEFAULT_DECADES_ABOVE),
         bounds_for_terms(kwargs.get("bounds", "auto"), int(n_prony)))
+    sr = kwargs.get("stability_range") or data_stability_range(ref.items)
+    user = kwargs["bounds"] if isinstance(kwargs.get("bounds"), dict) else {}
     space = SPACES[method](Problem(model, ref.items, tau_b, auto,
                                    kwargs.get("g_inf_min", 1e-6),
-                                   kwargs.get("objective", "rmsape")))
+                                   kwargs.get("objective", "rmsape"), sr, set(user)))
     b = np.array(space.bounds(), dtype=np.float64).reshape(-1, 2)
     if not len(b):
         return {}

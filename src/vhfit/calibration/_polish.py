@@ -10,16 +10,28 @@ __all__ = ["polish", "g_inf_ok"]
 
 
 def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
-    """Bounded least squares on all parameters (τ in log10); never raises the error."""
+    """Bounded least squares on all parameters (τ in log10); never raises the error.
+
+    Bounds the user gave hold exactly (the law's constants and the G_i); the automatic
+    search ranges bound a constant only on the side the result is within (a modulus's
+    upper one not at all), the admissible set keeps the law stable.
+    """
     model, nh = prob.model, prob.hm.n_params
     lo = np.empty(model.n_params)
     hi = np.empty(model.n_params)
     for k, name in enumerate(prob.hm.param_names):
         plo, phi = prob.hm.bounds[k]
         blo, bhi = prob.bounds[name]
+        if name in prob.user_bounds:
+            lo[k], hi[k] = max(plo, blo), min(phi, bhi)
+            continue
         lo[k] = max(plo, min(blo, x0[k]))
         hi[k] = phi if prob.hm.units[k] == "MPa" else max(bhi, x0[k])
     lo[nh::2], hi[nh::2] = 0.0, np.inf
+    for i in range(model.n_prony):
+        if f"G{i + 1}" in prob.user_bounds:
+            blo, bhi = prob.bounds[f"G{i + 1}"]
+            lo[nh + 2 * i], hi[nh + 2 * i] = max(0.0, blo), bhi
     lo[nh + 1::2] = prob.tau_b[:, 0]
     hi[nh + 1::2] = prob.tau_b[:, 1]
     fixed = lo >= hi
@@ -69,7 +81,7 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
         e1 = float(np.sqrt(2 * res.cost))
     except (ValueError, np.linalg.LinAlgError):
         return x0, e0, counter["n"]
-    if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1):
+    if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1) and prob.admissible(x1)[0]:
         return x1, e1, counter["n"]
     return x0, e0, counter["n"]
 

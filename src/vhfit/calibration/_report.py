@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
@@ -346,7 +347,7 @@ def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
         bounds = {**dict(zip(fewer.hyperelastic.param_names, fewer.hyperelastic.bounds)),
                   **prob.bounds}
         prob2 = Problem(fewer, curves, prob.tau_b, bounds, prob.g_inf_min,
-                        prob.objective_spec)
+                        prob.objective_spec, prob.stability_range, prob.user_bounds)
         s1 = prob.batch(x[None, :])[0]
         same = _same_stresses(s1, prob2.batch(x2[None, :])[0], model.rtol)
         if not same:  # the merged constants as they are change the fit: polish them
@@ -394,17 +395,20 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
                                 formulation=model.formulation)
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
-                   prob.g_inf_min, prob.objective_spec)
+                   prob.g_inf_min, prob.objective_spec, prob.stability_range,
+                   prob.user_bounds)
     return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
 
 
-def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dict
-           ) -> Calibration:
+def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dict,
+           headlines=(), notes=()) -> Calibration:
     """The result of one search (``found``, a ``Search``) ending at ``x`` with error ``err``
     after ``nfev`` evaluations: terms sorted, merged and pruned, g, intervals, checks and
-    warnings, as ``settings`` ask; ``options`` is the record of how the fit ran."""
-    msgs: list[str] = []
-    heads: list[str] = []
+    warnings, as ``settings`` ask; ``options`` is the record of how the fit ran;
+    ``headlines`` (warnings that head the summary) and ``notes`` (further warnings) come
+    from the search (constants on a search bound, the unconstrained fit)."""
+    heads: list[str] = list(headlines)
+    msgs: list[str] = list(headlines) + list(notes)
     prob, model, x, err = _merge_like_terms(prob, curves, model, x, err, msgs, heads)
     prob, model, x, err = _reduce_terms(prob, curves, model, x, err, settings.prune_tol,
                                         msgs)
@@ -437,8 +441,9 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     msgs += time_window_warnings(model, x, curves)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)
-    stab = drucker(model.hyperelastic, x[:model.hyperelastic.n_params],
-                   settings.stability_range)
+    # the range the search's admissible set used (a bare Problem has none: the settings')
+    sr = prob.stability_range or settings.stability_range or data_stability_range(curves)
+    stab = drucker(model.hyperelastic, x[:model.hyperelastic.n_params], sr)
     if not stab.stable:
         msgs.append(stab.describe())
     for m in msgs:

@@ -246,9 +246,10 @@ def _pairs(a: dict) -> None:
             and stall[0] >= 0 and _is_int(stall[1]) and stall[1] >= 1):
         _fail("stall", stall, "give (fraction >= 0, generations >= 1), e.g. (0.02, 2000)")
     sr = a["stability_range"]
-    if not (isinstance(sr, (tuple, list)) and len(sr) == 2 and all(_is_real(v) for v in sr)
-            and 0 < sr[0] < sr[1]):
-        _fail("stability_range", sr, "give (low, high) stretches with 0 < low < high")
+    if sr is not None and not (isinstance(sr, (tuple, list)) and len(sr) == 2
+                               and all(_is_real(v) for v in sr) and 0 < sr[0] < 1 < sr[1]):
+        _fail("stability_range", sr,
+              "give (low, high) stretches with 0 < low < 1 < high, or None (the data's range)")
     t = a["target"]
     if isinstance(t, bool) or not isinstance(t, numbers.Real) or math.isnan(t):
         _fail("target", t, "give a number (the objective value that ends the search)")
@@ -354,7 +355,7 @@ class CalibrationSettings:
     prune_tol: float = 1e-6
     decades_below: float = DEFAULT_DECADES_BELOW
     decades_above: float = DEFAULT_DECADES_ABOVE
-    stability_range: tuple[float, float] = (0.2, 5.0)
+    stability_range: tuple[float, float] | None = None
     uncertainty: bool = True
     callback: Callable | None = None
     rtol: float = 1e-6

@@ -10,7 +10,8 @@ their differential evolution (``popsize``, ``maxiter``, ``de_options``):
   the law's shape (ratios of its linear constants, and its nonlinear constants such
   as Ogden's α, λm, Jm) and log10 τ_i; each evaluation solves the moduli exactly by
   non-negative least squares (variable projection). Without Prony terms every linear
-  constant is solved that way and only the nonlinear ones are searched.
+  constant is solved by least squares under the Drucker inequalities and only the
+  nonlinear ones are searched. Both cover the admissible set (docs/theory.md §11).
 * :class:`FullSpace`: the paper's all-parameter search (hyperelastic constants, G_i,
   log10 τ_i).
 """
@@ -19,17 +20,23 @@ from __future__ import annotations
 
 import numpy as np
 
+from vhfit.calibration._admissible import Admissible, admissible, angle_range, lsi
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 
-__all__ = ["Problem", "SeparableSpace", "FullSpace", "SPACES"]
+__all__ = ["Problem", "SeparableSpace", "FullSpace", "SPACES", "STRICT"]
+
+#: Relative margin by which the exact solve of the linear constants keeps each Drucker
+#: inequality strict (the tangent at least this fraction of its row's norm times the
+#: constants' scale).
+STRICT = 1e-9
 
 
 class Problem:
     """Model, targets and the weighted residuals whose norm is the objective (Eq. 20)."""
 
     def __init__(self, model: ViscoHyperelastic, curves, tau_b, bounds, g_inf_min,
-                 objective="rmsape"):
+                 objective="rmsape", stability_range=None, user_bounds=()):
         self.model = model
         self.hm = model.hyperelastic
         self.batch = model.batch(curves)
@@ -42,12 +49,27 @@ class Problem:
         self.tau_b = tau_b  # (N, 2) log10 τ
         self.bounds = bounds  # name -> (lo, hi) for hyperelastic constants and G
         self.g_inf_min = float(g_inf_min)
+        # the admissible set (Drucker-stable over this range, μ0 > 0); None: no check
+        self.stability_range = stability_range
+        self.adm = None if stability_range is None else Admissible(self.hm, stability_range)
+        self.user_bounds = frozenset(user_bounds)  # names whose bounds the user gave
+
+    def admissible(self, X: np.ndarray) -> np.ndarray:
+        """Whether the law of each parameter set X (P, n_params) is admissible."""
+        X = np.atleast_2d(X)
+        return admissible(self.adm, X[:, : self.hm.n_params])
 
     def errors(self, X: np.ndarray) -> np.ndarray:
-        """Objective of parameter sets X (P, n_params); inf where invalid."""
-        r = self.residuals(X)
+        """Objective of parameter sets X (P, n_params); inf where invalid or inadmissible
+        (the model is evaluated only for the admissible ones)."""
+        X = np.atleast_2d(X)
+        ok = self.admissible(X)
+        e = np.full(X.shape[0], np.inf)
+        if not ok.any():
+            return e
+        r = self.residuals(X if ok.all() else X[ok])
         with np.errstate(all="ignore", over="ignore"):
-            e = np.sqrt(np.sum(r * r, axis=1))
+            e[ok] = np.sqrt(np.sum(r * r, axis=1))
         e[~np.isfinite(e)] = np.inf
         return e
 
@@ -69,14 +91,14 @@ class SeparableSpace:
     The law's constants split into the linear ones (``Hyperelastic.linear_params``: σ_h is
     linear in them) and the rest (α, λm, Jm, ...), which are always searched.
 
-    * With Prony terms, DE searches the shape of the linear constants — a fraction
-      between two non-negative ones, or the constants themselves (a redundant scale)
-      when there are more or they may be negative; one is fixed to 1 — and log10 τ;
-      NNLS solves (E∞, G_i) for every individual.
+    * With Prony terms, DE searches the shape of the linear constants — a direction
+      (cos θ, sin θ) of two on their admissible arc, or the constants themselves (a
+      redundant scale, signed where the law allows) when there are more — and log10 τ;
+      NNLS solves (E∞, G_i) for every individual; inadmissible shapes get +inf.
     * Without Prony terms the long-term stress is linear in the linear constants
-      themselves: least squares (each at least its lower search limit) solves all of
-      them exactly for every individual, and DE searches only the other constants
-      (nothing at all for the polynomial laws).
+      themselves: least squares under the Drucker inequalities (and the lower limits
+      the law or the user set) solves all of them exactly for every individual, and DE
+      searches only the other constants (nothing at all for the polynomial laws).
     """
 
     method = "separable"
@@ -97,16 +119,48 @@ class SeparableSpace:
             )
         self.other = [k for k in range(hm.n_params) if k not in self.amp]
         self.exact = prob.model.n_prony == 0
-        lo_amp = [prob.bounds[hm.param_names[k]][0] for k in self.amp]
-        # shape of the law: a fraction between two non-negative moduli, or the moduli
-        # themselves (redundant scale) when there are more or they may be negative
-        self.beta = not self.exact and len(self.amp) == 2 and min(lo_amp) >= 0
+        # linear constants that must stay >= 0: by the law, or by bounds the user gave
+        self.nonneg = [hm.bounds[k][0] >= 0 or (hm.param_names[k] in prob.user_bounds
+                                                and prob.bounds[hm.param_names[k]][0] >= 0)
+                       for k in self.amp]
+        # shape of two linear constants: a direction (cos θ, sin θ) on the admissible arc
+        # (docs/theory.md §11); more: the constants themselves (redundant scale), signed
+        # where the law allows, the inadmissible ones rejected by Problem.errors
+        # bounds the user gave on linear constants (the law's and the G_i): limits of the
+        # least squares solves, whatever the search's own ranges
+        user = prob.user_bounds
+        self.nonpos = [hm.param_names[k] in user and prob.bounds[hm.param_names[k]][1] <= 0
+                       for k in self.amp]
+        self.limits = [(j, *map(float, prob.bounds[hm.param_names[k]]))
+                       for j, k in enumerate(self.amp) if hm.param_names[k] in user]
+        self.g_limits = [(i, *map(float, prob.bounds[f"G{i + 1}"]))
+                         for i in range(prob.model.n_prony) if f"G{i + 1}" in user]
+        self.angle = not self.exact and len(self.amp) == 2
+        if self.angle:
+            self.theta = self._arc()
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
+
+    def _arc(self) -> tuple[float, float]:
+        """The searched arc of directions of two linear constants: the admissible one for
+        a law without nonlinear constants, else the half-plane μ0 > 0 (and the signs the
+        law requires), the rest left to the filter."""
+        prob = self.prob
+        adm = prob.adm if not self.other else None
+        if adm is None:
+            adm = Admissible(prob.hm, (1.0 / 1.01, 1.01))
+            adm.grid = []  # the μ0 row alone
+        lo, hi = angle_range(adm, self.nonneg, self.nonpos)
+        if not lo < hi:
+            raise ValueError(
+                f"no {prob.hm.name} law is Drucker-stable over the stretch range "
+                f"{prob.stability_range}: give a narrower stability_range"
+            )
+        return lo, hi
 
     #: with a polish after it, the search of a law with several linear constants and a
     #: nonlinear shape polishes its best member when its error first falls below each of
     #: these multiples of the target (see :meth:`finish_levels`)
-    FINISH_LEVELS = (1e4, 1e2)
+    FINISH_LEVELS = (1e4, 3e3, 1e3, 3e2, 1e2)
 
     def finish_levels(self, target: float) -> tuple[float, ...]:
         """Errors below which a polish of the search's best member is tried, largest first.
@@ -115,8 +169,12 @@ class SeparableSpace:
         with 2+ terms) DE's approach crawls along curved valleys in (shape, log τ) that
         the polish — least squares on all parameters — crosses in a few iterations: on
         the multi-mode recovery of an Ogden-2 material a polish from where the error is
-        still ~1e4 times the target reaches 1e-12 %. Each level is tried once; a polish
-        that misses the target costs its evaluations and the search goes on. Every
+        still ~1e4 times the target reaches 1e-12 %; in the signed admissible space the
+        search's approach is slower, so the levels are half a decade apart (on the Ogden-2
+        recoveries of benchmarks/bench_admissible.py and bench_modes, seeds 0-2, this cut
+        the evaluations by a third against levels a decade apart). Each level is tried
+        once; a polish that misses the target costs its evaluations and the search goes
+        on. Every
         other law: none.
         """
         if self.other and len(self.amp) > 1 and not self.exact:
@@ -125,10 +183,12 @@ class SeparableSpace:
 
     def bounds(self) -> list[tuple[float, float]]:
         hm, pb, b = self.prob.hm, self.prob.bounds, []
-        if self.beta:
-            b.append((0.0, 1.0))
+        if self.angle:
+            b.append(self.theta)
         elif len(self.amp) > 1 and not self.exact:
-            b += [pb[hm.param_names[k]] for k in self.amp]
+            for k, nn in zip(self.amp, self.nonneg):
+                lo, hi = pb[hm.param_names[k]]
+                b.append((max(lo, 0.0) if nn else lo, hi))
         b += [pb[hm.param_names[k]] for k in self.other]
         b += [tuple(self.prob.tau_b[i]) for i in self.free_tau]
         return b
@@ -138,9 +198,9 @@ class SeparableSpace:
         P = Z.shape[0]
         hyper = np.zeros((P, self.prob.hm.n_params))
         j = 0
-        if self.beta:
-            hyper[:, self.amp[0]] = 1.0 - Z[:, 0]
-            hyper[:, self.amp[1]] = Z[:, 0]
+        if self.angle:
+            hyper[:, self.amp[0]] = np.cos(Z[:, 0])
+            hyper[:, self.amp[1]] = np.sin(Z[:, 0])
             j = 1
         elif len(self.amp) > 1 and not self.exact:
             hyper[:, self.amp] = Z[:, : len(self.amp)]
@@ -157,10 +217,17 @@ class SeparableSpace:
     def solve_linear(self, hyper, tau):
         """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)."""
         prob = self.prob
-        base, H = prob.batch.shape_columns(hyper, tau)
         P, N = tau.shape
         amps = np.zeros((P, 1 + N))
         err = np.full(P, np.inf)
+        # inadmissible shapes are rejected before the model is evaluated for them
+        keep = np.flatnonzero(admissible(prob.adm, hyper))
+        if keep.size < P:
+            a, e = self.solve_linear(hyper[keep], tau[keep]) if keep.size else (amps[:0],
+                                                                              err[:0])
+            amps[keep], err[keep] = a, e
+            return amps, err
+        base, H = prob.batch.shape_columns(hyper, tau)
         from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
 
         ys = prob.y * prob.scale
@@ -170,9 +237,17 @@ class SeparableSpace:
         C[:, :, 0] = base
         C[:, :, 1:] = H.transpose(0, 2, 1)
         C *= prob.scale[None, :, None]
-        finite = np.isfinite(C).all(axis=(1, 2))
+        finite = np.isfinite(C).all(axis=(1, 2))  # (every shape here is admissible)
+        if self.limits or self.g_limits:  # the user's bounds on linear constants
+            with np.errstate(all="ignore"):
+                E_shape = 3.0 * np.asarray(prob.hm.initial_shear_modulus(hyper),
+                                           dtype=np.float64).reshape(-1)
+            finite &= np.isfinite(E_shape) & (E_shape > 0)
         for p in np.flatnonzero(finite):
             A = C[p]
+            if self.limits or self.g_limits:
+                amps[p], err[p] = self._limited(A, ys, hyper[p] / E_shape[p], kappa)
+                continue
             a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
                 # the g∞ floor is active: E∞ = κ ΣG, a convex problem in G alone
@@ -183,19 +258,49 @@ class SeparableSpace:
             err[p] = rn
         return amps, err
 
-    def solve_constants(self, hyper) -> tuple[np.ndarray, np.ndarray]:
+    def _limited(self, A, ys, unit, kappa) -> tuple[np.ndarray, float]:
+        """(E∞, G_i) of one individual by least squares under the user's bounds on linear
+        constants: the law's constant k is ``unit[k]`` E∞ (the shape scaled to E∞ = 1),
+        so each of its limits is a linear inequality on E∞; with G_i ≥ 0, E∞ ≥ 0 and the
+        g∞ floor E∞ ≥ κ ΣG_i (:func:`vhfit.calibration._admissible.lsi`). Returns the
+        amplitudes and the residual norm (inf: the limits cannot all hold)."""
+        n = A.shape[1]
+        rows, h = [np.eye(n)], [np.zeros(n)]
+        if kappa > 0:
+            rows.append(np.concatenate([[1.0], np.full(n - 1, -kappa)])[None, :])
+            h.append(np.zeros(1))
+        limits = [(self.amp[j], unit[self.amp[j]] * np.eye(n)[0], lo, hi)
+                  for j, lo, hi in self.limits]
+        limits += [(None, np.eye(n)[1 + i], lo, hi) for i, lo, hi in self.g_limits]
+        for _, g, lo, hi in limits:
+            if np.isfinite(lo):
+                rows.append(g[None, :])
+                h.append(np.array([lo]))
+            if np.isfinite(hi):
+                rows.append(-g[None, :])
+                h.append(np.array([-hi]))
+        a, rn = lsi(A, ys, np.vstack(rows), np.concatenate(h))
+        if not np.all(np.isfinite(a)):
+            return np.zeros(n), np.inf
+        # lsi meets each inequality to rounding: no constant a hair outside its bounds
+        return np.maximum(a, 0.0), rn
+
+    def solve_constants(self, hyper, constrained: bool = True
+                        ) -> tuple[np.ndarray, np.ndarray]:
         """Without Prony terms: the linear constants of every individual by least squares.
 
         ``hyper`` (P, n_h) holds the other constants. By linearity the stress of each
         unit linear constant is σ(B + e_k) − σ(B), with B all linear constants at 1 (a
         shape with a positive initial modulus, which the batch requires) and σ(B) =
-        Σ_k σ(B + e_k)/(m + 1) for m linear constants; each constant
-        is kept at or above its lower search limit (a shift, or a ± pair of columns for
-        an unbounded one) and NNLS solves them. Returns the constants (P, n_h) and the
-        errors (P,); +inf where the law is invalid or the result has no stiffness.
+        Σ_k σ(B + e_k)/(m + 1) for m linear constants. The constants minimise the error
+        over the admissible set (the Drucker inequalities on the stretch grid and μ0 ≥ 0,
+        :func:`vhfit.calibration._admissible.lsi`), each at or above its lower limit
+        where the law or the user's bounds set one. Returns the constants (P, n_h) and
+        the errors (P,); +inf where the law is invalid or the result has no stiffness.
+        A user's upper bound on a linear constant is a limit too. ``constrained=False``:
+        without the Drucker inequalities and μ0 > 0 (the best unconstrained fit, reported
+        beside the result), the limits kept.
         """
-        from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
-
         prob, amp = self.prob, self.amp
         P, m = hyper.shape[0], len(amp)
         X = np.repeat(hyper, m, axis=0).reshape(P, m, -1)
@@ -205,23 +310,39 @@ class SeparableSpace:
         # Σ_k σ(B + e_k) = (m + 1) σ(B): σ(B) needs no evaluation of its own
         with np.errstate(invalid="ignore"):  # inf - inf where the law is undefined
             cols = (S - S.sum(axis=1, keepdims=True) / (m + 1)) * prob.scale  # (P, m, n_pts)
-        lo = np.array([prob.bounds[prob.hm.param_names[k]][0] for k in amp])
-        free = ~np.isfinite(lo)
-        lo0 = np.where(free, 0.0, lo)
+        names = [prob.hm.param_names[k] for k in amp]
+        lo = np.array([prob.bounds[n][0] if (n in prob.user_bounds or nn) else -np.inf
+                       for n, nn in zip(names, self.nonneg)])
+        hi = np.full(m, np.inf)  # upper limits: only the user's
+        for j, _, h_j in self.limits:
+            hi[j] = h_j
+        bounded, capped = np.flatnonzero(np.isfinite(lo)), np.flatnonzero(np.isfinite(hi))
+        rows = (np.zeros((P, 0, m)) if prob.adm is None or not constrained
+                else prob.adm.rows(hyper))
         ys = prob.y * prob.scale
         out = np.array(hyper, dtype=np.float64, copy=True)
         err = np.full(P, np.inf)
+        limit_rows = np.vstack([np.eye(m)[bounded], -np.eye(m)[capped]])
+        limit_h = np.concatenate([lo[bounded], -hi[capped]])
         for p in range(P):
             A = cols[p].T
             if not np.all(np.isfinite(A)):
                 continue
-            c, rn = nnls(np.column_stack([A, -A[:, free]]), ys - A @ lo0)
-            out[p, amp] = lo0 + c[:m]
-            out[p, np.array(amp)[free]] -= c[m:]
+            G = rows[p][np.all(np.isfinite(rows[p]), axis=1)]
+            # strictly inside the tangent inequalities, by a hair of the data's scale
+            c0, *_ = np.linalg.lstsq(A, ys, rcond=None)
+            h = np.concatenate([STRICT * np.linalg.norm(G, axis=1) * np.linalg.norm(c0),
+                                limit_h])
+            c, rn = lsi(A, ys, np.vstack([G, limit_rows]), h)
+            # lsi meets each limit to rounding: no constant a hair outside its bounds
+            c = np.clip(c, lo, hi)
+            out[p, amp] = c
             err[p] = rn
         with np.errstate(all="ignore"):
             mu0 = prob.hm.initial_shear_modulus(out)
-        err[~(mu0 > 0)] = np.inf
+        if constrained:
+            err[~(mu0 > 0)] = np.inf
+        err[~np.isfinite(err)] = np.inf
         # no least squares solution: no constants either (not decode's placeholder 1)
         out[np.ix_(~np.isfinite(err), amp)] = np.nan
         return out, err
@@ -241,15 +362,30 @@ class SeparableSpace:
         return self.assemble(hyper[0], amps[0, 0], amps[0, 1:], tau[0])
 
     def assemble(self, shape, E_inf, G, tau) -> np.ndarray:
-        """Full parameter vector from a law's shape, its E∞, and the Prony terms."""
+        """Full parameter vector from a law's shape, its E∞, and the Prony terms.
+
+        A shape without a positive initial modulus (μ0 ≤ 0, e.g. every linear constant
+        zero: a search that found nothing finite) cannot be scaled to any E∞: its linear
+        constants come back NaN (the error of such a vector is +inf). The linear
+        constants the user bounded are kept within those bounds (the least squares met
+        them up to rounding).
+        """
         hm = self.prob.hm
         shape = np.array(shape, dtype=np.float64)
         with np.errstate(all="ignore"):
             E_shape = 3.0 * float(hm.initial_shear_modulus(shape))
-        if E_inf <= 0 or not np.isfinite(E_shape) or E_shape <= 0:
-            # no long-term stiffness at all: keep the shape at a vanishing scale
-            E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
-        shape[self.amp] *= E_inf / E_shape
+        if not (np.isfinite(E_shape) and E_shape > 0):
+            shape[self.amp] = np.nan  # no stiffness to scale: no constants either
+        else:
+            if E_inf <= 0:
+                # no long-term stiffness at all: keep the shape at a vanishing scale
+                E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
+            shape[self.amp] *= E_inf / E_shape
+            for j, lo, hi in self.limits:
+                shape[self.amp[j]] = min(max(shape[self.amp[j]], lo), hi)
+        G = np.array(G, dtype=np.float64, copy=True)
+        for i, lo, hi in self.g_limits:
+            G[i] = min(max(G[i], lo), hi)
         x = np.empty(self.prob.model.n_params)
         nh = hm.n_params
         x[:nh] = shape
@@ -279,8 +415,12 @@ class FullSpace:
         return ()
 
     def bounds(self) -> list[tuple[float, float]]:
-        pb = self.prob.bounds
-        b = [pb[n] for n in self.prob.hm.param_names]
+        # the paper's box: its moduli non-negative unless the user's bounds say otherwise
+        # (Problem.errors rejects the inadmissible laws inside it)
+        pb, hm = self.prob.bounds, self.prob.hm
+        b = [(max(pb[n][0], 0.0), pb[n][1])
+             if hm.units[k] == "MPa" and n not in self.prob.user_bounds else pb[n]
+             for k, n in enumerate(hm.param_names)]
         for i in range(self.prob.model.n_prony):
             b.append(pb[f"G{i + 1}"])
             b.append(tuple(self.prob.tau_b[i]))

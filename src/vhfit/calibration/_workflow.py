@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import os
 import time
 import warnings
@@ -11,7 +12,13 @@ from dataclasses import replace
 import numpy as np
 
 from vhfit.calibration import _spectrum
-from vhfit.calibration._bounds import search_bounds
+from vhfit.calibration._admissible import data_stability_range
+from vhfit.calibration._bounds import (
+    bound_hit_headlines,
+    bound_hits,
+    search_bounds,
+    widen_bounds,
+)
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
@@ -85,7 +92,7 @@ def calibrate(
     prune_tol: float = 1e-6,
     decades_below: float = DEFAULT_DECADES_BELOW,
     decades_above: float = DEFAULT_DECADES_ABOVE,
-    stability_range: tuple[float, float] = (0.2, 5.0),
+    stability_range: tuple[float, float] | None = None,
     uncertainty: bool = True,
     callback: Callable | None = None,
     rtol: float = 1e-6,
@@ -166,8 +173,12 @@ def calibrate(
         Floor on g∞ (FE solvers reject g∞ = 0); a warning says when it is active.
     max_time : float, optional
         Seconds after which the search stops with the best result so far.
-    stability_range : (float, float)
-        Stretch range of the Drucker check.
+    stability_range : (float, float) or None
+        Stretch range (low < 1 < high) over which the fitted law must be Drucker-stable
+        in uniaxial, equibiaxial and planar tension and compression: the search covers
+        exactly the laws stable there with a positive initial modulus (docs/theory.md
+        §11). None (default): the data's largest principal log strain plus 25 %, in
+        tension and compression (``options["stability_range"]`` records the range used).
     uncertainty : bool
         Compute 95 % intervals from the Jacobian.
     callback : callable, optional
@@ -416,20 +427,92 @@ def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration
 
 def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpoint, max_time,
                  t0) -> Calibration:
-    """One calibration with N Prony terms: bounds, global search, polish, report
-    (``checkpoint`` and ``max_time``: this one's, of a scan over N)."""
+    """One calibration with N Prony terms: bounds, global search, polish, a second search
+    with widened bounds where a constant ended on one, report (``checkpoint`` and
+    ``max_time``: this one's, of a scan over N)."""
     s = settings
     model = ViscoHyperelastic(s.hyperelastic, n_prony, rtol=s.rtol, formulation=s.formulation)
     tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
                                 s.decades_above, bounds_for_terms(s.bounds, n_prony))
-    prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
-    space = SPACES[s.method](prob)
+    sr = stability_range_of(s, curves)
+    given = bounds_for_terms(s.bounds, n_prony)
+    user = set(given) if isinstance(given, dict) else set()
+    prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user)
+    found, x, err, nfev = _search_polish(prob, curves, s, n_prony, checkpoint, max_time, t0)
+    hits = bound_hits(prob, x)
+    widened: dict = {}
+    # a fit already at the target needs no wider search; a cut one has no time for it
+    if hits and err > s.target and found.stop not in ("interrupted", "max_time"):
+        wide = widen_bounds(prob, hits)
+        widened = {k: [float(v) for v in wide[k]] for k in hits if k not in user}
+        left = None if max_time is None else max_time - (time.perf_counter() - t0)
+        if widened and (left is None or left > 0):
+            prob2 = Problem(model, curves, tau_b, wide, s.g_inf_min, s.objective, sr, user)
+            found2, x2, err2, nfev2 = _search_polish(
+                prob2, curves, s, n_prony, None if checkpoint is None else f"{checkpoint}.widened",
+                left, time.perf_counter())
+            nfev += nfev2
+            if err2 <= err:
+                prob, found, x, err = prob2, found2, x2, err2
+            hits = bound_hits(prob, x)
+    heads = bound_hit_headlines(prob, x, hits, widened)
+    free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
+            else None)
+    space = SPACES[s.method]
+    return finish(prob, curves, model, x, err, found, nfev, s, dict(
+        hyperelastic=model.hyperelastic.name, n_prony=n_prony,
+        tau_strategy=str(s.tau_strategy), objective=prob.objective.kind, method=s.method,
+        seed=s.seed, popsize=s.popsize or space.popsize, maxiter=s.maxiter or space.maxiter,
+        tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
+        rtol=s.rtol, stability_range=[float(v) for v in sr],
+        **({"widened_bounds": widened} if widened else {}),
+        **({"unconstrained_fit": free[0]} if free else {})),
+        headlines=heads, notes=[free[1]] if free else [])
+
+
+def stability_range_of(settings: CalibrationSettings, curves) -> tuple[float, float]:
+    """The stretch range of the admissible set: the settings' ``stability_range``, or by
+    default the data's (:func:`data_stability_range`)."""
+    sr = settings.stability_range
+    if sr is None:
+        return data_stability_range(curves)
+    return float(sr[0]), float(sr[1])
+
+
+def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
+    """The best fit without the stability inequalities, for the nonlinear constants of
+    ``x`` (no Prony terms: one least squares solve), when it is lower than ``err`` and
+    unstable: (record, sentence) — its error, constants and Drucker report — else None."""
+    from vhfit.stability import drucker
+
+    nh = prob.hm.n_params
+    c, e = SPACES["separable"](prob).solve_constants(x[None, :nh], constrained=False)
+    e_u = float(e[0])
+    if not (np.isfinite(e_u) and e_u < err * (1 - 1e-6)):
+        return None
+    rep = drucker(prob.hm, c[0], prob.stability_range)
+    if rep.stable:
+        return None
+    params = {n: float(v) for n, v in zip(prob.hm.param_names, c[0])}
+    lo, hi = prob.stability_range
+    text = (f"without the stability constraint the best {prob.hm.name} fit reaches "
+            f"{e_u:.4g} % (this fit: {err:.4g} %) with "
+            + ", ".join(f"{k} = {v:.4g}" for k, v in params.items())
+            + f", but it is {rep.describe()}: the data ask for a law unstable within "
+            f"{lo:.3g} <= λ <= {hi:.3g} (stability_range= / --stability-range set it)")
+    return {"rmsape": e_u, "params": params, "stability": rep.describe()}, text
+
+
+def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
+                   checkpoint, max_time, t0):
+    """The global search over the method's space, then the polish: (found, x, err, nfev)."""
+    space = SPACES[settings.method](prob)
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
     # (not over a start population of the caller's own, e.g. a first fit's)
-    x0 = None if "init" in (s.de_options or {}) else _spectrum.seed_from_moduli(
-        curves, space, s, n_prony)
-    found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
-                       t0=t0, x0=x0)
+    x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
+        curves, space, settings, n_prony)
+    found = run_search(space, settings, n_prony=n_prony, checkpoint=checkpoint,
+                       max_time=max_time, t0=t0, x0=x0)
     x = space.to_params(found.z)
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
@@ -441,15 +524,10 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     nfev = found.nfev
     if found.polished is not None:  # the search ended by this polish of its best member
         x, err = found.polished
-    elif s.polish and found.stop != "interrupted":
+    elif settings.polish and found.stop != "interrupted":
         x, err, n_pol = polish_fit(prob, x)
         nfev += n_pol
-    return finish(prob, curves, model, x, err, found, nfev, s, dict(
-        hyperelastic=model.hyperelastic.name, n_prony=n_prony,
-        tau_strategy=str(s.tau_strategy), objective=prob.objective.kind, method=s.method,
-        seed=s.seed, popsize=s.popsize or space.popsize, maxiter=s.maxiter or space.maxiter,
-        tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
-        rtol=s.rtol, stability_range=[float(v) for v in s.stability_range]))
+    return found, x, err, nfev
 
 
 def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
@@ -463,6 +541,11 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
     hm = prob.hm
     head = (f"the {hm.name} fit found no parameter set with a finite error "
             f"({nfev} evaluated, stop: {stop})")
+    stiff = _stiffness_from_bounds(prob)
+    if stiff:
+        return (f"{head}: the bounds given on {stiff} leave the {hm.name} law no positive "
+                "initial shear modulus (a material without stiffness); widen them with the "
+                "bounds= keyword (command line: --bounds)")
     inside = False
     for k in range(hm.n_params):
         if k in hm.linear_index:
@@ -491,6 +574,41 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
                 "--bounds NAME=LO:HI) or give a larger popsize (--popsize)")
     return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
             "its constants; check the data's strain and units, or choose another law")
+
+
+def _stiffness_from_bounds(prob: Problem) -> str:
+    """The linear constants whose bounds the user gave, if with them no law of the search
+    box has a positive initial shear modulus μ0; else "".
+
+    μ0 is linear in the linear constants: for given other constants its largest value is
+    at a corner of their bounds. The other constants are tried at the law's example
+    values and at every corner of their search bounds (μ0 of the built-in laws is at
+    most bilinear in them, e.g. Ogden's Σ μ_i α_i / 2).
+    """
+    hm = prob.hm
+    lin = list(hm.linear_index)
+    given = [hm.param_names[k] for k in lin if hm.param_names[k] in prob.user_bounds]
+    if not given:
+        return ""
+    other = [k for k in range(hm.n_params) if k not in lin]
+    shapes = [np.asarray(hm.example, dtype=np.float64)]
+    for corner in itertools.product(*[prob.bounds[hm.param_names[k]] for k in other]):
+        x = shapes[0].copy()
+        x[other] = corner
+        shapes.append(x)
+    for ex in shapes:
+        U = np.repeat(ex[None, :], len(lin) + 1, axis=0)
+        U[:, lin] = 0.0
+        U[np.arange(1, len(lin) + 1), lin] = 1.0
+        with np.errstate(all="ignore"):
+            mu = np.asarray(hm.initial_shear_modulus(U), dtype=np.float64).reshape(-1)
+        best = mu[0]
+        for c, k in zip(mu[1:] - mu[0], lin):
+            lo, hi = (float(v) for v in prob.bounds[hm.param_names[k]])
+            best += max(c * lo, c * hi) if c != 0 else 0.0
+        if not (np.isfinite(best) and best <= 0):
+            return ""
+    return ", ".join(given)
 
 
 def _probe_values(lo: float, hi: float, plo: float, phi: float) -> list[float]:

@@ -129,6 +129,20 @@ def _float(what: str) -> Callable[[str], float]:
     return conv
 
 
+def _stretch_range(text: str) -> tuple[float, float]:
+    """``--stability-range LO:HI``: stretches with 0 < LO < 1 < HI."""
+    lo, sep, hi = text.partition(":")
+    try:
+        v: tuple[float, float] | None = (float(lo), float(hi))
+    except ValueError:
+        v = None
+    if not sep or v is None or not 0 < v[0] < 1 < v[1] or not math.isfinite(v[1]):
+        raise argparse.ArgumentTypeError(
+            f"--stability-range {text!r}: give LO:HI stretches with 0 < LO < 1 < HI, "
+            "e.g. --stability-range 0.5:2")
+    return v
+
+
 def _shift(text: str) -> tuple[str, tuple[float, ...]]:
     """``--shift wlf:C1,C2`` or ``arrhenius:E_A[,T0]`` as (law, constants)."""
     law, sep, rest = text.partition(":")
@@ -439,6 +453,10 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                    help="stop the search after this many seconds with the best so far")
     p.add_argument("--target", type=_float("--target"), default=1e-4, metavar="PERCENT",
                    help="stop as soon as RMSAPE <= this (percent, default 1e-4)")
+    p.add_argument("--stability-range", type=_stretch_range, metavar="LO:HI",
+                   help="stretches over which the fitted law must be Drucker-stable in "
+                        "uniaxial, equibiaxial and planar tension and compression "
+                        "(default: the data's range plus 25 %% in log strain)")
     p.add_argument("--g-inf-min", type=_float("--g-inf-min"), default=1e-6,
                    help="floor on g_inf (FE solvers reject 0; default 1e-6)")
     p.add_argument("--workers", type=_positive(int, "--workers"), default=1,

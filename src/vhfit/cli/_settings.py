@@ -57,6 +57,8 @@ def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = No
     bounds = cli_bounds(args, model)
     if bounds:
         kw["bounds"] = bounds
+    if args.stability_range is not None:  # else the data's range, as from Python
+        kw["stability_range"] = args.stability_range
     return CalibrationSettings(
         model, args.prony, tau_strategy=strategy, method=args.method, seed=args.seed,
         workers=args.workers, popsize=args.popsize, maxiter=args.maxiter, target=args.target,

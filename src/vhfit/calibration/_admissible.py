@@ -1,0 +1,218 @@
+"""The admissible set of a fit: Drucker-stable laws with a positive initial modulus.
+
+A hyperelastic law is admissible when its tangent d(σ1 − σ3)/d ln λ is positive in
+uniaxial, equibiaxial and planar tension and compression over a stretch range
+(:mod:`vhfit.stability`), and its initial shear modulus μ0 is positive
+(docs/theory.md §11, "The admissible set"). Both conditions are linear in the law's
+linear constants (``Hyperelastic.linear_params``) for fixed nonlinear ones, and
+invariant under a positive scale of them. Here they are checked on a grid of stretches:
+
+* :func:`admissible` — which shapes of a batch are admissible (the filter of the searches
+  and of the polish);
+* :meth:`Admissible.rows` — the grid's inequalities G c ≥ 0 on the linear constants c;
+* :func:`lsi` — least squares under such inequalities (Lawson and Hanson's LSI by
+  their LDP and NNLS), the exact solve of the linear constants without Prony terms;
+* :func:`angle_range` — the arc of admissible directions of a law with two linear
+  constants and no nonlinear ones, searched as one angle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vhfit.data import is_moduli
+from vhfit.modes import get_deformation, principal_stretches
+from vhfit.stability import modes_checked, principal_difference
+
+__all__ = ["Admissible", "data_stability_range", "admissible", "lsi",
+           "angle_range", "STABILITY_MARGIN", "GRID_POINTS"]
+
+#: The default stretch range covers the data's largest principal logarithmic strain
+#: times this factor, in tension and in compression, in every mode.
+STABILITY_MARGIN = 1.25
+
+#: Smallest log strain of the default range: λ in [1/1.1, 1.1] at least.
+MIN_LOG_STRAIN = math.log(1.1)
+
+#: Stretches of the grid per mode (log-spaced over the range).
+GRID_POINTS = 41
+
+#: Radians kept off each end of the admissible arc of two linear constants.
+ANGLE_MARGIN = 1e-6
+
+#: Half step (in ln λ) of the central difference of the tangent, as vhfit.stability.
+_D = 1e-4
+
+
+def data_stability_range(curves) -> tuple[float, float]:
+    """Default stretch range of the Drucker condition: the data's deformation, with margin.
+
+    The largest |ln λ| over every principal stretch the curves reach (in their own modes;
+    small-strain tests reach none), times :data:`STABILITY_MARGIN`, at least
+    :data:`MIN_LOG_STRAIN`, gives [e^-ℓ, e^ℓ], checked in each mode.
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> c = vhfit.Curve(strain=np.linspace(-0.1, -0.5, 5), stress=-np.linspace(.1, 1, 5))
+    >>> lo, hi = data_stability_range([c])
+    >>> round(lo, 4), round(hi, 4)
+    (0.4204, 2.3784)
+    """
+    ell = 0.0
+    for c in curves:
+        if is_moduli(c):
+            continue
+        h = c.history
+        lam = principal_stretches(h.deformation, h.out_stretch, h.stretch2_at(h.out_time))
+        for v in lam:
+            v = np.asarray(v, dtype=np.float64)
+            v = v[np.isfinite(v) & (v > 0)]
+            if v.size:
+                ell = max(ell, float(np.max(np.abs(np.log(v)))))
+    ell = max(ell * STABILITY_MARGIN, MIN_LOG_STRAIN)
+    return math.exp(-ell), math.exp(ell)
+
+
+def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                       np.ndarray, np.ndarray]]:
+    """Per test of the Drucker check (:func:`vhfit.stability.modes_checked`): the
+    principal stretches half a step above and below each grid stretch."""
+    lo, hi = map(float, stretch_range)
+    lam = np.exp(np.linspace(math.log(lo), math.log(hi), GRID_POINTS))
+    out = []
+    for m in modes_checked():
+        stretches = get_deformation(m).stretches
+        out.append(tuple(stretches(lam * math.exp(_D), None))
+                   + tuple(stretches(lam * math.exp(-_D), None)))
+    return out
+
+
+class Admissible:
+    """The admissible set of one law over one stretch range (grid built once)."""
+
+    def __init__(self, hm, stretch_range):
+        self.hm = hm
+        self.stretch_range = (float(stretch_range[0]), float(stretch_range[1]))
+        self.grid = _grid(self.stretch_range)
+        self.amp = list(hm.linear_index)
+
+    def tangents(self, X: np.ndarray) -> np.ndarray:
+        """d(σ1 − σ3)/d ln λ of laws X (..., n_h) on the grid of every mode (..., 3 n)."""
+        out = [np.zeros(np.shape(X)[:-1] + (0,))]
+        with np.errstate(all="ignore"):
+            for u1, u2, u3, d1, d2, d3 in self.grid:
+                up = principal_difference(self.hm, X, u1, u2, u3)
+                dn = principal_difference(self.hm, X, d1, d2, d3)
+                out.append((up - dn) / (2 * _D))
+        return np.concatenate(out, axis=-1)
+
+    def __call__(self, X: np.ndarray) -> np.ndarray:
+        """Whether each law of X (P, n_h) is admissible (bool, P)."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        with np.errstate(all="ignore"):
+            mu0 = np.asarray(self.hm.initial_shear_modulus(X), dtype=np.float64).reshape(-1)
+            t = self.tangents(X)
+        # where the law is undefined (past a locking stretch: Gent, Van der Waals) it has
+        # no tangent to be negative; the data's own points are judged by the objective
+        return (mu0 > 0) & ~np.any(t <= 0, axis=-1)
+
+    def rows(self, X: np.ndarray) -> np.ndarray:
+        """The inequalities on the linear constants of laws X (P, n_h), their nonlinear
+        constants as given: (P, 3 n + 1, m), tangent rows then the μ0 row (each ≥ 0);
+        NaN rows where the law is undefined (no constraint there)."""
+        X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+        P, m = X.shape[0], len(self.amp)
+        U = np.repeat(X[:, None, :], m, axis=1)
+        U[:, :, self.amp] = 0.0
+        U[:, np.arange(m), self.amp] = 1.0
+        with np.errstate(all="ignore"):
+            T = self.tangents(U)  # (P, m, 3n)
+            Z = U[:, :1].copy()
+            Z[:, :, self.amp] = 0.0
+            mu = (np.asarray(self.hm.initial_shear_modulus(U), dtype=np.float64).reshape(P, m)
+                  - np.asarray(self.hm.initial_shear_modulus(Z), dtype=np.float64).reshape(P, 1))
+        return np.concatenate([T.transpose(0, 2, 1), mu[:, None, :]], axis=1)
+
+
+def admissible(adm: Admissible | None, X: np.ndarray) -> np.ndarray:
+    """``adm(X)``, or all True without an admissible set."""
+    X = np.atleast_2d(X)
+    return np.ones(X.shape[0], bool) if adm is None else adm(X)
+
+
+def lsi(A: np.ndarray, y: np.ndarray, G: np.ndarray, h: np.ndarray
+        ) -> tuple[np.ndarray, float]:
+    """min ||A c − y|| subject to G c ≥ h (Lawson and Hanson, Ch. 20–23).
+
+    The unconstrained least squares solution when it satisfies the inequalities;
+    otherwise A = Q R turns the problem into least distance (min ||z|| s.t.
+    G R⁻¹ z ≥ h − G R⁻¹ Qᵀ y), solved by NNLS on its dual. A rank-deficient A gets a
+    ridge of 1e-12 of its largest singular value. Returns (c, residual norm); NaNs and
+    inf when the inequalities have no solution.
+
+    Examples
+    --------
+    >>> c, r = lsi(np.eye(2), np.array([1.0, -1.0]), np.array([[0.0, 1.0]]), np.zeros(1))
+    >>> [round(float(v), 12) + 0.0 for v in c], round(r, 12)
+    ([1.0, 0.0], 1.0)
+    """
+    from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
+
+    m = A.shape[1]
+    c, *_ = np.linalg.lstsq(A, y, rcond=None)
+    if np.all(G @ c >= h):
+        return c, float(np.linalg.norm(A @ c - y))
+    s = np.linalg.svd(A, compute_uv=False)
+    if s.size < m or s[-1] <= 1e-12 * s[0]:
+        A = np.vstack([A, 1e-12 * max(s[0], 1e-300) * np.eye(m)])
+        y = np.concatenate([y, np.zeros(m)])
+    Q, R = np.linalg.qr(A)
+    Ri = np.linalg.inv(R)
+    qy = Q.T @ y
+    E = G @ Ri
+    f = h - E @ qy
+    norm = np.linalg.norm(E, axis=1)
+    keep = norm > 0
+    if np.any(~keep & (f > 0)):
+        return np.full(m, np.nan), math.inf
+    E, f = E[keep] / norm[keep, None], f[keep] / norm[keep]
+    M = np.vstack([E.T, f[None, :]])
+    d = np.zeros(m + 1)
+    d[-1] = 1.0
+    u, _ = nnls(M, d, maxiter=50 * M.shape[1])
+    r = M @ u - d
+    if not abs(r[-1]) > 1e-12:
+        return np.full(m, np.nan), math.inf  # incompatible inequalities
+    z = -r[:m] / r[-1]
+    c = Ri @ (z + qy)
+    res = A @ c - y
+    return c, float(np.linalg.norm(res))
+
+
+def angle_range(adm: Admissible, nonneg, nonpos=(False, False)) -> tuple[float, float]:
+    """The arc [θ_lo, θ_hi] of directions (cos θ, sin θ) of two linear constants that are
+    admissible on the grid (a law without nonlinear constants), within the half-plane
+    μ0 > 0; ``nonneg`` (``nonpos``) says which of the two must be ≥ 0 (≤ 0) as well.
+
+    Every inequality g · (cos θ, sin θ) ≥ 0 is an arc of length π; their intersection is
+    one arc (empty: (nan, nan)).
+    """
+    X = np.array([adm.hm.example], dtype=np.float64)  # nonlinear constants: any valid
+    G = adm.rows(X)[0]  # (3n + 1, 2), the μ0 row last
+    theta0 = math.atan2(G[-1, 1], G[-1, 0])
+    G = np.vstack([G] + [np.eye(2)[k][None, :] for k in range(2) if nonneg[k]]
+                  + [-np.eye(2)[k][None, :] for k in range(2) if nonpos[k]])
+    G = G[np.linalg.norm(G, axis=1) > 0]
+    lo, hi = -math.pi / 2, math.pi / 2
+    for g in G:
+        c = math.atan2(g[1], g[0]) - theta0
+        c = (c + math.pi) % (2 * math.pi) - math.pi
+        lo, hi = max(lo, c - math.pi / 2), min(hi, c + math.pi / 2)
+    # strictly inside: a direction on the arc's ends has a zero tangent somewhere
+    lo, hi = lo + ANGLE_MARGIN, hi - ANGLE_MARGIN
+    if not lo < hi:
+        return math.nan, math.nan
+    return theta0 + lo, theta0 + hi
