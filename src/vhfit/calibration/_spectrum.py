@@ -36,6 +36,7 @@ import math
 
 import numpy as np
 
+from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._search import Search, _history
@@ -252,7 +253,8 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
         hyperelastic=model.hyperelastic.name, n_prony=n, tau_strategy=str(s.tau_strategy),
         objective=prob.objective.kind, method=s.method, seed=s.seed, popsize=0, maxiter=0,
         tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
-        rtol=s.rtol, stability_range=[float(v) for v in s.stability_range], route=ROUTE,
+        rtol=s.rtol, route=ROUTE,
+        stability_range=[float(v) for v in s.stability_range or data_stability_range(curves)],
         tau_grid=[float(v) for v in grid])
     cal = finish(prob, curves, model, x, err, found, nfev, s, options)
     return cal, scan, heads, n

@@ -314,10 +314,10 @@ def calibrate(
 def outside_bounds(bounds, params: dict) -> list[str]:
     """One message per fitted constant outside the limits the user gave in ``bounds``.
 
-    The search keeps every parameter within its limits, but the exact solve of the
-    moduli (the constants the law is linear in, and the G_i) holds only their lower
-    limits, and the final polish only their physical range: an upper limit given there
-    may be passed. Such a result is named, with the settings that hold every limit.
+    The search, the exact solve of the moduli and the polish keep every parameter within
+    its limits; but Prony terms whose τ coincide are merged after the search (and the
+    terms re-sorted by τ), so a limit given to one term may end on the merged one. Such
+    a result is named, never silently passed.
 
     Parameters
     ----------
@@ -349,10 +349,11 @@ def outside_bounds(bounds, params: dict) -> list[str]:
         if lo - slack <= v <= hi + slack:
             continue
         out.append(
-            f"{name} = {v:.6g} is outside the limits ({lo:g}, {hi:g}) given in bounds: the "
-            "exact solve of the moduli and the final polish keep only their physical range; "
-            "to hold these limits fit with method='full' and polish=False (command line: "
-            "--method full --no-polish)")
+            f"{name} = {v:.6g} is outside the limits ({lo:g}, {hi:g}) given in bounds: "
+            "Prony terms whose relaxation times coincide were merged after the search (a "
+            "limit of one term holds for the merged one only if every term has it); give "
+            "all terms the same limits, or fit fewer terms (command line: --bounds, "
+            "--prony)")
     return out
 
 
