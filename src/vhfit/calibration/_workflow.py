@@ -15,7 +15,7 @@ from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
-from vhfit.calibration._search import CalibrationError, run_search
+from vhfit.calibration._search import CalibrationError, run_search, search_problem
 from vhfit.calibration._settings import (
     DEFAULT_DECADES_ABOVE,
     DEFAULT_DECADES_BELOW,
@@ -320,9 +320,11 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
                                 s.decades_above, s.bounds)
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     space = SPACES[s.method](prob)
-    found = run_search(space, s, n_prony=n_prony, checkpoint=checkpoint, max_time=max_time,
-                       t0=t0)
-    x = space.to_params(found.z)
+    short = search_problem(prob, curves) if s.method == "separable" else prob
+    searched = space if short is prob else SPACES[s.method](short)  # long records: fewer points
+    found = run_search(searched, s, n_prony=n_prony, checkpoint=checkpoint,
+                       max_time=max_time, t0=t0)
+    x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
         if found.stop == "interrupted":
@@ -331,9 +333,13 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
             os.remove(checkpoint)  # resuming it would only end in the same failure
         raise CalibrationError(no_fit_message(prob, found.nfev, found.stop))
     nfev = found.nfev
-    if found.polished is not None:  # the search ended by this polish of its best member
+    if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
     elif s.polish and found.stop != "interrupted":
+        if found.polished is not None:  # polished on the search's points: start from it
+            xp = found.polished[0]
+            ep = float(prob.errors(xp[None, :])[0])
+            x, err = (xp, ep) if ep < err else (x, err)
         x, err, n_pol = polish_fit(prob, x)
         nfev += n_pol
     return finish(prob, curves, model, x, err, found, nfev, s, dict(
