@@ -95,21 +95,23 @@ def search_items(curves, limit: int = SEARCH_POINTS) -> list | None:
     bins of its samples where its points are its samples or their bin means (the same
     policy as ``MAX_POINTS``, at a smaller cap), else ``limit`` points spaced as its own
     (divided among the segments of a curve spaced by segment). Its history, weight and
-    window are kept. A curve that cannot be resampled so (e.g. it carries per-point
-    weights) is compared as it is.
+    window are kept. A curve with weights per point, or that cannot be resampled so,
+    is compared as it is.
     """
     from vhfit.data import Curve
 
     out, changed = [], False
     for c in curves:
-        if isinstance(c, Curve) and not c.is_equilibrium and c.n_points > limit:
+        w = np.asarray(c.target_weights)
+        if isinstance(c, Curve) and not c.is_equilibrium and c.n_points > limit \
+                and np.all(w == w[0]):  # per-point weights belong to the points they weigh
             try:
                 if c.by in ("samples", "bins"):
                     r = c.resample(None, max_points=limit)
                 else:
                     per = limit // max(1, c.n_segments) if c.by == "segments" else limit
                     r = c.resample(max(2, per), by=c.by)
-            except ValueError:  # a DataError (e.g. point weights for other points)
+            except ValueError:  # a DataError: the curve as it is
                 r = c
             if r.n_points < c.n_points:
                 out.append(r)
