@@ -17,9 +17,10 @@ import numpy as np
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import polish as polish_fit
+from vhfit.calibration._varpro import varpro_polish
 
 __all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS",
-           "search_items", "search_problem", "SEARCH_POINTS",
+           "search_items", "search_problem", "final_polish", "SEARCH_POINTS",
            "SEARCH_RTOL"]
 
 
@@ -145,6 +146,27 @@ def search_problem(prob, curves):
     return out
 
 
+def final_polish(space, found: Search, x: np.ndarray, err: float):
+    """The polish after a search that did not end by a polish on ``space``'s own points:
+    ``(x, err, evaluations)``, never a higher error than ``err`` at ``x``.
+
+    A search that ended on a gathered population (:class:`_EarlyFinish`; on fewer points
+    of a long record) continues in the space's coordinates on every point
+    (:func:`varpro_polish` from ``found.z``); any other, the all-parameter polish, from
+    its polish on fewer points if that is lower on every point.
+    """
+    prob = space.prob
+    if found.stop == _EarlyFinish.GATHERED:
+        _, x1, e1, n = varpro_polish(space, found.z)
+        return (x1, e1, n) if e1 < err else (x, err, n)
+    if found.polished is not None:  # polished on the search's points: start from it
+        xp = found.polished[0]
+        ep = float(prob.errors(xp[None, :])[0])
+        if ep < err:
+            x, err = xp, ep
+    return polish_fit(prob, x)
+
+
 def _chunk_errors(args) -> np.ndarray:
     space, Z = args
     return space.errors(Z)
@@ -258,6 +280,8 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             if track.finish is not None and track.finish.done:
                 stop = track.finish.reason
                 polished = track.finish.result
+                if track.finish.z is not None:
+                    z = track.finish.z
             if track.finish is not None:
                 objective.nfev += track.finish.nfev
             if ckpt is not None and track.state is not None:
@@ -343,9 +367,11 @@ class _EarlyFinish:
     ``tol`` (1e-6), hundreds of generations after the population had settled in one
     valley, crawling along it to the minimum the final polish then finds anyway. The
     first time the gap falls below ``COLLAPSE`` (every member within 1e-4 of the best
-    error) the best member is polished once; if the polish lowers its error the search
-    stops with it (it is at the bottom of the basin where the population has gathered,
-    where the search would have ended); if not, the search goes on as it would have.
+    error) the best member is polished once, in the space's own coordinates with the
+    linear constants solved exactly (:func:`varpro_polish`); if the polish lowers its
+    error the search stops with it (it is at the bottom of the basin where the
+    population has gathered, where the search would have ended; ``Search.z`` is the
+    polished vector); if not, the search goes on as it would have.
     """
 
     ACCEPT = 1e-2
@@ -362,6 +388,7 @@ class _EarlyFinish:
         self.nfev = 0
         self.result = None  # (x, error) of the last polish
         self.reason = ""  # why the search stopped, once done
+        self.z = None  # the search vector of a polish in the space's own coordinates
 
     def __call__(self, best: float, z: np.ndarray, mean: float = np.inf) -> bool:
         if self.levels and best <= self.levels[0]:
@@ -375,9 +402,10 @@ class _EarlyFinish:
             return self.done
         if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
             self.collapse = False  # once: a polish that did not help is not repeated
-            x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+            z1, x, err, n = varpro_polish(self.space, z)
             self.nfev += n
             self.result = (x, err)
+            self.z = z1
             self.done = bool(err < best)
             self.reason = self.GATHERED
             return self.done

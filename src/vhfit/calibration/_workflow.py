@@ -12,10 +12,14 @@ import numpy as np
 
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
-from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
-from vhfit.calibration._search import CalibrationError, run_search, search_problem
+from vhfit.calibration._search import (
+    CalibrationError,
+    final_polish,
+    run_search,
+    search_problem,
+)
 from vhfit.calibration._settings import (
     DEFAULT_DECADES_ABOVE,
     DEFAULT_DECADES_BELOW,
@@ -336,11 +340,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
     elif s.polish and found.stop != "interrupted":
-        if found.polished is not None:  # polished on the search's points: start from it
-            xp = found.polished[0]
-            ep = float(prob.errors(xp[None, :])[0])
-            x, err = (xp, ep) if ep < err else (x, err)
-        x, err, n_pol = polish_fit(prob, x)
+        x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
     return finish(prob, curves, model, x, err, found, nfev, s, dict(
         hyperelastic=model.hyperelastic.name, n_prony=n_prony,
