@@ -95,6 +95,8 @@ def main(argv=None) -> int:
                     help="processes per side and dataset (median of their medians)")
     ap.add_argument("--base", type=Path, default=None,
                     help="source tree of the baseline (a folder holding src/vhfit)")
+    ap.add_argument("--new", type=Path, default=ROOT,
+                    help="source tree of the side measured against it (default: this checkout)")
     ap.add_argument("--base-rev", default="main",
                     help="git revision checked out as the baseline when --base is not given")
     ap.add_argument("--rtol", type=float, default=1e-3,
@@ -118,10 +120,10 @@ def main(argv=None) -> int:
                         a.base_rev], check=True, capture_output=True)
     rev = subprocess.run(["git", "-C", str(base), "rev-parse", "--short", "HEAD"],
                          capture_output=True, text=True).stdout.strip() or str(base)
-    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                          capture_output=True, text=True).stdout.strip()
-    sides = {"base": base / "src", "new": ROOT / "src"}
-    print(f"baseline {rev} ({base}) vs this checkout {head}; {os.cpu_count()} cores, load "
+    head = subprocess.run(["git", "-C", str(a.new), "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip() or str(a.new)
+    sides = {"base": base / "src", "new": a.new / "src"}
+    print(f"baseline {rev} ({base}) vs {head} ({a.new}); {os.cpu_count()} cores, load "
           f"{os.getloadavg()[0]:.1f}; {a.rounds} process(es) x {a.repeats} fit(s) per side",
           flush=True)
     rows = []
