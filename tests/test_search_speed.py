@@ -1,6 +1,6 @@
 """The speed-ups of the separable search on real records: the early finish once the
-population has gathered, and long records searched on fewer points (then polished on
-every point).
+population has gathered (a polish in the space's own coordinates, variable
+projection), and long records searched on fewer points (then polished on every point).
 """
 
 from __future__ import annotations
@@ -35,11 +35,11 @@ class _Space:
 def test_the_best_is_polished_once_when_every_member_is_within_1e4_of_it(monkeypatch):
     calls = []
 
-    def fake_polish(prob, x, max_nfev):
-        calls.append(float(x[0]))
-        return x, 0.6, 4  # not below the best 0.6 it is called with: the search goes on
+    def fake_polish(space, z):
+        calls.append(float(z[0]))
+        return z, z, 0.6, 4  # not below the best 0.6 it is called with: the search goes on
 
-    monkeypatch.setattr(_search, "polish_fit", fake_polish)
+    monkeypatch.setattr(_search, "varpro_polish", fake_polish)
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0 + 2e-4) is False and calls == []  # gap 2e-4
     assert f(1.0, np.array([2.0]), np.inf) is False and calls == []  # an infinite member
@@ -49,27 +49,28 @@ def test_the_best_is_polished_once_when_every_member_is_within_1e4_of_it(monkeyp
 
 
 def test_a_polish_that_lowers_the_gathered_best_ends_the_search(monkeypatch):
-    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: (x + 1, 0.999, 9))
+    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: (z + 2, z + 1, 0.999, 9))
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is True
     assert f.done and f.result[1] == 0.999 and f.nfev == 9
+    assert f.result[0][0] == 2.0 and f.z[0] == 3.0  # the polished search vector is kept
     assert f.reason == _search._EarlyFinish.GATHERED
 
 
 def test_a_polish_that_does_not_lower_the_best_lets_the_search_go_on(monkeypatch):
-    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: (x, 1.0, 9))
+    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: (z, z, 1.0, 9))
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is False and not f.done
 
 
 def test_the_all_parameter_search_never_finishes_on_a_gathered_population(monkeypatch):
-    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: 1 / 0)
+    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: 1 / 0)
     f = _search._EarlyFinish(_Space("full"), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is False
 
 
 # ------------------------------------------------------------ fewer points for the search
-def test_resample_max_points_gives_the_means_of_that_many_bins():
+def test_resample_max_points_gives_the_means_of_that_many_bins(monkeypatch):
     eps = np.linspace(0.001, 0.3, 12)
     c = vhfit.Curve(strain=eps, stress=3 * eps, strain_rate=0.1)
     r = c.resample(None, max_points=4)
@@ -78,6 +79,9 @@ def test_resample_max_points_gives_the_means_of_that_many_bins():
     assert r.by == "bins" and np.allclose(r.target_strain, want, rtol=1e-14, atol=0)
     assert np.allclose(r.target_stress, 3 * want, rtol=1e-14, atol=0)
     assert c.resample(None).n_points == 12 and c.n_points == 12  # the default cap: 500
+    assert r.resample(None).n_points == 12  # back to the package's cap
+    monkeypatch.setattr(vhfit.data, "MAX_POINTS", 3)  # set after the curve was built
+    assert c.resample(None).n_points == 3  # the package's cap, read when resampled
     for bad in (0, 2.5, True, "10"):
         with pytest.raises(ValueError, match="max_points"):
             c.resample(None, max_points=bad)
