@@ -166,7 +166,11 @@ def main(argv=None) -> int:
     if rows:
         mb = statistics.median(r["tb"] for r in rows)
         mn = statistics.median(r["tn"] for r in rows)
-        print(f"\nmedian wall per fit: before {mb:.2f} s, after {mn:.2f} s ({mb / mn:.1f}x); "
+        tb, tn = sum(r["tb"] for r in rows), sum(r["tn"] for r in rows)
+        cb, cn = sum(r["cb"] for r in rows), sum(r["cn"] for r in rows)
+        print(f"\nall fits: wall {tb:.1f} s before, {tn:.1f} s after ({tb / tn:.1f}x); cpu "
+              f"{cb:.1f} s before, {cn:.1f} s after ({cb / cn:.1f}x)")
+        print(f"median wall per fit: before {mb:.2f} s, after {mn:.2f} s ({mb / mn:.1f}x); "
               f"max after {max(r['tn'] for r in rows):.2f} s; errors worse than "
               f"{a.rtol:g} relative: {sum(r['worse'] for r in rows)}/{len(rows)}; load now "
               f"{os.getloadavg()[0]:.1f}")
