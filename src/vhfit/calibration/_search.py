@@ -103,9 +103,9 @@ def search_items(curves, limit: int = SEARCH_POINTS) -> list | None:
 
     out, changed = [], False
     for c in curves:
-        w = np.asarray(c.target_weights)
-        if isinstance(c, Curve) and not c.is_equilibrium and c.n_points > limit \
-                and np.all(w == w[0]):  # per-point weights belong to the points they weigh
+        long = isinstance(c, Curve) and not c.is_equilibrium and c.n_points > limit
+        w = np.asarray(c.target_weights) if long else None
+        if long and np.all(w == w[0]):  # per-point weights belong to the points they weigh
             try:
                 if c.by in ("samples", "bins"):
                     r = c.resample(None, max_points=limit)
