@@ -63,6 +63,12 @@ def test_a_polish_that_does_not_lower_the_best_lets_the_search_go_on(monkeypatch
     assert f(1.0, np.array([1.0]), 1.0) is False and not f.done
 
 
+def test_a_search_without_the_best_mean_gap_stop_never_finishes_gathered(monkeypatch):
+    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: 1 / 0)
+    f = _search._EarlyFinish(_Space(), 1e-4, tol=0.0)  # tol = 0: run to maxiter
+    assert f(1.0, np.array([1.0]), 1.0) is False
+
+
 def test_the_all_parameter_search_never_finishes_on_a_gathered_population(monkeypatch):
     monkeypatch.setattr(_search, "varpro_polish", lambda space, z: 1 / 0)
     f = _search._EarlyFinish(_Space("full"), 1e-4)

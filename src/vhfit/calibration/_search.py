@@ -247,7 +247,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     t_in = t0
     track = _Tracker(s.callback, n_prony, ckpt, key, s.checkpoint_every, t0)
     if s.polish:
-        track.finish = _EarlyFinish(space, target)
+        track.finish = _EarlyFinish(space, target, tol)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         with warnings.catch_warnings():
@@ -371,7 +371,8 @@ class _EarlyFinish:
     linear constants solved exactly (:func:`varpro_polish`); if the polish lowers its
     error the search stops with it (it is at the bottom of the basin where the
     population has gathered, where the search would have ended; ``Search.z`` is the
-    polished vector); if not, the search goes on as it would have.
+    polished vector); if not, the search goes on as it would have. A search whose
+    ``tol`` is 0 (no stop by the best–mean gap) never ends this way.
     """
 
     ACCEPT = 1e-2
@@ -379,11 +380,12 @@ class _EarlyFinish:
     COLLAPSE = 1e-4  # best–mean gap, relative to the mean, at which the best is polished
     GATHERED = "converged: population gathered, ended by a polish of the best member"
 
-    def __init__(self, space, target: float):
+    def __init__(self, space, target: float, tol: float = 1e-6):
         self.space, self.target = space, float(target)
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
-        self.collapse = getattr(space, "method", None) == "separable"
+        # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
+        self.collapse = getattr(space, "method", None) == "separable" and tol > 0
         self.done = False
         self.nfev = 0
         self.result = None  # (x, error) of the last polish
