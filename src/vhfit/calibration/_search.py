@@ -17,8 +17,11 @@ import numpy as np
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import polish as polish_fit
+from vhfit.calibration._varpro import varpro_polish
 
-__all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS"]
+__all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS",
+           "search_items", "search_problem", "final_polish", "SEARCH_POINTS",
+           "SEARCH_RTOL"]
 
 
 class CalibrationError(ValueError):
@@ -70,6 +73,98 @@ class Search:
     history: dict
     t0: float  # start time, moved back by the time a resumed run had already spent
     polished: tuple | None = None  # (x, error) of the polish that ended the search early
+
+
+#: Objective points a curve keeps in the separable search when it has more (a long
+#: record: hundreds of bin means, each an output node of the model's integration grid).
+#: The search only has to find the basin of the best fit; the polish that follows and
+#: the reported error use every point of the curve.
+SEARCH_POINTS = 100
+#: Accuracy of the model in that search (``rtol`` of :class:`vhfit.ViscoHyperelastic`:
+#: steps of ln λ up to 0.06 instead of 0.019 at the default 1e-6), far below the misfit
+#: of a real record; the polish and the reported error use the calibration's own.
+SEARCH_RTOL = 1e-4
+#: The fields of a :class:`Problem` that depend on its curves and model.
+_CURVE_FIELDS = ("model", "hm", "batch", "objective", "y", "scale")
+
+
+def search_items(curves, limit: int = SEARCH_POINTS) -> list | None:
+    """The curves the global search compares, or None when they are the curves themselves.
+
+    A curve of the model's time integration (not equilibrium, not moduli) with more
+    than ``limit`` objective points is compared at fewer: the means of about ``limit``
+    bins of its samples where its points are its samples or their bin means (the same
+    policy as ``MAX_POINTS``, at a smaller cap), else ``limit`` points spaced as its own
+    (divided among the segments of a curve spaced by segment). Its history, weight and
+    window are kept. A curve with weights per point, or that cannot be resampled so,
+    is compared as it is.
+    """
+    from vhfit.data import Curve
+
+    out, changed = [], False
+    for c in curves:
+        long = isinstance(c, Curve) and not c.is_equilibrium and c.n_points > limit
+        w = np.asarray(c.target_weights) if long else None
+        if long and np.all(w == w[0]):  # per-point weights belong to the points they weigh
+            try:
+                if c.by in ("samples", "bins"):
+                    r = c.resample(None, max_points=limit)
+                else:
+                    per = limit // max(1, c.n_segments) if c.by == "segments" else limit
+                    r = c.resample(max(2, per), by=c.by)
+            except ValueError:  # a DataError: the curve as it is
+                r = c
+            if r.n_points < c.n_points:
+                out.append(r)
+                changed = True
+                continue
+        out.append(c)
+    return out if changed else None
+
+
+def search_problem(prob, curves):
+    """The problem the separable search compares: ``prob`` itself, or for long records
+    (:func:`search_items`) the same problem on fewer points with a model of accuracy
+    ``SEARCH_RTOL`` — the same search space (bounds, τ range, admissible set), a
+    cheaper objective."""
+    import copy
+
+    from vhfit.calibration._space import Problem
+    from vhfit.model import ViscoHyperelastic
+
+    fewer = search_items(curves)
+    if fewer is None:
+        return prob
+    m = prob.model
+    model = ViscoHyperelastic(m.hyperelastic, m.n_prony, rtol=max(m.rtol, SEARCH_RTOL),
+                              formulation=m.formulation)
+    short = Problem(model, fewer, prob.tau_b, prob.bounds, prob.g_inf_min,
+                    prob.objective_spec)
+    out = copy.copy(prob)
+    for k in _CURVE_FIELDS:
+        setattr(out, k, getattr(short, k))
+    return out
+
+
+def final_polish(space, found: Search, x: np.ndarray, err: float):
+    """The polish after a search that did not end by a polish on ``space``'s own points:
+    ``(x, err, evaluations)``, never a higher error than ``err`` at ``x``.
+
+    A search that ended on a gathered population (:class:`_EarlyFinish`; on fewer points
+    of a long record) continues in the space's coordinates on every point
+    (:func:`varpro_polish` from ``found.z``); any other, the all-parameter polish, from
+    its polish on fewer points if that is lower on every point.
+    """
+    prob = space.prob
+    if found.stop == _EarlyFinish.GATHERED:
+        _, x1, e1, n = varpro_polish(space, found.z)
+        return (x1, e1, n) if e1 < err else (x, err, n)
+    if found.polished is not None:  # polished on the search's points: start from it
+        xp = found.polished[0]
+        ep = float(prob.errors(xp[None, :])[0])
+        if ep < err:
+            x, err = xp, ep
+    return polish_fit(prob, x)
 
 
 def _chunk_errors(args) -> np.ndarray:
@@ -149,7 +244,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     t_in = t0
     track = _Tracker(s.callback, n_prony, ckpt, key, s.checkpoint_every, t0)
     if s.polish:
-        track.finish = _EarlyFinish(space, target)
+        track.finish = _EarlyFinish(space, target, tol)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         solver = new_solver(space, s, objective, track, crits, x0=x0)
@@ -167,8 +262,10 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             z, stop = _solve(solver, track, finished, reasons)
             polished = None
             if track.finish is not None and track.finish.done:
-                stop = "target reached by a polish of the best member"
+                stop = track.finish.reason
                 polished = track.finish.result
+                if track.finish.z is not None:
+                    z = track.finish.z
             if track.finish is not None:
                 objective.nfev += track.finish.nfev
             if ckpt is not None and track.state is not None:
@@ -245,7 +342,7 @@ class _Tracker:
         if self.best_f == np.inf and int(r.nit) >= HOPELESS:
             self.hopeless = True  # nothing finite anywhere it looked: give up
             return True
-        if self.finish is not None and self.finish(best, np.asarray(r.x)):
+        if self.finish is not None and self.finish(best, np.asarray(r.x), mean):
             return True
         if self.callback is None:
             return False
@@ -256,36 +353,67 @@ class _Tracker:
 
 
 class _EarlyFinish:
-    """Stop the search once a polish of its best member reaches the target.
+    """Stop the search once a polish of its best member reaches the target, or once the
+    population has gathered in one basin and a polish of its best member finds the
+    bottom of it.
 
-    Where the space allows it (``space.finish_levels``: laws with several linear
-    constants and a nonlinear shape, such as Ogden with 2+ terms) the best member is
-    polished the first time its error falls below each level: DE's approach crawls
+    *Levels.* Where the space allows it (``space.finish_levels``: laws with several
+    linear constants and a nonlinear shape, such as Ogden with 2+ terms) the best member
+    is polished the first time its error falls below each level: DE's approach crawls
     along curved valleys that least squares crosses in a few steps. If a polish gets
     well below the target (``ACCEPT`` times it: where the search would have stopped,
     the final polish usually goes that far too) the search stops and hands the
     polished point to the caller (``Search.polished``: its polish would repeat the same
     steps); if not, the search goes on as it would have, having spent that polish.
+
+    *Collapse* (the separable search only, ``space.method == "separable"``): data that
+    no member of the law fits exactly (every real record) never reach the target, and
+    the search used to run until the best–mean gap of its generation fell below
+    ``tol`` (1e-6), hundreds of generations after the population had settled in one
+    valley, crawling along it to the minimum the final polish then finds anyway. The
+    first time the gap falls below ``COLLAPSE`` (every member within 1e-4 of the best
+    error) the best member is polished once, in the space's own coordinates with the
+    linear constants solved exactly (:func:`varpro_polish`); if the polish lowers its
+    error the search stops with it (it is at the bottom of the basin where the
+    population has gathered, where the search would have ended; ``Search.z`` is the
+    polished vector); if not, the search goes on as it would have. A search whose
+    ``tol`` is 0 (no stop by the best–mean gap) never ends this way.
     """
 
     ACCEPT = 1e-2
     MAX_NFEV = 200  # the final polish's own budget
+    COLLAPSE = 1e-4  # best–mean gap, relative to the mean, at which the best is polished
+    GATHERED = "converged: population gathered, ended by a polish of the best member"
 
-    def __init__(self, space, target: float):
+    def __init__(self, space, target: float, tol: float = 1e-6):
         self.space, self.target = space, float(target)
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
+        # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
+        self.collapse = getattr(space, "method", None) == "separable" and tol > 0
         self.done = False
         self.nfev = 0
         self.result = None  # (x, error) of the last polish
+        self.reason = ""  # why the search stopped, once done
+        self.z = None  # the search vector of a polish in the space's own coordinates
 
-    def __call__(self, best: float, z: np.ndarray) -> bool:
-        if not self.levels or not best <= self.levels[0]:
-            return False
-        while self.levels and best <= self.levels[0]:
-            self.levels.pop(0)  # one polish covers every level the error has passed
-        x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
-        self.nfev += n
-        self.result = (x, err)
-        self.done = bool(err <= self.ACCEPT * self.target)
-        return self.done
+    def __call__(self, best: float, z: np.ndarray, mean: float = np.inf) -> bool:
+        if self.levels and best <= self.levels[0]:
+            while self.levels and best <= self.levels[0]:
+                self.levels.pop(0)  # one polish covers every level the error has passed
+            x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+            self.nfev += n
+            self.result = (x, err)
+            self.done = bool(err <= self.ACCEPT * self.target)
+            self.reason = "target reached by a polish of the best member"
+            return self.done
+        if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
+            self.collapse = False  # once: a polish that did not help is not repeated
+            z1, x, err, n = varpro_polish(self.space, z)
+            self.nfev += n
+            self.result = (x, err)
+            self.z = z1
+            self.done = bool(err < best)
+            self.reason = self.GATHERED
+            return self.done
+        return False

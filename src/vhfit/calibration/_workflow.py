@@ -20,10 +20,14 @@ from vhfit.calibration._bounds import (
     widen_bounds,
 )
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
-from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
-from vhfit.calibration._search import CalibrationError, run_search
+from vhfit.calibration._search import (
+    CalibrationError,
+    final_polish,
+    run_search,
+    search_problem,
+)
 from vhfit.calibration._settings import (
     DEFAULT_DECADES_ABOVE,
     DEFAULT_DECADES_BELOW,
@@ -508,13 +512,15 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
                    checkpoint, max_time, t0):
     """The global search over the method's space, then the polish: (found, x, err, nfev)."""
     space = SPACES[settings.method](prob)
+    short = search_problem(prob, curves) if settings.method == "separable" else prob
+    searched = space if short is prob else SPACES[settings.method](short)  # long: fewer points
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
     # (not over a start population of the caller's own, e.g. a first fit's)
     x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
-        curves, space, settings, n_prony)
-    found = run_search(space, settings, n_prony=n_prony, checkpoint=checkpoint,
+        curves, searched, settings, n_prony)
+    found = run_search(searched, settings, n_prony=n_prony, checkpoint=checkpoint,
                        max_time=max_time, t0=t0, x0=x0)
-    x = space.to_params(found.z)
+    x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
         if found.stop == "interrupted":
@@ -523,10 +529,10 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
             os.remove(checkpoint)  # resuming it would only end in the same failure
         raise CalibrationError(no_fit_message(prob, found.nfev, found.stop))
     nfev = found.nfev
-    if found.polished is not None:  # the search ended by this polish of its best member
+    if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
     elif settings.polish and found.stop != "interrupted":
-        x, err, n_pol = polish_fit(prob, x)
+        x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
     return found, x, err, nfev
 

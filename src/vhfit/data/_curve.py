@@ -415,6 +415,7 @@ class Curve:
         self._bounds = _bounds_of(t, eps, e2, equilibrium, MAX_BREAKPOINTS)
         self._n_req = n_points
         self._by_req = by
+        self._cap = None  # bins of a long record's samples (None: MAX_POINTS when built)
         self._window = None  # boolean mask over samples, or None
         self._window_desc: tuple[str, ...] = ()
         self._point_weights: Any = None
@@ -645,7 +646,7 @@ class Curve:
         out, self._by = _points_of(
             tuple(cols), self._rate if self.is_constant_rate else None, self._window,
             self._bounds, self._n_req, self._by_req, self._monotone, self._tol,
-            self._window_desc, MAX_POINTS, where,
+            self._window_desc, MAX_POINTS if self._cap is None else self._cap, where,
         )
         e_obj, s_obj, t_obj = out[:3]
         rest = list(out[3:])
@@ -671,22 +672,29 @@ class Curve:
 
     # ------------------------------------------------------------- variants
     def resample(self, n_points: int | str | None = DEFAULT_N_POINTS,
-                 by: str | None = None) -> Curve:
+                 by: str | None = None, *, max_points: int | None = None) -> Curve:
         """The same curve with ``n_points`` objective points spaced ``by`` (see :class:`Curve`).
 
         ``n_points=None`` compares at the measured samples themselves (bin means above
-        ``MAX_POINTS``; ``"all"``: never binned); ``n_points=10`` is the paper's scheme.
-        ``by=None`` picks ``"strain"`` for a strictly monotonic strain and ``"segments"``
-        otherwise.
+        ``max_points``, by default ``MAX_POINTS``; ``"all"``: never binned);
+        ``n_points=10`` is the paper's scheme. ``by=None`` picks ``"strain"`` for a
+        strictly monotonic strain and ``"segments"`` otherwise.
 
         Examples
         --------
         >>> c = Curve([0.0, 0.1, 0.2], [0.0, 1.0, 2.0], strain_rate=0.1)
         >>> c.resample(2).target_strain, c.resample(None).target_strain
         (array([0.1, 0.2]), array([0. , 0.1, 0.2]))
+        >>> c.resample(None, max_points=2).target_strain   # the means of 2 bins
+        array([0.05, 0.2 ])
         """
         n_points, by = _check_points_args(n_points, by, self._where)
-        return self._derive(_n_req=n_points, _by_req=by)
+        if max_points is not None and (
+                isinstance(max_points, bool) or not isinstance(max_points, (int, np.integer))
+                or max_points < 1):
+            raise ValueError(f"max_points = {max_points!r}: give a whole number >= 1")
+        return self._derive(_n_req=n_points, _by_req=by,
+                            _cap=None if max_points is None else int(max_points))
 
     def trim(
         self,
