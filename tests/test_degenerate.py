@@ -157,6 +157,16 @@ def test_like_terms_whose_merge_changes_the_fit_are_kept():
     assert cal.params["mu1"] == 10.0 and cal.params["mu2"] == -9.7
 
 
+def test_ogden_terms_ten_percent_apart_are_named_by_the_report():
+    # exponents 10 % apart are no merge candidates, yet on these ramps the data see one
+    # term: the report (not only degenerate_warnings) names the pair
+    curves = ramps("ogden", OGDEN1_TRUE, THREE, noise=0.01, seed=3)
+    cal = report("ogden2", [0.2, 2.5, 0.1, 2.75, 1.0, 1e-2], curves)
+    assert cal.model.hyperelastic.name == "ogden2" and not merged(cal)
+    msgs = [m for m in degenerate(cal) if "cannot be told apart" in m]
+    assert len(msgs) == 1 and msgs[0].startswith("alpha1 and alpha2 (2.5 vs 2.75)")
+
+
 def test_two_ogden_terms_at_one_exponent_cannot_be_told_apart():
     # degenerate_warnings names terms whose columns are the same function (what is left
     # when a merge does not hold): only mu1 + mu2 is determined
