@@ -72,6 +72,7 @@ def test_moduli_fit_draws_the_data_and_the_model_of_each_item(tmp_path):
     class Cal:  # what plot_moduli_fit reads of a Calibration
         model = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
         shift_table: dict = {}  # no time-temperature shift
+        shift = None
 
         def fitted_curves(self, items):
             return [c.fitted_curve(self.model, params) for c in items]

@@ -19,6 +19,7 @@ class _Space:
     """A stand-in space: levels 1e4 and 1e2 times the target, ``to_params`` the identity."""
 
     prob = None
+    method = "full"  # no gathered-population finish: only the levels are tested here
 
     def __init__(self, levels=(1e4, 1e2)):
         self.levels = levels

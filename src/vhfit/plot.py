@@ -719,8 +719,8 @@ def _at_reference(cal, item, T):
     """A sweep or relaxation test at its measured temperature ``T``, shifted to the
     calibration's reference as the fit shifted it (its table of log10 a_T, else its
     law); an item without a temperature is taken as shifted already."""
-    table = dict(getattr(cal, "shift_table", None) or {})
-    law = getattr(cal, "shift", None)
+    table = dict(cal.shift_table or {})
+    law = cal.shift
     if T is None or not (table or law is not None):
         return item
     near = [k for k in table if abs(k - T) <= SAME_TEMPERATURE]

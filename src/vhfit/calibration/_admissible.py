@@ -1,10 +1,10 @@
 """The admissible set of a fit: Drucker-stable laws with a positive initial modulus.
 
 A hyperelastic law is admissible when its tangent d(σ1 − σ3)/d ln λ is positive in
-uniaxial, equibiaxial and planar tension and compression over a stretch range
-(:mod:`vhfit.stability`), and its initial shear modulus μ0 is positive
-(docs/theory.md §11, "The admissible set"). Both conditions are linear in the law's
-linear constants (``Hyperelastic.linear_params``) for fixed nonlinear ones, and
+every homogeneous test of the stability check, in tension and compression, over a
+stretch range (:mod:`vhfit.stability`, its ``modes_checked()``), and its initial shear
+modulus μ0 is positive (docs/theory.md §11, "The admissible set"). Both conditions are
+linear in the law's linear constants (``Hyperelastic.linear_params``) for fixed nonlinear ones, and
 invariant under a positive scale of them. Here they are checked on a grid of stretches:
 
 * :func:`admissible` — which shapes of a batch are admissible (the filter of the searches

@@ -112,8 +112,12 @@ def plan_formulations(solvers: Iterable[Any] | str) -> dict[str, list[str]]:
 def _is_record(s) -> bool:
     """Whether ``s`` is a solver record (a :class:`vhfit.export.Solver`: a name and the
     formulation its solver integrates), registered or not."""
-    return (not isinstance(s, str) and isinstance(getattr(s, "name", None), str)
-            and isinstance(getattr(s, "formulation", None), str))
+    if isinstance(s, str):
+        return False
+    try:  # duck-typed: the export layer (where Solver lives) comes after calibration
+        return isinstance(s.name, str) and isinstance(s.formulation, str)
+    except AttributeError:
+        return False
 
 
 def _search_vector(space, x: np.ndarray) -> np.ndarray:

@@ -390,7 +390,7 @@ class _EarlyFinish:
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
         # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
-        self.collapse = getattr(space, "method", None) == "separable" and tol > 0
+        self.collapse = space.method == "separable" and tol > 0
         self.done = False
         self.nfev = 0
         self.result = None  # (x, error) of the last polish

@@ -179,7 +179,7 @@ def calibrate(
         Seconds after which the search stops with the best result so far.
     stability_range : (float, float) or None
         Stretch range (low < 1 < high) over which the fitted law must be Drucker-stable
-        in uniaxial, equibiaxial and planar tension and compression: the search covers
+        in the stability check's tests, in tension and compression: the search covers
         exactly the laws stable there with a positive initial modulus (docs/theory.md
         §11). None (default): the data's largest principal log strain plus 25 %, in
         tension and compression (``options["stability_range"]`` records the range used).

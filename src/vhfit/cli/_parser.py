@@ -455,7 +455,7 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                    help="stop as soon as RMSAPE <= this (percent, default 1e-4)")
     p.add_argument("--stability-range", type=_stretch_range, metavar="LO:HI",
                    help="stretches over which the fitted law must be Drucker-stable in "
-                        "uniaxial, equibiaxial and planar tension and compression "
+                        "the stability check's tests (uniaxial, biaxial, planar) "
                         "(default: the data's range plus 25 %% in log strain)")
     p.add_argument("--g-inf-min", type=_float("--g-inf-min"), default=1e-6,
                    help="floor on g_inf (FE solvers reject 0; default 1e-6)")

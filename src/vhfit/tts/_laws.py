@@ -292,7 +292,7 @@ def wlf_degenerate(law, temperatures) -> str | None:
     >>> wlf_degenerate(fit_shift_law(T, -0.2 * (T - 50.0), "wlf"), T)[:36]
     'the WLF fit of the shift factors deg'
     """
-    if getattr(law, "name", None) != "wlf":
+    if not isinstance(law, WLF):
         return None
     T = np.asarray(temperatures, dtype=np.float64).ravel()
     reach = float(np.max(np.abs(T - law.T_ref))) if T.size else 0.0
