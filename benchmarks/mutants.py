@@ -422,7 +422,7 @@ MUTANTS: list[Mutant] = [
       "return E > 0 and E / (E + G.sum()) >= prob.g_inf_min * (1 - 1e-9)",
       "return E > 0 and E / (E + G.sum()) >= 0.0",
       "polish may leave the g∞ floor",
-      CAL),
+      CAL + ("tests/test_calibrate.py::test_g_inf_floor_holds_through_the_all_parameter_polish",)),
     M("arguments_stall_zero_window", "vhfit/calibration/_settings.py",
       "_is_int(stall[1]) and stall[1] >= 1)", "_is_int(stall[1]) and stall[1] >= 0)",
       "stall=(rel, 0) accepted",

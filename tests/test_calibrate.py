@@ -281,6 +281,25 @@ def test_g_inf_floor_is_respected_and_reported():
     assert any("floor" in w for w in cal.warnings)
 
 
+def test_g_inf_floor_holds_through_the_all_parameter_polish():
+    # the polish of every parameter (the full method's finish, and the separable one's
+    # unless a gathered population ends it) from a start on the floor, towards an
+    # optimum below it (the data's g_inf is 6e-7): it must stay on the floor
+    from vhfit.calibration._bounds import search_bounds
+    from vhfit.calibration._polish import polish
+    from vhfit.calibration._space import Problem
+
+    truth = dict(C10=1e-7, C01=0.0, G1=1.0, tau1=5.0)
+    curves = synthetic(truth, (-1.0, -10.0))
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    tau_b, auto = search_bounds(m, curves, "free", 3, 1, "auto")
+    prob = Problem(m, curves, tau_b, auto, 0.01)
+    E = 0.01 / 0.99  # E∞ / (E∞ + G1) = 0.01 with G1 = 1
+    x, _, _ = polish(prob, np.array([E / 6, 0.0, 1.0, 5.0]))
+    E1 = m.long_term_modulus(x)
+    assert E1 / (E1 + x[2]) >= 0.01 * (1 - 1e-9)
+
+
 def test_auto_order_keeps_the_smallest_n_within_order_tol():
     # noisy data of two terms: N = 2 fits better than N = 1, but every N is within a
     # relative order_tol of 100 of the best, so the smallest, N = 1, is kept
