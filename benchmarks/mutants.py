@@ -1169,7 +1169,9 @@ MUTANTS: list[Mutant] = [
       "if n > len(params):  # (G1000000000 alone: a gap too long to list)",
       "if n > 10**12:  # (G1000000000 alone: a gap too long to list)",
       "a constant G123456789 makes the CLI list 246913578 missing names",
-      ("tests/test_fuzz_inputs.py::test_cli_prony_term_of_a_huge_index_is_exit_2_at_once",)),
+      ("tests/test_fuzz_inputs.py::test_cli_prony_term_of_a_huge_index_is_exit_2_at_once",
+       "tests/test_fuzz_inputs.py::"
+       "test_simulate_with_a_prony_term_of_a_huge_index_is_exit_2_at_once")),
     M("fuzz_export_g_inf_zero", "vhfit/export/_common.py",
       "if not 1.0 - math.fsum(g) > 0:  # sum(G_i) > 1e16 E_inf: g_inf rounds to 0",
       "if 1.0 - math.fsum(g) < 0:  # sum(G_i) > 1e16 E_inf: g_inf rounds to 0",

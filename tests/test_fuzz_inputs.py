@@ -1166,6 +1166,15 @@ def test_cli_prony_term_of_a_huge_index_is_exit_2_at_once(tmp_path):
         assert f"G{index}" in err, err  # named by the results file's one reader
 
 
+def test_simulate_with_a_prony_term_of_a_huge_index_is_exit_2_at_once():
+    """The same through simulate --param (the constants come from the command line)."""
+    for index in (1000, 123456789):
+        code, _, err = run_cli(["simulate", "--model", "mooney_rivlin", "--param",
+                                f"C10=0.1,C01=0,G{index}=1", "--rate", "-1"])
+        assert check_cli_outcome(code, err) == "error"
+        assert f"1..{index}" in err, err
+
+
 def test_export_of_prony_moduli_that_leave_no_long_term_weight_is_a_value_error():
     """G1 = 1e300 over E_inf = 0.9 MPa: g_inf = 1 - sum(g_i) rounds to 0 (found: a
     ZeroDivisionError in every card writer)."""
