@@ -299,7 +299,9 @@ def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
     assert cal.stability.stable and -0.05 < cal.params["C01"] < 0
     pos = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                           bounds={"C01": (0.0, 1.0)})
-    assert pos.params["C01"] == 0.0 and pos.params["C10"] > 0
+    # on the limit, to the solve's rounding (exactly 0 with the newest numpy, 1.4e-17 MPa
+    # with the oldest pinned one): never below it
+    assert 0.0 <= pos.params["C01"] <= 1e-12 * pos.params["C10"] and pos.params["C10"] > 0
     assert cal.rmsape < pos.rmsape
     # a negative lower limit of the user's, above the stable best's C01: it is the answer
     low = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
