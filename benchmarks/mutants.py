@@ -1839,4 +1839,20 @@ MUTANTS: list[Mutant] = [
       "        return resid(full(z)[None, :])[0]", "        return resid(z0[None, :])[0]",
       "the variable-projection polish scores its start at every step: it never moves",
       ("tests/test_search_speed.py", doc("vhfit.calibration._varpro"))),
+    # s27 (lead): the order scan ends when a term gains less than order_tol
+    M("s27_scan_runs_to_max_prony", "vhfit/calibration/_workflow.py",
+      "        if n > 2 and results[-1].rmsape > min(r.rmsape for r in results[:-1])"
+      " * (1 - order_tol):\n            break\n",
+      "",
+      "the order scan fits every N up to max_prony whatever the last term gained",
+      ("tests/test_calibrate.py",)),
+    M("s27_scan_stops_on_any_gain", "vhfit/calibration/_workflow.py",
+      "results[:-1]) * (1 - order_tol):", "results[:-1]) * (1 + order_tol):",
+      "the order scan goes on while a term gains anything, not order_tol",
+      ("tests/test_calibrate.py",)),
+    M("s27_closed_form_difference_wrong_axis", "vhfit/stability.py",
+      "        d1, _, d3 = model.derivatives(l1, l2, l3, *cols)",
+      "        d1, d3, _ = model.derivatives(l1, l2, l3, *cols)",
+      "the closed-form principal difference of an Ogden law takes σ1 − σ2 for σ1 − σ3",
+      ("tests/test_stability.py",)),
 ]

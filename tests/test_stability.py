@@ -252,6 +252,21 @@ def test_principal_difference_matches_the_hand_formulas(c10, c01):
         np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-12)
 
 
+@accuracy
+@given(mu1=st.floats(-1.0, 1.0), a1=st.floats(-8.0, 8.0).filter(lambda a: abs(a) > 0.1),
+       mu2=st.floats(-1.0, 1.0), a2=st.floats(-8.0, 8.0).filter(lambda a: abs(a) > 0.1))
+def test_ogden2_principal_difference_is_the_sum_of_its_terms(mu1, a1, mu2, a2):
+    # σ1 − σ3 = Σ_p (2 μp/αp)(λ1^αp − λ3^αp) in every test (the law's closed form here)
+    lam = np.exp(np.linspace(np.log(0.5), np.log(2.0), 17))
+    og2 = hyp.get("ogden2")
+    for l1, l2, l3 in [(lam, lam**-0.5, lam**-0.5), (lam, lam, lam**-2.0),
+                       (lam, np.ones_like(lam), 1 / lam)]:
+        expected = sum(2 * m / a * (l1**a - l3**a) for m, a in ((mu1, a1), (mu2, a2)))
+        got = np.reshape(principal_difference(og2, [mu1, a1, mu2, a2], l1, l2, l3), -1)
+        scale = sum(abs(2 * m / a) * (l1**a + l3**a) for m, a in ((mu1, a1), (mu2, a2)))
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12 * float(scale.max()))
+
+
 def test_describe_stable():
     text = drucker(NH, [0.1]).describe()
     assert text == "Drucker-stable in uniaxial, equibiaxial and planar modes for 0.2 <= λ <= 5"

@@ -355,11 +355,16 @@ class SeparableSpace:
         return self.solve_linear(hyper, tau)[1]
 
     def to_params(self, z: np.ndarray) -> np.ndarray:
-        hyper, tau = self.decode(z[None, :])
+        return self.params_of(z[None, :])[0]
+
+    def params_of(self, Z: np.ndarray) -> np.ndarray:
+        """Full parameter vectors (P, n_params) of search vectors Z (P, d), their linear
+        constants solved as one batch (a polish's Jacobian rows at once)."""
+        hyper, tau = self.decode(np.atleast_2d(Z))
         if self.exact:
-            return self.solve_constants(hyper)[0][0]
+            return self.solve_constants(hyper)[0]
         amps, _ = self.solve_linear(hyper, tau)
-        return self.assemble(hyper[0], amps[0, 0], amps[0, 1:], tau[0])
+        return np.array([self.assemble(h, a[0], a[1:], t) for h, a, t in zip(hyper, amps, tau)])
 
     def assemble(self, shape, E_inf, G, tau) -> np.ndarray:
         """Full parameter vector from a law's shape, its E∞, and the Prony terms.

@@ -70,7 +70,7 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV):
         return out
 
     def resid(Z):
-        X = np.array([space.to_params(z) for z in Z])
+        X = space.params_of(Z)
         count[0] += len(Z)
         with np.errstate(all="ignore"):
             return prob.residuals(X)

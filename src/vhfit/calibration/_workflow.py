@@ -124,8 +124,9 @@ def calibrate(
     hyperelastic : str
         Registered hyperelastic model name.
     n_prony : int, "auto" or None
-        Number of Prony terms; "auto" fits N = 1..``max_prony`` and keeps the smallest
-        N whose error is within ``order_tol`` (relative) of the best. None (default):
+        Number of Prony terms; "auto" fits N = 1, 2, ... while a term lowers the best
+        error by ``order_tol`` (relative) or more, up to ``max_prony``, and keeps the
+        smallest N whose error is within ``order_tol`` of the best. None (default):
         2, or 0 when the data cannot separate elastic from viscous response (one rate
         and monotonic loading, or only equilibrium curves; the reason is recorded in
         ``options["n_prony_reason"]`` and printed by :meth:`Calibration.summary`). A
@@ -398,9 +399,15 @@ def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
 
 
 def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration:
-    """N = 1..max_prony, each a calibration; the smallest N within order_tol of the best."""
+    """N = 1, 2, ... each a calibration, while a term lowers the best error by order_tol
+    (relative) or more, up to max_prony; the smallest N within order_tol of the best.
+
+    A term that gains less than order_tol ends the scan: a further one is not worth its
+    constants by the same rule that chooses N, and each N costs a global search."""
     max_time, order_tol, results = settings.max_time, settings.order_tol, []
     for n in range(1, settings.max_prony + 1):
+        if n > 2 and results[-1].rmsape > min(r.rmsape for r in results[:-1]) * (1 - order_tol):
+            break
         left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
         if left is not None and left <= 0:
             break
@@ -425,8 +432,10 @@ def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration
                     for n, r in enumerate(results)],
         options={**chosen.options, "n_prony": "auto",
                  "n_prony_chosen": results.index(chosen) + 1,
-                 "order_rule": f"smallest N whose RMSAPE is within {order_tol:.0%} of the best "
-                               f"over N = 1..{len(results)}"},
+                 "order_rule": f"N = 1, 2, ... while a term lowers the best RMSAPE by "
+                               f"{order_tol:.0%} or more (max_prony = {settings.max_prony}); "
+                               f"the smallest N whose RMSAPE is within {order_tol:.0%} of the "
+                               f"best over N = 1..{len(results)}"},
         wall_time=time.perf_counter() - t0)
 
 

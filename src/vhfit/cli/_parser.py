@@ -421,7 +421,8 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                             "and the others under laws/LAW/")
     p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else None,
                    metavar="N|auto",
-                   help="number of Prony terms, or 'auto' to scan N = 1..--max-prony "
+                   help="number of Prony terms, or 'auto' to scan N = 1, 2, ... while a term "
+                        "lowers the error by 5 %% or more, up to --max-prony "
                         + (f"(default {DEMO_PRONY})" if demo else
                            "(default 2, or 0 when the data cannot separate elastic from "
                            "viscous response: one monotonic rate, or only equilibrium "
