@@ -146,6 +146,13 @@ def search_problem(prob, curves):
     return out
 
 
+#: Tolerances (xtol, ftol, gtol) of the polish on every point of a long record after
+#: its search on fewer points: the error is settled to ~1e-10 relative long before the
+#: iterations reach rounding (a real record's last ~half of them, at the cost of the
+#: whole record each).
+FINAL_TOL = 1e-10
+
+
 def final_polish(space, found: Search, x: np.ndarray, err: float):
     """The polish after a search that did not end by a polish on ``space``'s own points:
     ``(x, err, evaluations)``, never a higher error than ``err`` at ``x``.
@@ -157,7 +164,7 @@ def final_polish(space, found: Search, x: np.ndarray, err: float):
     """
     prob = space.prob
     if found.stop == _EarlyFinish.GATHERED:
-        _, x1, e1, n = varpro_polish(space, found.z)
+        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL)
         return (x1, e1, n) if e1 < err else (x, err, n)
     if found.polished is not None:  # polished on the search's points: start from it
         xp = found.polished[0]

@@ -21,7 +21,7 @@ __all__ = ["varpro_polish", "VARPRO_NFEV"]
 VARPRO_NFEV = 200
 
 
-def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV):
+def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV, tol: float = 1e-15):
     """Bounded least squares over the search vector of ``space`` from ``z0``.
 
     Parameters
@@ -32,6 +32,8 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV):
         A search vector (within or on the bounds).
     max_nfev : int
         Least-squares iterations' residual evaluations (``scipy.optimize.least_squares``).
+    tol : float
+        Its ``xtol``, ``ftol`` and ``gtol`` (default: run to rounding).
 
     Returns
     -------
@@ -94,8 +96,8 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV):
     try:
         with np.errstate(all="ignore"):
             res = least_squares(fun, z0[free], jac=jac, bounds=(lo[free], hi[free]),
-                                method="trf", x_scale="jac", max_nfev=max_nfev, xtol=1e-15,
-                                ftol=1e-15, gtol=1e-15)
+                                method="trf", x_scale="jac", max_nfev=max_nfev, xtol=tol,
+                                ftol=tol, gtol=tol)
     except (ValueError, np.linalg.LinAlgError):
         return z0, x0, e0, count[0]
     z1 = full(res.x)
