@@ -38,10 +38,11 @@ Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
   skipped (no gradient to follow there). vhfit's own constants are one more start.
 * **stable best %**: the same search restricted to laws that are Drucker-stable
   (``vhfit.stability.drucker``: uniaxial, equibiaxial and planar, tension and
-  compression) over the stated range: the principal stretches of the data widened by
-  10 % on each side (λ_lo = min(λ_min, 1) / 1.1, λ_hi = max(λ_max, 1) · 1.1; for
-  simple shear the principal stretches of γ). Per start: the unconstrained minimum if
-  it is stable, else a penalised solve from it (a residual weight × max(0, 10^-6 −
+  compression) over the stated range: the one the fit states
+  (``options["stability_range"]``; by default the principal stretches of the data
+  widened by 10 % on each side, λ_lo = min(λ_min, 1) / 1.1, λ_hi = max(λ_max, 1) · 1.1;
+  for simple shear the principal stretches of γ), else that default computed here.
+  Per start: the unconstrained minimum if it is stable, else a penalised solve from it (a residual weight × max(0, 10^-6 −
   tangent / mean |target|) on 40 stretches per mode, weight 10^2 then 10^6); and a
   penalised solve from the start itself. Every candidate is kept only if
   ``drucker`` finds it stable; vhfit's own result counts if stable. The penalised
@@ -225,7 +226,14 @@ def search_box(model, cal, curves):
             logs.append(i)
         lo.append(float(a))
         hi.append(float(b))
-    return np.array(lo), np.array(hi), np.array(logs, dtype=int), (lo_s / 1.1, hi_s * 1.1)
+    return np.array(lo), np.array(hi), np.array(logs, dtype=int), stated_range(cal, lo_s, hi_s)
+
+
+def stated_range(cal, lo_s, hi_s) -> tuple[float, float]:
+    """The stretch range the fit states (``options["stability_range"]``), else the
+    data's principal stretches widened by 10 % on each side."""
+    sr = cal.options.get("stability_range")
+    return (float(sr[0]), float(sr[1])) if sr else (lo_s / 1.1, hi_s * 1.1)
 
 
 # ------------------------------------------------------------------ the search

@@ -1697,7 +1697,7 @@ MUTANTS: list[Mutant] = [
       "a law undefined past its locking stretch counts as unstable: Gent fits refused",
       ("tests/test_calibrate.py::test_gent_past_its_locking_stretch_raises_naming_the_bound_and_the_fix",)),
     M("i22s2_adm_range_no_margin", "vhfit/calibration/_admissible.py",
-      "ell = max(ell * STABILITY_MARGIN, MIN_LOG_STRAIN)", "ell = max(ell, MIN_LOG_STRAIN)",
+      "(min(lo / STABILITY_MARGIN,", "(min(lo,",
       "the default stability range is the data's, without its margin",
       ("tests/test_calibration_admissible.py",)),
     M("i22s2_lsi_unconstrained", "vhfit/calibration/_admissible.py",

@@ -125,12 +125,22 @@ def test_mooney_rivlin_arc_is_the_stable_directions():
 
 
 def test_default_stability_range_covers_the_data_in_tension_and_compression():
-    eps = np.linspace(0.01, 1.0, 20)  # uniaxial tension to λ = 2
+    eps = np.linspace(0.01, 1.0, 20)  # uniaxial tension to λ = 2: principal 2 and 2^-1/2
     c = vhfit.Curve(strain=eps, stress=eps, strain_rate=0.1)
     lo, hi = data_stability_range([c])
-    ell = 1.25 * np.log(2.0)
-    assert lo == pytest.approx(np.exp(-ell), rel=1e-12)
-    assert hi == pytest.approx(np.exp(ell), rel=1e-12)
+    assert lo == pytest.approx(2.0**-0.5 / 1.1, rel=1e-12)
+    assert hi == pytest.approx(2.0 * 1.1, rel=1e-12)
+
+
+def test_default_stability_range_of_small_strains_reaches_ten_percent_beyond_them():
+    eps = np.linspace(-0.001, -0.01, 10)  # compression to λ = 0.99
+    c = vhfit.Curve(strain=eps, stress=eps, strain_rate=0.1)
+    assert data_stability_range([c]) == pytest.approx((0.99 / 1.1, 0.99**-0.5 * 1.1),
+                                                      rel=1e-12)
+    # no large-strain curve at all (moduli alone): [1/1.1, 1.1]
+    f = np.logspace(-1, 1, 5)
+    sweep = vhfit.FrequencySweep(frequency=f, storage=1 + 0 * f, loss=0.1 + 0 * f)
+    assert data_stability_range([sweep]) == pytest.approx((1 / 1.1, 1.1), rel=1e-12)
 
 
 # ------------------------------------------- the unconstrained best is unstable: not used
@@ -297,8 +307,9 @@ def test_the_default_stability_range_is_recorded_as_the_datas():
     lo, hi = data_stability_range(curves)
     assert cal.options["stability_range"] == [lo, hi]  # the range used
     assert cal.stability.stretch_range == (lo, hi)
-    # λ = 0.6 compressed: ln(1/0.6) · 1.25 either side
-    assert hi == pytest.approx(0.6 ** -1.25, rel=1e-12) and lo == pytest.approx(1 / hi)
+    # λ = 0.6 compressed (principal 0.6 and 0.6^-1/2), each 10 % further from 1
+    assert lo == pytest.approx(0.6 / 1.1, rel=1e-12)
+    assert hi == pytest.approx(0.6**-0.5 * 1.1, rel=1e-12)
 
 
 @pytest.mark.parametrize("value", ["2:0.5", "0.5", "a:b", "1.2:3", "0:2"])

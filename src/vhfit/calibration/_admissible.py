@@ -29,12 +29,12 @@ from vhfit.stability import modes_checked, principal_difference
 __all__ = ["Admissible", "data_stability_range", "admissible", "lsi",
            "angle_range", "STABILITY_MARGIN", "GRID_POINTS"]
 
-#: The default stretch range covers the data's largest principal logarithmic strain
-#: times this factor, in tension and in compression, in every mode.
-STABILITY_MARGIN = 1.25
+#: The default stretch range reaches this factor beyond the data's smallest and largest
+#: principal stretch (and at least 1/MIN_STRETCH_RANGE..MIN_STRETCH_RANGE).
+STABILITY_MARGIN = 1.1
 
-#: Smallest log strain of the default range: λ in [1/1.1, 1.1] at least.
-MIN_LOG_STRAIN = math.log(1.1)
+#: Smallest default range: λ in [1/1.1, 1.1] at least.
+MIN_STRETCH_RANGE = 1.1
 
 #: Stretches of the grid per mode (log-spaced over the range).
 GRID_POINTS = 41
@@ -49,19 +49,20 @@ _D = 1e-4
 def data_stability_range(curves) -> tuple[float, float]:
     """Default stretch range of the Drucker condition: the data's deformation, with margin.
 
-    The largest |ln λ| over every principal stretch the curves reach (in their own modes;
-    small-strain tests reach none), times :data:`STABILITY_MARGIN`, at least
-    :data:`MIN_LOG_STRAIN`, gives [e^-ℓ, e^ℓ], checked in each mode.
+    The smallest and the largest principal stretch the curves reach (in their own modes;
+    small-strain tests reach none), each :data:`STABILITY_MARGIN` further from 1 (and at
+    least 1/1.1 and 1.1), give [λ_lo, λ_hi], checked in each mode: a uniaxial tension
+    to λ = 17 reaches 17 and 17^(-1/2) = 0.243, so [0.22, 18.7].
 
     Examples
     --------
     >>> import numpy as np, vhfit
     >>> c = vhfit.Curve(strain=np.linspace(-0.1, -0.5, 5), stress=-np.linspace(.1, 1, 5))
     >>> lo, hi = data_stability_range([c])
-    >>> round(lo, 4), round(hi, 4)
-    (0.4204, 2.3784)
+    >>> round(lo, 4), round(hi, 4)   # 0.5 / 1.1 and 0.5^(-1/2) · 1.1
+    (0.4545, 1.5556)
     """
-    ell = 0.0
+    lo, hi = 1.0, 1.0
     for c in curves:
         if is_moduli(c):
             continue
@@ -71,9 +72,9 @@ def data_stability_range(curves) -> tuple[float, float]:
             v = np.asarray(v, dtype=np.float64)
             v = v[np.isfinite(v) & (v > 0)]
             if v.size:
-                ell = max(ell, float(np.max(np.abs(np.log(v)))))
-    ell = max(ell * STABILITY_MARGIN, MIN_LOG_STRAIN)
-    return math.exp(-ell), math.exp(ell)
+                lo, hi = min(lo, float(np.min(v))), max(hi, float(np.max(v)))
+    return (min(lo / STABILITY_MARGIN, 1.0 / MIN_STRETCH_RANGE),
+            max(hi * STABILITY_MARGIN, MIN_STRETCH_RANGE))
 
 
 def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,

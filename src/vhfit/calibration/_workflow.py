@@ -182,8 +182,8 @@ def calibrate(
         Stretch range (low < 1 < high) over which the fitted law must be Drucker-stable
         in the stability check's tests, in tension and compression: the search covers
         exactly the laws stable there with a positive initial modulus (docs/theory.md
-        §11). None (default): the data's largest principal log strain plus 25 %, in
-        tension and compression (``options["stability_range"]`` records the range used).
+        §11). None (default): the data's smallest and largest principal stretch, each
+        10 % further from 1 (``options["stability_range"]`` records the range used).
     uncertainty : bool
         Compute 95 % intervals from the Jacobian.
     callback : callable, optional

@@ -457,7 +457,8 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     p.add_argument("--stability-range", type=_stretch_range, metavar="LO:HI",
                    help="stretches over which the fitted law must be Drucker-stable in "
                         "the stability check's tests (uniaxial, biaxial, planar) "
-                        "(default: the data's range plus 25 %% in log strain)")
+                        "(default: the data's smallest and largest principal stretch, "
+                        "each 10 %% further from 1)")
     p.add_argument("--g-inf-min", type=_float("--g-inf-min"), default=1e-6,
                    help="floor on g_inf (FE solvers reject 0; default 1e-6)")
     p.add_argument("--workers", type=_positive(int, "--workers"), default=1,
