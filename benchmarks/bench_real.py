@@ -43,8 +43,8 @@ Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
   widened by 10 % on each side, λ_lo = min(λ_min, 1) / 1.1, λ_hi = max(λ_max, 1) · 1.1;
   for simple shear the principal stretches of γ), else that default computed here.
   Per start: the unconstrained minimum if it is stable, else a penalised solve from it
-  (a residual weight × max(0, 10^-6 − tangent / mean |target|) on 40 stretches per mode, weight 10^2 then 10^6); and a
-  penalised solve from the start itself. Every candidate is kept only if
+  (a residual weight × max(0, 10^-6 − tangent / mean |target|) on 40 stretches per
+  mode, weight 10^2 then 10^6); and a penalised solve from the start itself. Every candidate is kept only if
   ``drucker`` finds it stable; vhfit's own result counts if stable. The penalised
   solves stall more often than the free ones (see the hits), so this column is an
   upper bound of the stable optimum: the ratio is a lower bound of vhfit's distance.
