@@ -44,10 +44,10 @@ Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
   for simple shear the principal stretches of γ), else that default computed here.
   Per start: the unconstrained minimum if it is stable, else a penalised solve from it
   (a residual weight × max(0, 10^-6 − tangent / mean |target|) on 40 stretches per
-  mode, weight 10^2 then 10^6); and a penalised solve from the start itself. Every candidate is kept only if
-  ``drucker`` finds it stable; vhfit's own result counts if stable. The penalised
-  solves stall more often than the free ones (see the hits), so this column is an
-  upper bound of the stable optimum: the ratio is a lower bound of vhfit's distance.
+  mode, weight 10^2 then 10^6); and a penalised solve from the start itself. Every
+  candidate is kept only if ``drucker`` finds it stable; vhfit's own result counts if
+  stable. The penalised solves stall more often than the free ones (see the hits), so
+  this column is an upper bound of the stable optimum: the ratio is a lower bound of vhfit's distance.
   For a law linear in its constants without Prony terms (Yeoh, Mooney–Rivlin,
   polynomials) the stable optimum is also solved exactly (a convex quadratic
   programme: affine residuals, Drucker tangents linear in the constants, on
