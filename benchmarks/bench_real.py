@@ -47,7 +47,8 @@ Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
   mode, weight 10^2 then 10^6); and a penalised solve from the start itself. Every
   candidate is kept only if ``drucker`` finds it stable; vhfit's own result counts if
   stable. The penalised solves stall more often than the free ones (see the hits), so
-  this column is an upper bound of the stable optimum: the ratio is a lower bound of vhfit's distance.
+  this column is an upper bound of the stable optimum: the ratio is a lower bound of
+  vhfit's distance.
   For a law linear in its constants without Prony terms (Yeoh, Mooney–Rivlin,
   polynomials) the stable optimum is also solved exactly (a convex quadratic
   programme: affine residuals, Drucker tangents linear in the constants, on
