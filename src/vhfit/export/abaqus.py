@@ -481,6 +481,10 @@ def _add_trs(card: str, law, mat: int = 1) -> str:
     return "\n".join(lines + abaqus_trs(law)) + "\n"
 
 
+#: Where its cards come in the list of the registered solvers (vhfit.export finds the
+#: solver modules and registers their records in this order).
+ORDER = 1
+
 #: The solver record (registered by vhfit.export).
 RECORD = Solver(
     name="abaqus", label=SOLVER, suffix=".inp", formulation="hereditary",
