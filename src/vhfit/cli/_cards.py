@@ -301,7 +301,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
     status = unfinished(first, interrupted)
     atomic_write(out / CARD_FILES["json"], json_marked(export(first, to="json"), status))
     res.files["json"] = CARD_FILES["json"]
-    if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
+    if any(c.is_equilibrium and get_deformation(c.deformation).standard_test
            for c in curves):  # the solvers' test-data inputs (records with test_data)
         for name in solver_names():
             rec = get_solver(name)
