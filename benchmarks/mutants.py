@@ -1165,7 +1165,7 @@ MUTANTS: list[Mutant] = [
       "if False:",
       "vhfit export/simulate/check crash (exit 1) on a results entry of the wrong type",
       ("tests/test_fuzz_inputs.py::test_cli_damaged_results_entry_is_exit_2_naming_it",)),
-    M("fuzz_cli_huge_prony_index", "vhfit/cli/_common.py",
+    M("fuzz_cli_huge_prony_index", "vhfit/cli/_simulate.py",
       "if n > len(params):  # (G1000000000 alone: a gap too long to list)",
       "if n > 10**12:  # (G1000000000 alone: a gap too long to list)",
       "a constant G123456789 makes the CLI list 246913578 missing names",

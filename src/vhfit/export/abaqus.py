@@ -383,10 +383,10 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
 
     Abaqus fits its own constants of the same law to these data (nominal stress,
     nominal strain per line; the keyword of each test follows its record's
-    ``standard_test``, e.g. ``*UNIAXIAL TEST DATA`` for ``"uniaxial"``), so its evaluation of the law can
-    be compared with vhfit's fit. Only equilibrium (rate-free) curves are written: rate
-    curves are not a hyperelastic response. Tests without such a keyword in Abaqus
-    (general biaxial, simple shear) are left out with a comment.
+    ``standard_test``, e.g. ``*UNIAXIAL TEST DATA`` for ``"uniaxial"``), so its
+    evaluation of the law can be compared with vhfit's fit. Only equilibrium (rate-free)
+    curves are written: rate curves are not a hyperelastic response. Tests without such a
+    keyword in Abaqus (general biaxial, simple shear) are left out with a comment.
 
     Parameters
     ----------
