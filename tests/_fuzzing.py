@@ -52,3 +52,23 @@ def refused(expect: str, exc: Exception, *, names: str | None = None,
 def accepted(expect: str, what: object) -> None:
     """A reader read a case expected ``expect``: fine unless it was no input at all."""
     assert expect != "error", f"misleading success: {what!r}"
+
+
+def read_case(path: Path, data: bytes, read, expect: str, *, line: int | None = None):
+    """Write a generated input ``data`` to a new file at ``path`` and read it with
+    ``read(path)``, as every fuzz checker does.
+
+    Returns what ``read`` gave, checked by :func:`accepted` (a case that is no input at
+    all must not be read), or None when it refused with a ``ValueError``, checked by
+    :func:`refused` (a valid case must be read; the error is one line naming the file,
+    ``line`` where given, and the fix). The checker goes on with its own checks of a result.
+    """
+    write_fresh(path, data)
+    try:
+        got = read(path)
+    except ValueError as exc:
+        refused(expect, exc, names=path.name, line=line)
+        return None
+    assert got is not None, f"{path.name}: the reader answered None"
+    accepted(expect, got)
+    return got

@@ -1,4 +1,5 @@
-"""The shape of the package, read from its source with ``ast`` (nothing is imported).
+"""The shape of the package, read from its source with ``ast`` (nothing is imported but
+the solver registry, by the last check).
 
 * private names: an underscore name (``from X import _y``, ``X._y`` on an imported vhfit
   module, or a private module ``X._m`` itself) is used only where ``X`` is a private
@@ -8,6 +9,8 @@
 * layers point one way: infrastructure → physics → data → objective → optimize →
   calibration → interfaces; nothing imports a module of a higher layer, and every
   module has a layer;
+* a solver is named only by its own module: no source file outside ``export/<solver>.py``
+  and ``formulations.py`` holds a registered solver's name, alias or label;
 
 Module and function sizes are not limited: modules are split along concepts, not line
 counts.
@@ -16,6 +19,9 @@ counts.
 from __future__ import annotations
 
 import ast
+import importlib
+import pkgutil
+import re
 from functools import cache
 from pathlib import Path
 
@@ -374,3 +380,83 @@ def test_the_checks_find_what_they_look_for(tmp_path):
         globals()["SRC"] = saved
         for f in (modules, tree, uses):
             f.cache_clear()
+
+
+# ------------------------------------------------- a solver is named by its module only
+def shipped_solvers() -> dict[Path, object]:
+    """Source file -> record of each solver module of vhfit.export (a public module that
+    defines a registered ``RECORD``), found as the package finds them."""
+    import vhfit.export as export
+
+    out = {}
+    for info in pkgutil.iter_modules(export.__path__):
+        if info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"vhfit.export.{info.name}")
+        record = getattr(module, "RECORD", None)
+        if isinstance(record, export.Solver):
+            assert export.get_solver(record.name) is record, f"{info.name}: not registered"
+            out[Path(module.__file__).resolve()] = record
+    return out
+
+
+def solver_pattern(records) -> re.Pattern:
+    """Any name, alias or label of the records (also with ``-`` written ``_``, `` `` or
+    nothing), case-insensitive, not inside a longer word (``_`` separates words:
+    ``to_NAME`` counts)."""
+    words = set()
+    for rec in records:
+        for w in (rec.name, *rec.aliases, rec.label):
+            w = w.lower()
+            words |= {w, w.replace("-", "_"), w.replace("-", " "), w.replace("-", "")}
+    alternatives = "|".join(sorted(map(re.escape, words), key=len, reverse=True))
+    return re.compile(rf"(?<![a-z0-9])(?:{alternatives})(?![a-z0-9])", re.IGNORECASE)
+
+
+def solver_mentions(allowed: set[Path], pattern: re.Pattern, root: Path = SRC) -> list[str]:
+    """``file:line: text`` of every line of a source file under ``root/vhfit`` outside
+    ``allowed`` that names a solver."""
+    hits = []
+    for path in sorted((root / TOP).rglob("*.py")):
+        if path.resolve() in allowed:
+            continue
+        for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if pattern.search(line):
+                hits.append(f"{path.relative_to(root)}:{i}: {line.strip()}")
+    return hits
+
+
+def test_only_a_solvers_own_module_names_it():
+    """Adding a solver is adding its module: no other source file names one.
+
+    A grep test (a property of the text, not of behaviour), so it has no mutant in
+    benchmarks/mutants.py; the test below shows that it finds a name put back.
+    """
+    shipped = shipped_solvers()
+    assert len(shipped) >= 3, "the solver modules of vhfit.export are not found"
+    allowed = {*shipped, (SRC / TOP / "formulations.py").resolve()}
+    hits = solver_mentions(allowed, solver_pattern(shipped.values()))
+    assert not hits, ("source files outside the solver modules name a solver (read it from "
+                      "the registry, vhfit.export.solvers(), or word it generically):\n"
+                      + "\n".join(hits))
+
+
+def test_the_solver_name_check_finds_a_name(tmp_path):
+    """Guards the check above: each kind of mention is found, ordinary words are not, and
+    a name is reported in any file but the allowed ones."""
+    shipped = shipped_solvers()
+    pattern = solver_pattern(shipped.values())
+    for rec in shipped.values():
+        for text in (f"to_{rec.name}(model)", f"the {rec.label} card", f"'{rec.name}'",
+                     f"{rec.label.upper()}'s law", *(f"--for {a}" for a in rec.aliases)):
+            assert pattern.search(text), text
+    for text in ("dynamic analyses", "the polynomial form", "ansatz", "abacus"):
+        assert not pattern.search(text), text
+    rec = next(iter(shipped.values()))
+    (tmp_path / TOP / "export").mkdir(parents=True)
+    own = tmp_path / TOP / "export" / f"{rec.name}.py"
+    other = tmp_path / TOP / "model.py"
+    own.write_text(f'"""The {rec.label} card."""\n')
+    other.write_text(f'"""Stress."""\n\nDEFAULT = "{rec.name}"\n')
+    assert solver_mentions({own.resolve()}, pattern, tmp_path) == [
+        f"{TOP}/model.py:3: DEFAULT = \"{rec.name}\""]

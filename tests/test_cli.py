@@ -29,8 +29,8 @@ import pytest
 
 import vhfit
 from vhfit import cli, datasets
-from vhfit.cli._common import count_prony, prepare_out
-from vhfit.cli._simulate import parse_params
+from vhfit.cli._common import prepare_out
+from vhfit.cli._simulate import count_prony, parse_params
 from vhfit.model import ViscoHyperelastic
 
 ROOT = Path(__file__).resolve().parents[1]

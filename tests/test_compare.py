@@ -194,3 +194,83 @@ def test_cli_writes_the_best_as_the_result_and_the_others_beside_it(tmp_path):
     page = (out / "report.html").read_text()
     assert '<section id="laws"><h2>laws compared</h2>' in page
     assert "best: <b>mooney_rivlin</b>" in page and "<td>neo_hooke</td>" in page
+
+
+# --------------------------------------------------------- interrupts (--model a,b)
+def _compare_argv(files, out) -> list[str]:
+    return ["fit", *map(str, files), "--model", "neo_hooke,mooney_rivlin", "--prony", "1",
+            "--seed", "3", "--maxiter", "40", "--no-plot", "--for", "abaqus", "--out",
+            str(out), "--quiet"]
+
+
+def test_cli_compare_interrupted_while_fitting_leaves_the_folder_as_it_was(
+        tmp_path, monkeypatch, capsys):
+    """Ctrl-C during the laws' fits: exit 1, one line, and nothing written — a new folder
+    is removed again, a --force'd one keeps exactly its files."""
+    from vhfit import cli
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli._fit, "compare", interrupted)
+    files = _write(tmp_path)
+    assert cli.main(_compare_argv(files, tmp_path / "new")) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "interrupted while the laws were fitted" in err[0]
+    assert "nothing written" in err[0] and "rerun" in err[0]
+    assert not (tmp_path / "new").exists()
+    old = tmp_path / "old"
+    (old / "laws" / "yeoh").mkdir(parents=True)
+    (old / "keep.txt").write_text("mine")
+    (old / "laws" / "yeoh" / "results.json").write_text("{}")
+    assert cli.main([*_compare_argv(files, old), "--force"]) == 1
+    assert sorted(p.relative_to(old).as_posix() for p in old.rglob("*")) == [
+        "keep.txt", "laws", "laws/yeoh", "laws/yeoh/results.json"]
+
+
+def test_cli_compare_aborted_while_writing_the_laws_writes_nothing(tmp_path, monkeypatch,
+                                                                    capsys):
+    """An abort that comes through while the other laws' results are written (a third
+    Ctrl-C): the half-written laws are removed, nothing else was written, exit 1."""
+    from vhfit import cli
+
+    real = vhfit.Calibration.save
+
+    def save(self, path, *a, **k):
+        real(self, path, *a, **k)
+        if cli._fit.LAWS_PARTIAL in str(path):  # the first law's results are on disk
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(vhfit.Calibration, "save", save)
+    files = _write(tmp_path)
+    assert cli.main(_compare_argv(files, tmp_path / "o")) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "interrupted while the laws' results were written" in err[0]
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_compare_defers_ctrl_c_while_writing_the_laws(tmp_path, monkeypatch, capsys):
+    """One Ctrl-C while the other laws' results are written is deferred, as while fit
+    writes its outputs: laws/ is complete, no partial folder is left, and the run ends
+    with every output (one formulation: no search left to stop)."""
+    import signal
+
+    from vhfit import cli
+
+    real = vhfit.Calibration.save
+
+    def save(self, path, *a, **k):
+        if cli._fit.LAWS_PARTIAL in str(path):
+            os.kill(os.getpid(), signal.SIGINT)  # handled at once, in this thread
+        real(self, path, *a, **k)
+
+    monkeypatch.setattr(vhfit.Calibration, "save", save)
+    files = _write(tmp_path)
+    out = tmp_path / "o"
+    assert cli.main(_compare_argv(files, out)) == 0
+    assert "finishing the output files" in capsys.readouterr().err
+    assert not (out / cli._fit.LAWS_PARTIAL).exists()
+    other = vhfit.Calibration.load(out / "laws" / "neo_hooke" / "results.json")
+    assert other.model.hyperelastic.name == "neo_hooke"
+    assert (out / "laws" / "neo_hooke" / "summary.txt").is_file()
+    assert (out / "results.json").is_file() and (out / "abaqus.inp").is_file()

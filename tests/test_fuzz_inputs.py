@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _fuzzing import accepted, one_line_error, refused, write_fresh
+from _fuzzing import one_line_error, read_case, write_fresh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -351,12 +351,10 @@ def _results_file(case, tmp: Path) -> Path:
 
 
 def check_load(case, tmp: Path) -> str:
-    path = _results_file(case, tmp)
-    try:
-        cal = Calibration.load(path)
-    except ValueError as exc:
-        return refused(case["expect"], exc, names=path.name)
-    accepted(case["expect"], cal)
+    cal = read_case(Path(case["folder"]) / "fuzzed.json", case["raw"], Calibration.load,
+                    case["expect"])
+    if cal is None:
+        return "error"
     assert isinstance(cal, Calibration)
     assert list(cal.params) == list(cal.model.param_names)
     assert not any(math.isnan(v) for v in cal.params.values()), cal.params
@@ -622,12 +620,9 @@ def moduli_case(rng: np.random.Generator) -> dict:
 def check_moduli(case, path: Path) -> str:
     from vhfit import FrequencySweep, Relaxation, read_csv
 
-    write_fresh(path, case["data"])
-    try:
-        items = read_csv(path)
-    except ValueError as exc:
-        return refused(case["expect"], exc, names=path.name, line=case["line"])
-    accepted(case["expect"], items)
+    items = read_case(path, case["data"], read_csv, case["expect"], line=case["line"])
+    if items is None:
+        return "error"
     for it in items:
         if isinstance(it, FrequencySweep):
             for a in (it.frequency, it.storage, it.loss):
@@ -838,12 +833,9 @@ def modes_case(rng: np.random.Generator) -> dict:
 def check_modes(case, path: Path) -> str:
     from vhfit import read_csv
 
-    write_fresh(path, case["data"])
-    try:
-        curves = read_csv(path)
-    except ValueError as exc:
-        return refused(case["expect"], exc, names=path.name, line=case["line"])
-    accepted(case["expect"], curves)
+    curves = read_case(path, case["data"], read_csv, case["expect"], line=case["line"])
+    if curves is None:
+        return "error"
     for c in curves:
         assert np.all(np.isfinite(c.strain)) and np.all(np.isfinite(c.stress))
         if c.deformation != "simple_shear":
@@ -1438,13 +1430,12 @@ def check_checkpoint(case, cb: dict, rng: np.random.Generator) -> str:
     are errors, a count and a time that are ones); then, sometimes, one more generation."""
     from vhfit.calibration import _checkpoint
 
-    path = write_fresh(cb["path"], case["raw"])
     solver = cb["solver"]
-    try:
-        state, evaluations, done, elapsed = _checkpoint.resume(path, cb["key"], solver)
-    except ValueError as exc:
-        return refused(case["expect"], exc, names=path.name)
-    accepted(case["expect"], state)
+    got = read_case(cb["path"], case["raw"],
+                    lambda path: _checkpoint.resume(path, cb["key"], solver), case["expect"])
+    if got is None:
+        return "error"
+    state, evaluations, done, elapsed = got
     pop, e = solver.population, solver.population_energies
     assert pop.dtype == np.float64 and pop.shape == (solver.num_population_members, 2)
     assert np.isfinite(pop).all() and (pop >= 0).all() and (pop <= 1).all(), pop

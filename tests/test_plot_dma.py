@@ -14,6 +14,9 @@ from vhfit.spectrum import prony_spectrum  # noqa: E402
 
 LAW = tts.WLF(C1=9.0, C2=110.0, T_ref=20.0)
 
+#: temperatures carry the data's own unit, named on every axis and colour bar
+T_LABEL = "temperature (unit of the data: °C, K or °F)"
+
 
 @pytest.fixture(scope="module")
 def master():
@@ -50,6 +53,7 @@ def test_the_four_dma_figures_are_drawn_and_saved(master, tmp_path):
     line = figs["shift.png"].axes[0].lines[1]
     x, y = line.get_xdata(), line.get_ydata()
     assert np.interp(20.0, x, y) == pytest.approx(0.0, abs=1e-3)
+    assert figs["shift.png"].axes[0].get_xlabel() == T_LABEL
     res = figs["resid.png"].axes[0].lines[0].get_ydata()
     assert np.sqrt(np.mean(res**2)) <= spec.error * np.sqrt(2) + 1e-12
 
@@ -135,7 +139,7 @@ def test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_legend(capfd):
 
     fig = plot.plot_moduli_fit(Cal(), items, io.BytesIO())
     ax, bar = fig.axes
-    assert ax.get_legend() is None and bar.get_ylabel() == "temperature"
+    assert ax.get_legend() is None and bar.get_ylabel() == T_LABEL
     assert bar.get_ylim() == pytest.approx((-50.0, 100.0))
     data = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
     assert len(data) == 21
@@ -151,6 +155,6 @@ def test_sweeps_at_21_temperatures_get_a_colour_bar_not_a_legend(capfd):
     mc = tts.master_curve(sweeps, T_ref=20.0, shift_factors=LAW)
     fig = plot.plot_sweeps(mc, io.BytesIO())
     ax, bar = fig.axes
-    assert ax.get_legend() is None and bar.get_ylabel() == "temperature"
+    assert ax.get_legend() is None and bar.get_ylabel() == T_LABEL
     assert len(ax.get_lines()) == 42
     assert capfd.readouterr().err == ""

@@ -34,7 +34,7 @@ def toy():
     class UniaxialAgain(modes.Deformation):
         description = "uniaxial written again: λ, λ^(−1/2), λ^(−1/2)"
         uniaxial = True  # the law's own uniaxial stress and the dedicated kernel
-        abaqus_test_data = "*UNIAXIAL TEST DATA"
+        standard_test = "uniaxial"
 
         def stretches(self, x1, x2=None):
             return x1, x1**-0.5, x1**-0.5

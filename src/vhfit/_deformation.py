@@ -58,8 +58,10 @@ class Deformation:
         contradiction in data is then an error).
     drucker : bool
         Checked by :func:`vhfit.stability.drucker` (one-stretch principal tests).
-    abaqus_test_data : str or None
-        The Abaqus ``*... TEST DATA`` keyword of its equilibrium data, if Abaqus has one.
+    standard_test : str or None
+        Which of the standard tests of hyperelastic test data it is (``"uniaxial"``,
+        ``"equibiaxial"`` or ``"planar"``), for a solver's own test-data input (a solver
+        record's ``test_data``, :class:`vhfit.export.Solver`); None: none of them.
     strain_label, stress_label : str
         What ``strain`` and ``stress`` mean, for files and plots (units included).
     """
@@ -75,7 +77,7 @@ class Deformation:
     step_power: float = 1.0
     signed: bool = False
     drucker: bool = False
-    abaqus_test_data: str | None = None
+    standard_test: str | None = None
     strain_label: str = "engineering strain λ1 − 1"
     stress_label: str = "stress in the loaded direction (MPa)"
 

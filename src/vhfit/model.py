@@ -7,7 +7,7 @@ Stress of the corrected, conditioned Eq. 19 (docs/theory.md §4–5):
 where h_i is the overstress of branch i per unit modulus, evaluated by the recursion
 of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy. What
 h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
-docs/theory.md §14): the corrected Eq. 19 by default, or LS-DYNA's MAT_077 law.
+docs/theory.md §14): the corrected Eq. 19 by default, or a solver's own law.
 Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
 """
 
@@ -116,9 +116,9 @@ class ViscoHyperelastic:
     formulation : str
         How the Prony series acts at finite strain, a name of
         :data:`vhfit.formulations.FORMULATIONS`: "hereditary" (default; the corrected
-        Eq. 19, as Abaqus and Ansys integrate it) or another registered one, such as a
-        solver's own (:data:`vhfit.formulations.SOLVER_FORMULATIONS`), docs/theory.md
-        §14. The parameters mean the same in every formulation.
+        Eq. 19, docs/theory.md §13) or another registered one, such as a solver's own
+        (:data:`vhfit.formulations.SOLVER_FORMULATIONS`), docs/theory.md §14. The
+        parameters mean the same in every formulation.
 
     Examples
     --------

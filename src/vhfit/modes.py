@@ -63,7 +63,7 @@ class Uniaxial(Deformation):
     description = "uniaxial tension or compression: λ, λ^(−1/2), λ^(−1/2)"
     uniaxial = True
     drucker = True
-    abaqus_test_data = "*UNIAXIAL TEST DATA"
+    standard_test = "uniaxial"
 
     def stretches(self, x1, x2=None):
         return x1, x1**-0.5, x1**-0.5
@@ -79,7 +79,7 @@ class Equibiaxial(Deformation):
     step_power = 2.0  # ln λ3 = −2 ln λ
     signed = True
     drucker = True
-    abaqus_test_data = "*BIAXIAL TEST DATA"  # Abaqus' biaxial test is the equibiaxial one
+    standard_test = "equibiaxial"
 
     def stretches(self, x1, x2=None):
         return x1, x1, x1**-2.0
@@ -92,7 +92,7 @@ class Planar(Deformation):
     description = "planar (pure shear): λ, 1, 1/λ"
     signed = True
     drucker = True
-    abaqus_test_data = "*PLANAR TEST DATA"
+    standard_test = "planar"
 
     def stretches(self, x1, x2=None):
         return x1, np.ones_like(x1), 1.0 / x1

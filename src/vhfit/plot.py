@@ -829,6 +829,11 @@ def _moduli_axes(ax, frequency: bool, reduced: bool) -> None:
     ax.grid(True, which="both", alpha=0.3)
 
 
+#: Axis and colour-bar label of temperatures: vhfit keeps a test's temperature in the
+#: unit its file writes it in (°C, K or °F), so the label names that unit as the data's.
+TEMPERATURE_LABEL = "temperature (unit of the data: °C, K or °F)"
+
+
 def _temperature_colours(fig, ax, temps: Sequence[float]) -> list:
     """Colours of items at ``temps`` (blue cold, red hot) and a colour bar beside ``ax``."""
     from matplotlib import colormaps
@@ -838,7 +843,7 @@ def _temperature_colours(fig, ax, temps: Sequence[float]) -> list:
     lo, hi = float(min(temps)), float(max(temps))
     norm = Normalize(lo, hi if hi > lo else lo + 1.0)
     cmap = colormaps["coolwarm"]
-    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label="temperature")
+    fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, label=TEMPERATURE_LABEL)
     return [cmap(norm(T)) for T in temps]
 
 
@@ -972,7 +977,7 @@ def plot_shift_factors(master, path=None, *, law=None, label: str = "from the sw
         consts = ", ".join(f"{k} = {v:.4g}" for k, v in law.constants().items())
         ax.plot(fine, law.log_aT(fine), "-", color="C1", label=f"{law.name}: {consts}")
     ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.set_xlabel("temperature")
+    ax.set_xlabel(TEMPERATURE_LABEL)
     ax.set_ylabel("log10 a_T")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)

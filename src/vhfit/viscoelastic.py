@@ -9,9 +9,9 @@ uniaxial modulus E∞ = 3 μ0 of the hyperelastic law:
   E′(ω) = E∞ + Σ G_i (ωτ_i)²/(1 + (ωτ_i)²), E″(ω) = Σ G_i ωτ_i/(1 + (ωτ_i)²)
   (the generalised Maxwell model; shear moduli are E/3 for an incompressible solid).
 
-FE solvers expect the dimensionless (g_i, τ_i); Abaqus, Ansys and LS-DYNA differ in
-whether the hyperelastic constants they are given are long-term (relaxed) or
-instantaneous (= long-term / g∞). These helpers convert between the two.
+FE solvers expect the dimensionless (g_i, τ_i); they differ in whether the hyperelastic
+constants they are given are long-term (relaxed) or instantaneous (= long-term / g∞).
+These helpers convert between the two.
 """
 
 from __future__ import annotations

@@ -82,11 +82,15 @@ def plan_formulations(solvers: Iterable[Any] | str) -> dict[str, list[str]]:
     Examples
     --------
     >>> from vhfit.calibration import plan_formulations
-    >>> plan_formulations(["abaqus", "lsdyna", "ansys"])
-    {'hereditary': ['abaqus', 'ansys'], 'lsdyna': ['lsdyna']}
-    >>> from vhfit.export import get_solver
-    >>> plan_formulations([get_solver("lsdyna"), "abaqus"])
-    {'lsdyna': ['lsdyna'], 'hereditary': ['abaqus']}
+    >>> from vhfit.export import get_solver, solvers
+    >>> plan = plan_formulations([*solvers(), *solvers()])  # each solver served once
+    >>> sorted(s for served in plan.values() for s in served) == sorted(solvers())
+    True
+    >>> all(get_solver(s).formulation == f for f, served in plan.items() for s in served)
+    True
+    >>> last = get_solver(solvers()[-1])
+    >>> plan_formulations([last]) == {last.formulation: [last.name]}
+    True
     """
     if isinstance(solvers, str) or _is_record(solvers):
         solvers = [solvers]
@@ -105,7 +109,8 @@ def plan_formulations(solvers: Iterable[Any] | str) -> dict[str, list[str]]:
         if key not in served:
             served.append(key)
     if not plan:
-        raise ValueError("calibrate_for needs at least one solver, e.g. ['abaqus', 'lsdyna']")
+        raise ValueError("calibrate_for needs at least one solver: give names among "
+                         f"{', '.join(SOLVER_FORMULATIONS)}")
     return plan
 
 
@@ -209,7 +214,8 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
     ...           measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
     >>> first = vhfit.calibrate(curves, n_prony=1, seed=0)
-    >>> opts = start_options(first, curves, formulation="lsdyna", n_prony=1, seed=0)
+    >>> other = next(f for f in vhfit.formulations.FORMULATIONS if f != "hereditary")
+    >>> opts = start_options(first, curves, formulation=other, n_prony=1, seed=0)
     >>> opts["popsize"], opts["de_options"]["init"].shape
     (24, (24, 2))
     """
@@ -274,7 +280,7 @@ def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, C
     Parameters
     ----------
     solvers : sequence of str or solver records
-        Solver names (``"abaqus"``, ``"lsdyna"``, ``"ansys"`` or a registered one) or
+        Names of registered solvers (:func:`vhfit.export.solvers`) or
         solver records (:class:`vhfit.export.Solver`, registered or not).
     curves : Curve, path, or sequence of them
         The data, as for :func:`vhfit.calibrate`.
@@ -302,11 +308,15 @@ def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, C
     >>> eps = np.linspace(-0.05, -0.5, 10)
     >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(true, strain=eps, strain_rate=r,
     ...           measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
-    >>> fits = vhfit.calibrate_for(["abaqus", "lsdyna"], curves, n_prony=1, seed=0)
-    >>> list(fits), fits["hereditary"].rmsape < 1e-3
-    (['hereditary', 'lsdyna'], True)
-    >>> fits["lsdyna"].model.formulation
-    'lsdyna'
+    >>> from vhfit.export import get_solver, solvers
+    >>> one_each = list({get_solver(s).formulation: s for s in solvers()}.values())
+    >>> fits = vhfit.calibrate_for(one_each, curves, n_prony=1, seed=0)
+    >>> list(fits) == [get_solver(s).formulation for s in one_each], len(fits) > 1
+    (True, True)
+    >>> fits["hereditary"].rmsape < 1e-3
+    True
+    >>> all(fit.model.formulation == f for f, fit in fits.items())
+    True
     """
     if "formulation" in kwargs:
         raise ValueError("calibrate_for: the solvers choose each fit's formulation; drop "

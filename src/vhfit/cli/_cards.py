@@ -67,7 +67,7 @@ def _solver(key: str):
 
 
 def solver_of(key: str) -> str:
-    """The solver of a card key (``"abaqus_explicit"`` -> ``"abaqus"``)."""
+    """The solver of a card key (a variant's ``NAME_VARIANT`` -> ``NAME``)."""
     return _solver(key).name
 
 
@@ -125,7 +125,8 @@ CARD_SHIFT_DECADES = 0.01
 def card_shift(cal) -> tuple[object, str | None]:
     """The fit's time–temperature shift for the cards: (WLF law or None, note or None).
 
-    A WLF law goes into the cards (*TRS, TB,SHIFT; a note in LS-DYNA's). Another law
+    A WLF law goes into the cards (each solver record's ``shift``: a shift keyword, or a
+    note in a card without one). Another law
     (the one the data chose where the WLF fit degenerates, or a given one) has no card
     form: the cards then carry the WLF law fitted to the fit's shift table when it
     reproduces the table as well (RMS within 10 % of the law's, or within
@@ -268,8 +269,8 @@ def json_marked(text: str, line: str | None) -> str:
 def write_cards(fits: dict, plan: dict, curves, out: Path, args,
                 interrupted: bool = False) -> Cards:
     """Write the cards of ``plan`` (formulation -> solvers) from ``fits`` (formulation ->
-    Calibration), check each against ``curves``, and write material.json and the Abaqus
-    test data of the first fit.
+    Calibration), check each against ``curves``, and write material.json and the solvers'
+    test-data inputs (records with ``test_data``) of the first fit.
 
     A card that fails its check is not written (its reason is in ``errors``) unless
     ``--formulation`` chose the fit for every solver: then it is written with the check's
@@ -300,7 +301,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
     status = unfinished(first, interrupted)
     atomic_write(out / CARD_FILES["json"], json_marked(export(first, to="json"), status))
     res.files["json"] = CARD_FILES["json"]
-    if any(c.is_equilibrium and get_deformation(c.deformation).abaqus_test_data
+    if any(c.is_equilibrium and get_deformation(c.deformation).standard_test
            for c in curves):  # the solvers' test-data inputs (records with test_data)
         for name in solver_names():
             rec = get_solver(name)

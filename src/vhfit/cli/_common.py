@@ -22,7 +22,6 @@ __all__ = [
     "Signals",
     "prepare_out",
     "emit",
-    "count_prony",
 ]
 
 EXIT_OK = 0
@@ -104,26 +103,6 @@ def emit(text: str, out: str | None, *, what: str) -> None:
     except OSError as exc:
         raise UsageError(f"--out {out}: cannot write ({exc.strerror})") from None
     print(f"wrote {what} to {out}", file=sys.stderr)
-
-
-# ============================================================ material input
-def count_prony(params: dict) -> int:
-    """The number N of Prony terms in ``params`` (``G1, tau1 ... GN, tauN``, all needed)."""
-    idx = set()
-    for k in params:
-        for pre in ("G", "tau"):
-            if k.startswith(pre) and k[len(pre):].isdigit():
-                idx.add(int(k[len(pre):]))
-    n = max(idx) if idx else 0
-    if n > len(params):  # (G1000000000 alone: a gap too long to list)
-        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
-                         f"{len(params)} constants are given: check the term numbers "
-                         "(give them with --param)")
-    missing = [f"{p}{i}" for i in range(1, n + 1) for p in ("G", "tau") if f"{p}{i}" not in params]
-    if missing:
-        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}: missing "
-                         f"{', '.join(missing)} (give them with --param)")
-    return n
 
 
 # ================================================================== progress

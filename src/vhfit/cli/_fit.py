@@ -11,10 +11,11 @@ from __future__ import annotations
 import os
 import re
 import shlex
+import shutil
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from dataclasses import replace
 from pathlib import Path
 
@@ -140,26 +141,71 @@ def run_compare(curves, inputs, args, out: Path, laws: list[str], *, command: li
             comp = compare(curves, laws, n_prony=args.prony, solvers=solvers, **kw)
     except ValueError as exc:
         raise UsageError(one_line(exc)) from None
-    raw = curves
-    for law, cal in comp.fits.items():
-        if law == comp.best:
-            continue
-        folder = out / "laws" / law
-        folder.mkdir(parents=True, exist_ok=True)
-        row = next(r for r in comp.rows if r["law"] == law)
-        atomic_write(folder / "summary.txt", cal.summary() + "\n")
-        cal.save(folder / RESULTS, curves=raw, extra={
-            "command": ["vhfit", *command], "seed": args.seed, "inputs": inputs,
-            "comparison_row": comp.to_dict()["rows"][row["rank"] - 1]})
-    if comp.best is None:
-        print(comp.table())
-        print("vhfit: error: no law found a valid parameter set (RMSAPE is not finite); "
-              "check the data and the laws", file=sys.stderr)
-        return EXIT_FAILED
-    args.model = comp.best
-    return run_fit(curves, inputs, args, out, label=None, command=command,
-                   shift_law=shift_law, at_ref=at_ref, given=comp.calibration,
-                   comparison=comp)
+    except KeyboardInterrupt:  # no result yet: the folder is left as it was
+        raise CompareInterrupted(
+            f"interrupted while the laws were fitted: nothing written to {out}; rerun the "
+            "command to compare them") from None
+    sigs = Signals()  # one for the laws' files and the best's fit: a deferred signal
+    with sigs:        # written into laws/ stops the best's next search
+        _write_laws(comp, curves, out, sigs, extra={
+            "command": ["vhfit", *command], "seed": args.seed, "inputs": inputs})
+        if comp.best is None:
+            print(comp.table())
+            print("vhfit: error: no law found a valid parameter set (RMSAPE is not finite); "
+                  "check the data and the laws", file=sys.stderr)
+            return EXIT_FAILED
+        args.model = comp.best
+        return run_fit(curves, inputs, args, out, label=None, command=command,
+                       shift_law=shift_law, at_ref=at_ref, given=comp.calibration,
+                       comparison=comp, signals=sigs)
+
+
+class CompareInterrupted(FitFailed):
+    """A comparison interrupted before its results were written: exit 1, and the
+    ``--out`` folder is left as it was (:func:`_out_folder`)."""
+
+
+#: Where the other laws' results are written before they are moved to ``laws/`` whole.
+LAWS_PARTIAL = ".laws.partial"
+
+
+def _write_laws(comp, curves, out: Path, sigs: Signals, *, extra: dict) -> None:
+    """Each law of the comparison but the best into ``laws/LAW/`` (results and summary).
+
+    The files are written into a hidden sibling folder, which then replaces ``laws/``
+    whole: an interrupt never leaves a ``laws/`` of some laws only. Signals are deferred
+    meanwhile, as while ``vhfit fit`` writes its outputs; an abort that comes through
+    anyway (a third signal) removes what was written and leaves the folder as it was.
+    """
+    others = [law for law in comp.fits if law != comp.best]
+    if not others:
+        return
+    partial, final = out / LAWS_PARTIAL, out / "laws"
+    rows = comp.to_dict()["rows"]
+    try:
+        shutil.rmtree(partial, ignore_errors=True)
+        sigs.writing = True
+        for law in others:
+            cal = comp.fits[law]
+            folder = partial / law
+            folder.mkdir(parents=True, exist_ok=True)
+            row = next(r for r in comp.rows if r["law"] == law)
+            atomic_write(folder / "summary.txt", cal.summary() + "\n")
+            cal.save(folder / RESULTS, curves=curves,
+                     extra={**extra, "comparison_row": rows[row["rank"] - 1]})
+        if final.is_dir():  # an earlier run's (--force)
+            shutil.rmtree(final)
+        partial.rename(final)
+    except KeyboardInterrupt:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise CompareInterrupted(
+            f"interrupted while the laws' results were written: nothing written to {out}; "
+            "rerun the command to compare them") from None
+    except BaseException:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise
+    finally:
+        sigs.writing = False
 
 
 def cmd_demo(args, argv: Sequence[str] = ()) -> int:
@@ -207,7 +253,8 @@ def _out_folder(args, default: str) -> Iterator[Path]:
     """The ``--out`` folder of a fit, left as it was when the run ends in bad input.
 
     On exit 2 (a one-line error: bad data, a law that cannot reach the data, a flag the
-    fit refuses) the files the run added are removed, the checkpoints it changed are
+    fit refuses), and when a comparison of laws (``--model a,b``) is interrupted before
+    its results are written, the files the run added are removed, the checkpoints it changed are
     restored and a folder it created is removed again: a rerun finds the folder as the
     user left it. Interrupts and failed fits (exit 1) keep their checkpoints for
     ``--resume``.
@@ -220,7 +267,8 @@ def _out_folder(args, default: str) -> Iterator[Path]:
              if n.startswith(CHECKPOINT) and (out / n).is_file()}
     try:
         yield out
-    except (UsageError, ValueError, OSError):  # exit 2: as it was
+    except (UsageError, ValueError, OSError, CompareInterrupted):  # exit 2, or a
+        # comparison interrupted before its results: as it was
         _restore(out, existed, names, saved)
         raise
 
@@ -282,13 +330,16 @@ def _demo_check(out: Path) -> None:
 # ================================================================ the fit job
 def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list[str],
             demo: bool = False, shift_law=None, at_ref: list | None = None,
-            given: Calibration | None = None, comparison=None) -> int:
+            given: Calibration | None = None, comparison=None,
+            signals: Signals | None = None) -> int:
     """Calibrate, then write every output into ``out`` (also when interrupted).
 
     ``shift_law``: the law of ``--shift`` (None: the tests' own overlap, or one
     temperature); ``at_ref``: the tests at the reference temperature, for the outputs
     (None: ``curves`` are); ``given``: the first formulation's fit, already made (by
-    :func:`run_compare`, whose ``comparison`` heads the summary).
+    :func:`run_compare`, whose ``comparison`` heads the summary); ``signals``: the
+    caller's :class:`Signals`, already installed (a signal it deferred stops the next
+    search).
     """
     model = resolve_model_name(args.model)
     strategy = args.strategy
@@ -320,10 +371,11 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             print(f"no Prony terms: {why} (give --prony N to fit some anyway)",
                   file=sys.stderr, flush=True)
     plan = plan_fits(args.targets, args.formulation)
-    sigs = Signals()
+    sigs = signals if signals is not None else Signals()
     fits: dict[str, Calibration] = {}
     interrupted = False
-    with sigs, warnings.catch_warnings(record=True) as caught:
+    with (nullcontext() if signals is not None else sigs), \
+            warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for form in plan:
             if given is not None and not fits:  # fitted by run_compare

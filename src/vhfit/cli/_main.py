@@ -28,7 +28,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     Examples
     --------
     >>> from vhfit.cli import main
-    >>> main(["export", "no-such-results.json", "--to", "abaqus"])  # a one-line error
+    >>> main(["export", "no-such-results.json", "--to", "json"])  # a one-line error
     2
     """
     argv = list(sys.argv[1:] if argv is None else argv)

@@ -236,7 +236,7 @@ def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
 
 
 def _solvers(text: str) -> list[str]:
-    """``--for abaqus,ansys`` -> ['abaqus', 'ansys'] (names or aliases of the solver records)."""
+    """``--for A,B`` -> ['A', 'B'] (names or aliases of the solver records, as their names)."""
     out = []
     for part in text.split(","):
         try:
@@ -389,7 +389,8 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--shift", type=_shift, metavar="LAW:CONSTANTS",
                    help="known time-temperature shift at --tref: wlf:C1,C2 or "
                         "arrhenius:E_A[,T0] (default: built from the sweeps' overlap and "
-                        "fitted by WLF); a WLF shift goes into the Abaqus and Ansys cards")
+                        "fitted by WLF); a WLF shift goes into the cards, each in its "
+                        "solver's form")
     _add_data_choices(p)
     p.add_argument("--bounds", type=_bound, action="append", metavar="NAME=LO:HI",
                    help="search limits of one parameter instead of the automatic ones, e.g. "

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vhfit.cli._common import EXIT_OK, UsageError, count_prony, emit, one_line
+from vhfit.cli._common import EXIT_OK, UsageError, emit, one_line
 from vhfit.cli._plugins import resolve_model_name
 from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
@@ -17,7 +17,7 @@ from vhfit.history import History
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation
 
-__all__ = ["cmd_simulate", "parse_params"]
+__all__ = ["cmd_simulate", "parse_params", "count_prony"]
 
 
 def cmd_simulate(args, argv=()) -> int:
@@ -144,3 +144,22 @@ def parse_params(item: str) -> dict[str, float]:
         except ValueError:
             raise UsageError(f"--param {part!r}: {val!r} is not a number") from None
     return out
+
+
+def count_prony(params: dict) -> int:
+    """The number N of Prony terms in ``params`` (``G1, tau1 ... GN, tauN``, all needed)."""
+    idx = set()
+    for k in params:
+        for pre in ("G", "tau"):
+            if k.startswith(pre) and k[len(pre):].isdigit():
+                idx.add(int(k[len(pre):]))
+    n = max(idx) if idx else 0
+    if n > len(params):  # (G1000000000 alone: a gap too long to list)
+        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
+                         f"{len(params)} constants are given: check the term numbers "
+                         "(give them with --param)")
+    missing = [f"{p}{i}" for i in range(1, n + 1) for p in ("G", "tau") if f"{p}{i}" not in params]
+    if missing:
+        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}: missing "
+                         f"{', '.join(missing)} (give them with --param)")
+    return n

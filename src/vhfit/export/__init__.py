@@ -2,9 +2,9 @@
 
 ::
 
-    from vhfit.export import export, to_abaqus, from_abaqus
-    text = export(model, params, to="abaqus")        # or "lsdyna", "ansys", "json"
-    model2, params2 = from_abaqus(text)               # parse the card back
+    from vhfit.export import export, parse, solvers
+    text = export(model, params, to=solvers()[0])    # any registered solver, or "json"
+    model2, params2 = parse(text)                    # read the card back
 
 Each writer takes ``(model, params)`` — or one results-like object with ``.model``
 and ``.params`` (or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``)
@@ -16,15 +16,21 @@ docs/export.md.
 
 Each solver is one record (:class:`Solver`: names, card file, formulation, writer,
 reader, recognition, laws, shift, density and bulk-modulus fields, variants) in a
-registry (:func:`register_solver`); the built-in solver modules register their own, and
-everything here, the card check and the command line read from the records.
+registry (:func:`register_solver`). Every public module of this package that defines a
+``RECORD`` is a solver module: the package finds them on import (in the order of their
+``ORDER``, then of their names), registers each record and re-exports the module's
+writers and readers (the names of its ``__all__`` that begin with ``to_`` or ``from_``),
+so adding a solver is adding one module. Everything here, the card check and the
+command line read from the records.
 
 Units: the model's own consistent set — N, mm, s, MPa; density in tonne/mm³.
 """
 
 from __future__ import annotations
 
+import importlib
 import json
+import pkgutil
 from collections.abc import Mapping
 
 from vhfit.export._common import Material, generator, resolve
@@ -38,25 +44,12 @@ from vhfit.export._solvers import (
     solvers,
     unregister_solver,
 )
-from vhfit.export.abaqus import RECORD as _ABAQUS
-from vhfit.export.abaqus import from_abaqus, to_abaqus, to_abaqus_test_data
-from vhfit.export.ansys import RECORD as _ANSYS
-from vhfit.export.ansys import from_ansys, to_ansys
-from vhfit.export.lsdyna import RECORD as _LSDYNA
-from vhfit.export.lsdyna import from_lsdyna, to_lsdyna
 from vhfit.export.shift import add_shift
 from vhfit.model import ViscoHyperelastic
 
 __all__ = [
     "export",
     "parse",
-    "to_abaqus",
-    "from_abaqus",
-    "to_abaqus_test_data",
-    "to_lsdyna",
-    "from_lsdyna",
-    "to_ansys",
-    "from_ansys",
     "to_json",
     "from_json",
     "supported_laws",
@@ -67,11 +60,6 @@ __all__ = [
     "get_solver",
     "solvers",
 ]
-
-
-# the built-in solvers, in the order their cards are listed
-for _record in (_ABAQUS, _LSDYNA, _ANSYS):
-    register_solver(_record)
 
 
 class _Formats(LiveMapping):
@@ -124,7 +112,8 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
             **dict(zip(model.param_names, model.units)),
         },
         "conventions": (
-            "hyperelastic constants long-term (Abaqus Cij / Ogden 2mu/alpha^2 forms); "
+            "hyperelastic constants long-term (polynomial Cij / Ogden 2mu/alpha^2 forms, "
+            "docs/theory.md section 2); "
             "G_i uniaxial Prony moduli: E(t) = E_inf + sum G_i exp(-t/tau_i); "
             "g_i = G_i/G0, G0 = E_inf + sum G_i (docs/theory.md section 3)"
         ),
@@ -179,9 +168,9 @@ def supported_laws(solver: str) -> tuple[str, ...]:
 
     Examples
     --------
-    >>> from vhfit.export import supported_laws
-    >>> "gent" in supported_laws("ansys"), "gent" in supported_laws("abaqus")
-    (True, False)
+    >>> from vhfit.export import solvers, supported_laws
+    >>> all("neo_hooke" in supported_laws(s) for s in solvers())
+    True
     """
     key = _target(solver)
     if key == "json":
@@ -190,7 +179,7 @@ def supported_laws(solver: str) -> tuple[str, ...]:
     return tuple(get_solver(key).laws)
 
 
-def export(model, params=None, *, to: str = "abaqus", **options) -> str:
+def export(model, params=None, *, to: str | None = None, **options) -> str:
     """Write a calibrated model for an FE solver (dispatch to ``to_<solver>``).
 
     Parameters
@@ -200,12 +189,12 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
         or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``.
     params : dict or array_like, optional
         The calibrated parameters (omit when ``model`` is results-like).
-    to : str
-        Target format: a registered solver (:func:`solvers`; ``"abaqus"``, ...) or one
-        of its aliases, or ``"json"``.
+    to : str, optional
+        Target format: a registered solver (:func:`solvers`) or one of its aliases, or
+        ``"json"``; default the first registered solver.
     **options
-        Passed to the writer (``name``, ``density``, ``poisson``, ``moduli`` for
-        Abaqus, ...); ``shift=`` a WLF law
+        Passed to the writer (``name``, ``density``, the keywords its solver's record
+        declares, ...); ``shift=`` a WLF law
         (:class:`vhfit.tts.WLF`) adds the temperature shift (:mod:`vhfit.export.shift`).
 
     Returns
@@ -216,16 +205,17 @@ def export(model, params=None, *, to: str = "abaqus", **options) -> str:
     Examples
     --------
     >>> import vhfit
-    >>> from vhfit.export import export
+    >>> from vhfit.export import export, parse, solvers
     >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
     >>> p = dict(C10=0.0, C01=5.0, G1=30.0, tau1=1e-4)
-    >>> "*HYPERELASTIC, MOONEY-RIVLIN, MODULI=LONG TERM" in export(m, p, to="abaqus")
+    >>> cards = {s: export(m, p, to=s) for s in solvers()}
+    >>> all(export({"model": m, "params": p}, to=s) == card for s, card in cards.items())
     True
-    >>> "TB,PRONY,1,,1,SHEAR" in export({"model": m, "params": p}, to="ansys")
+    >>> all(abs(parse(card)[1]["C01"] - 5.0) < 1e-12 for card in cards.values())
     True
     """
     shift = options.pop("shift", None)
-    key = _target(to)
+    key = _target(solvers()[0] if to is None else to)
     write = to_json if key == "json" else get_solver(key).write
     text = write(*resolve(model, params), **options)
     return text if shift is None else add_shift(text, shift, key, mat=options.get("mat", 1))
@@ -250,3 +240,26 @@ def parse(text: str, fmt: str | None = None) -> tuple[ViscoHyperelastic, dict]:
         if rec.sniff(body):
             return rec.read(text)
     raise ValueError(f"cannot tell the card format: give fmt= one of {', '.join(FORMATS)}")
+
+
+def _solver_modules() -> list:
+    """The public modules of this package that define a solver ``RECORD``, in the order of
+    their ``ORDER`` (default: after the ordered ones), then of their names."""
+    found = []
+    for info in pkgutil.iter_modules(__path__):
+        if info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"{__name__}.{info.name}")
+        if isinstance(getattr(module, "RECORD", None), Solver):
+            found.append(module)
+    return sorted(found, key=lambda m: (getattr(m, "ORDER", float("inf")), m.__name__))
+
+
+# each solver module registers its record and lends the package its writers and readers
+for _module in _solver_modules():
+    register_solver(_module.RECORD)
+    for _name in getattr(_module, "__all__", ()):
+        if _name.startswith(("to_", "from_")) and _name not in __all__:
+            globals()[_name] = getattr(_module, _name)
+            __all__.append(_name)
+del _module, _name

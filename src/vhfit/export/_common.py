@@ -42,12 +42,12 @@ __all__ = [
 #: The consistent unit system every card is written in (the model's own: MPa and s).
 UNITS = "N, mm, s, MPa (stress and moduli), tonne/mm^3 (density)"
 
-#: Default bulk modulus of the cards that need one (LS-DYNA's PR, Abaqus/Explicit's D1),
+#: Default bulk modulus of the cards that need one (a solver record's ``bulk_modulus``),
 #: as a multiple of the instantaneous shear modulus: the range of unfilled elastomers
-#: (K0/μ0 of 1000 to 10000 in the Abaqus Analysis User's Guide, "Compressibility").
+#: (K0/μ0 of 1000 to 10000; docs/export.md, "Compressibility").
 BULK_RATIO = 1000.0
 
-#: Laws with the same energy under two names (Abaqus NEO HOOKE = REDUCED POLYNOMIAL, N=1)
+#: Laws with the same energy under two names (neo-Hooke = reduced polynomial, N = 1)
 SAME_LAW = {"neo_hooke": "reduced_polynomial1", "yeoh": "reduced_polynomial3"}
 SAME_LAW.update({v: k for k, v in SAME_LAW.items()})
 
@@ -152,7 +152,7 @@ class Material:
     hyperelastic : str
         Registered vhfit model name.
     constants : dict of str to float
-        Hyperelastic constants, vhfit (Abaqus) convention, LONG-TERM values.
+        Hyperelastic constants, vhfit's convention (docs/theory.md §2), LONG-TERM values.
     g : tuple of float
         Dimensionless Prony weights g_i = G_i / G0 (docs/theory.md §3).
     tau : tuple of float
@@ -213,9 +213,9 @@ class Material:
         ``bulk_modulus`` is taken as given; a Poisson's ratio ν gives
         K = 2 μ_inst (1 + ν) / (3 (1 − 2ν)) with the INSTANTANEOUS shear modulus
         μ_inst = μ0 / g∞: the bulk response does not relax (k_i = 0), so ν describes the
-        material at the rates where the Prony terms are active. Abaqus's D1 and Ansys's
-        d1 are 2/K; LS-DYNA's PR is the ratio that gives this K
-        (each card writes K in its solver's own terms).
+        material at the rates where the Prony terms are active. Each card writes K in
+        its solver's own terms (a compressibility D1 = 2/K, :meth:`d1`, or a Poisson's
+        ratio that gives this K; docs/export.md).
         """
         check_compressibility(poisson, bulk_modulus)
         if bulk_modulus is not None:
@@ -231,7 +231,7 @@ class Material:
         return BULK_RATIO * self.mu_inst
 
     def d1(self, poisson: float | None = None, bulk_modulus: float | None = None) -> float:
-        """Compressibility D1 = 2 / K (Abaqus D1, Ansys d1); 0 (incompressible) when
+        """Compressibility D1 = 2 / K (the cards' D1 or d1 field); 0 (incompressible) when
         neither ν nor K is given (see :meth:`bulk_modulus`)."""
         K = self.bulk_modulus(poisson, bulk_modulus)
         return 0.0 if K is None else 2.0 / K
@@ -347,10 +347,10 @@ def model_hint(text: str, layout: str) -> str:
 
 
 # ---------------------------------------------------------------------------- numbers
-#: Longest number a free-format data line may hold: Abaqus' input syntax rules allow 20
-#: characters for a floating-point number (sign, point and exponent included), and
+#: Longest number a free-format data line may hold: the free-format input syntax allows
+#: 20 characters for a floating-point number (sign, point and exponent included), and
 #: CalculiX, which reads the same syntax, silently cuts a longer one at 20 — so that
-#: '4.575210514986395e-05' would be read as 4.575.
+#: '4.575210514986395e-05' would be read as 4.575 (docs/export.md).
 NUMBER_WIDTH = 20
 
 

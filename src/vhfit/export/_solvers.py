@@ -7,7 +7,8 @@ laws its cards hold, whether its card takes a time–temperature shift, a densit
 bulk modulus, and its card variants. :func:`vhfit.export.export`, :func:`vhfit.export.parse`,
 the card check (:mod:`vhfit.export.check`), the shift writer (:mod:`vhfit.export.shift`),
 :data:`vhfit.formulations.SOLVER_FORMULATIONS` and the command line read only from here.
-Each built-in solver module (``export/abaqus.py``, ...) registers its own record.
+Each solver module of :mod:`vhfit.export` defines its own record (``RECORD``), which the
+package registers when it finds the module.
 """
 
 from __future__ import annotations
@@ -51,7 +52,7 @@ class Solver:
     comment : str
         Its comment prefix (comment lines are skipped when recognising any card).
     aliases : tuple of str
-        Other names accepted for it (``ls-dyna``).
+        Other names accepted for it (e.g. its name written with a hyphen).
     shift : callable or None
         ``shift(card, law, mat) -> str``: the card with a WLF time–temperature shift
         (:class:`vhfit.tts.WLF`); None: its cards take none.
@@ -177,8 +178,11 @@ def get_solver(name) -> Solver:
 
     Examples
     --------
-    >>> get_solver("Abaqus").suffix, get_solver("apdl").name
-    ('.inp', 'ansys')
+    >>> rec = next(records())
+    >>> get_solver(rec.name.upper()) is rec, get_solver(rec) is rec
+    (True, True)
+    >>> all(get_solver(alias) is r for r in records() for alias in r.aliases)
+    True
     """
     if isinstance(name, Solver):
         return name
@@ -193,8 +197,9 @@ def solver_of(key: str) -> Solver:
 
     Examples
     --------
-    >>> solver_of("abaqus_explicit").label
-    'Abaqus'
+    >>> rec = next(r for r in records() if r.variants)
+    >>> solver_of(f"{rec.name}_{next(iter(rec.variants))}") is rec
+    True
     """
     rec = _lookup(key)
     if rec is not None:
@@ -211,7 +216,7 @@ def solvers() -> tuple[str, ...]:
 
     Examples
     --------
-    >>> "abaqus" in solvers()
+    >>> solvers() == tuple(rec.name for rec in records()) and len(solvers()) > 0
     True
     """
     return tuple(_SOLVERS)
@@ -280,7 +285,7 @@ def names(keep: Callable[[Solver], bool] | None = None) -> Sequence[str]:
     Examples
     --------
     >>> view = names(lambda rec: rec.shift is not None)
-    >>> "abaqus" in view
+    >>> list(view) == [rec.name for rec in records() if rec.shift is not None]
     True
     """
     return _Names(keep or (lambda rec: True))

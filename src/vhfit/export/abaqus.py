@@ -363,11 +363,18 @@ def _or(names: list[str]) -> str:
     return " or ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
 
 
+#: Standard test (a deformation record's ``standard_test``) -> its Abaqus test-data
+#: keyword (Abaqus' biaxial test is the equibiaxial one).
+TEST_DATA_KEYWORDS = {"uniaxial": "*UNIAXIAL TEST DATA", "equibiaxial": "*BIAXIAL TEST DATA",
+                      "planar": "*PLANAR TEST DATA"}
+
+
 def _test_data() -> dict[str, str]:
-    """Registered deformation -> its Abaqus test-data keyword (``abaqus_test_data`` of
-    its record; nominal stress, nominal strain lines), for the tests that have one."""
+    """Registered deformation -> its Abaqus test-data keyword (from the ``standard_test``
+    of its record; nominal stress, nominal strain lines), for the tests that have one."""
     tests = (get_deformation(n) for n in registered_deformations())
-    return {t.name: t.abaqus_test_data for t in tests if t.abaqus_test_data}
+    return {t.name: TEST_DATA_KEYWORDS[t.standard_test] for t in tests
+            if t.standard_test in TEST_DATA_KEYWORDS}
 
 
 def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
@@ -375,11 +382,11 @@ def to_abaqus_test_data(curves, hyperelastic: str = "mooney_rivlin", *,
     """Abaqus ``*HYPERELASTIC, ..., TEST DATA INPUT`` block of the equilibrium curves.
 
     Abaqus fits its own constants of the same law to these data (nominal stress,
-    nominal strain per line; the keyword of each test is its record's
-    ``abaqus_test_data``, e.g. ``*UNIAXIAL TEST DATA``), so its evaluation of the law can
-    be compared with vhfit's fit. Only equilibrium (rate-free) curves are written: rate
-    curves are not a hyperelastic response. Tests without such a keyword in Abaqus
-    (general biaxial, simple shear) are left out with a comment.
+    nominal strain per line; the keyword of each test follows its record's
+    ``standard_test``, e.g. ``*UNIAXIAL TEST DATA`` for ``"uniaxial"``), so its
+    evaluation of the law can be compared with vhfit's fit. Only equilibrium (rate-free)
+    curves are written: rate curves are not a hyperelastic response. Tests without such a
+    keyword in Abaqus (general biaxial, simple shear) are left out with a comment.
 
     Parameters
     ----------
@@ -480,6 +487,10 @@ def _add_trs(card: str, law, mat: int = 1) -> str:
                          "temperature shift needs n_prony >= 1")
     return "\n".join(lines + abaqus_trs(law)) + "\n"
 
+
+#: Where its cards come in the list of the registered solvers (vhfit.export finds the
+#: solver modules and registers their records in this order).
+ORDER = 1
 
 #: The solver record (registered by vhfit.export).
 RECORD = Solver(

@@ -344,6 +344,10 @@ def _add_tb_shift(card: str, law, mat: int = 1) -> str:
     return "\n".join(lines + ansys_shift(law, mat)) + "\n"
 
 
+#: Where its cards come in the list of the registered solvers (vhfit.export finds the
+#: solver modules and registers their records in this order).
+ORDER = 3
+
 #: The solver record (registered by vhfit.export).
 RECORD = Solver(
     name="ansys", label=SOLVER, suffix=".mac", formulation="hereditary",

@@ -17,14 +17,15 @@ names the remedy: a fit in that solver's formulation (``vhfit fit --for SOLVER``
 Examples
 --------
 >>> import numpy as np, vhfit
->>> from vhfit.export import to_abaqus
+>>> from vhfit.export import export, get_solver, solvers
 >>> from vhfit.export.check import check_card
 >>> m = vhfit.ViscoHyperelastic("mooney_rivlin", n_prony=1)
 >>> p = dict(C10=0.2, C01=0.05, G1=1.5, tau1=0.01)
 >>> eps = np.linspace(-0.05, -0.4, 8)
 >>> curves = [vhfit.Curve(strain=eps, stress=m.stress(p, strain=eps, strain_rate=r,
 ...                       measure="engineering"), strain_rate=r) for r in (-1.0, -100.0)]
->>> res = check_card(to_abaqus(m, p), curves, solver="abaqus", fit=(m, p))
+>>> same = next(s for s in solvers() if get_solver(s).formulation == m.formulation)
+>>> res = check_card(export(m, p, to=same), curves, solver=same, fit=(m, p))
 >>> res.formulation, res.rmsape < 1e-9, res.exceeds
 ('hereditary', True, False)
 """
@@ -74,13 +75,17 @@ def allowed_rmsape(fit_rmsape: float) -> float:
 
 
 def solver_formulation(solver: str) -> str:
-    """The formulation the solver integrates, from its record (a card variant such as
-    ``"abaqus_explicit"`` counts as its solver).
+    """The formulation the solver integrates, from its record (a card variant,
+    ``NAME_VARIANT``, counts as its solver).
 
     Examples
     --------
-    >>> solver_formulation("ansys"), solver_formulation("abaqus_explicit")
-    ('hereditary', 'hereditary')
+    >>> from vhfit.export import records
+    >>> all(solver_formulation(r.name) == r.formulation for r in records())
+    True
+    >>> all(solver_formulation(f"{r.name}_{v}") == r.formulation
+    ...     for r in records() for v in r.variants)
+    True
     """
     return solver_of(solver).formulation
 
@@ -127,7 +132,7 @@ class CardCheck:
     Attributes
     ----------
     solver : str
-        A registered solver's name (or a card variant's, ``"abaqus_explicit"``).
+        A registered solver's name (or a card variant's, ``NAME_VARIANT``).
     formulation : str
         The formulation the card was re-simulated in (its solver's).
     rmsape : float
@@ -222,8 +227,11 @@ def card_solver(text: str) -> str:
 
     Examples
     --------
-    >>> card_solver("*HYPERELASTIC, NEO HOOKE"), card_solver("TB,HYPER,1,,,NEO")
-    ('abaqus', 'ansys')
+    >>> import vhfit
+    >>> from vhfit.export import export, solvers
+    >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=0)
+    >>> all(card_solver(export(m, {"C10": 0.5}, to=s)) == s for s in solvers())
+    True
     """
     body = card_body(text)
     for rec in records():
@@ -279,7 +287,7 @@ def check_cards(cards: Mapping[str, str], curves: Sequence, *, fits=None) -> dic
     Parameters
     ----------
     cards : mapping of str to str
-        Card key (a registered solver's name, or a variant's: ``"abaqus_explicit"``) ->
+        Card key (a registered solver's name, or a variant's: ``NAME_VARIANT``) ->
         card text.
     curves : sequence of Curve
         The data.

@@ -504,6 +504,10 @@ def _add_shift_note(card: str, law, mat: int = 1) -> str:
     return "\n".join(lines[:end] + lsdyna_shift_note(law) + lines[end:]) + "\n"
 
 
+#: Where its cards come in the list of the registered solvers (vhfit.export finds the
+#: solver modules and registers their records in this order).
+ORDER = 2
+
 #: The solver record (registered by vhfit.export).
 RECORD = Solver(
     name="lsdyna", label=SOLVER, suffix=".k", formulation="lsdyna",

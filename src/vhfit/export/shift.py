@@ -4,13 +4,13 @@ The Prony terms of a card are those at the reference temperature T_ref; the shif
 function makes every relaxation time τ_i(T) = a_T τ_i with the WLF law
 log10 a_T = −C1 (T − T_ref)/(C2 + T − T_ref) (:class:`vhfit.tts.WLF`). Each solver's
 record (:class:`vhfit.export.Solver`) says how its card takes the law (its ``shift``:
-Abaqus ``*TRS``, Ansys ``TB,SHIFT``, or comment lines for a card without a shift field);
-the layouts and their sources are in the solver modules and docs/export.md, docs/dma.md.
+the solver's own shift keyword, or comment lines for a card without a shift field); the
+layouts and their sources are in the solver modules and docs/export.md, docs/dma.md.
 
 ::
 
     from vhfit.export import export
-    card = export(model, params, to="abaqus", shift=law)   # the hook: add_shift(...)
+    card = export(model, params, to=solver, shift=law)   # the hook: add_shift(...)
 """
 
 from __future__ import annotations
@@ -58,19 +58,20 @@ def wlf_number(x: float) -> str:
 def add_shift(card: str, law, to: str, *, mat: int = 1) -> str:
     """The card with the shift of ``law`` added in the place its solver expects.
 
-    Where the shift goes is the solver record's ``shift`` (for Abaqus: ``*TRS`` after
-    the material's ``*VISCOELASTIC`` lines).
+    Where the shift goes is the solver record's ``shift`` (its solver module writes the
+    lines: a shift keyword after the Prony terms, or comment lines).
 
     Examples
     --------
+    >>> import vhfit
+    >>> from vhfit.export import export
     >>> from vhfit.tts import WLF
-    >>> card = "*MATERIAL, NAME=M\\n*VISCOELASTIC, TIME=PRONY\\n0.5, 0.0, 0.1\\n"
-    >>> print(add_shift(card, WLF(8.86, 101.6, 25.0), "abaqus"), end="")
-    *MATERIAL, NAME=M
-    *VISCOELASTIC, TIME=PRONY
-    0.5, 0.0, 0.1
-    *TRS, DEFINITION=WLF
-    25.0, 8.86, 101.6
+    >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=1)
+    >>> card = {s: export(m, dict(C10=0.5, G1=1.0, tau1=0.1), to=s) for s in SHIFT_TARGETS}
+    >>> law = WLF(8.86, 101.6, 25.0)
+    >>> all("101.6" not in card[s] and "101.6" in add_shift(card[s], law, s)
+    ...     for s in SHIFT_TARGETS), len(SHIFT_TARGETS) > 0
+    (True, True)
     """
     targets = list(SHIFT_TARGETS)
     try:

@@ -83,7 +83,7 @@ _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
 @register("ogden", units=_OG["units"], bounds=_OG["bounds"], example=(0.1, 2.0),
           mu0=lambda mu1, a1: mu1, linear_params=("mu1",))
 def ogden(l1, l2, l3, mu1, alpha1):
-    """Ogden, one term (Abaqus form): W = 2μ1/α1² (λ1^α1 + λ2^α1 + λ3^α1 − 3); μ0 = μ1."""
+    """Ogden, one term (2μ/α² form): W = 2μ1/α1² (λ1^α1 + λ2^α1 + λ3^α1 − 3); μ0 = μ1."""
     return _ogden_term(l1, l2, l3, mu1, alpha1)
 
 
@@ -141,7 +141,7 @@ def ogden5(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3, mu4, alpha4, mu5, 
 @register("ogden6", **_ogden(6))
 def ogden6(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3, mu4, alpha4, mu5, alpha5,
            mu6, alpha6):
-    """Ogden, six terms (Abaqus's maximum): W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
+    """Ogden, six terms (the solvers' maximum): W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
     return _ogden_sum(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3, mu4, alpha4,
                       mu5, alpha5, mu6, alpha6)
 
@@ -154,7 +154,7 @@ def _rpoly_dW(I1, I2, *C):
 
 
 def _rpoly(n: int) -> dict:
-    """Registration options of the reduced polynomial of order n (Abaqus N = n)."""
+    """Registration options of the reduced polynomial of order n (N = n)."""
     return dict(bounds=(_POS,) + (_FREE,) * (n - 1), derivatives=_rpoly_dW, linear=True,
                 example=(0.1, 0.005, 5e-4, 5e-5, 5e-6, 5e-7)[:n],
                 fewer=f"reduced_polynomial{n - 1}" if n > 1 else None)
@@ -194,13 +194,13 @@ def reduced_polynomial5(I1, I2, C10, C20, C30, C40, C50):
 
 @register("reduced_polynomial6", **_rpoly(6))
 def reduced_polynomial6(I1, I2, C10, C20, C30, C40, C50, C60):
-    """Reduced polynomial, N = 6 (Abaqus's maximum): W = Σ_{i=1..6} Ci0 (I1 − 3)^i."""
+    """Reduced polynomial, N = 6 (the solvers' maximum): W = Σ_{i=1..6} Ci0 (I1 − 3)^i."""
     x = I1 - 3
     return C10 * x + C20 * x**2 + C30 * x**3 + C40 * x**4 + C50 * x**5 + C60 * x**6
 
 
 # -------------------------------------------------------------- Arruda–Boyce
-#: Abaqus's five coefficients of the inverse-Langevin series (docs/theory.md §2)
+#: The five coefficients of the inverse-Langevin series (the solvers' form, docs/theory.md §2)
 _AB_C = (1 / 2, 1 / 20, 11 / 1050, 19 / 7000, 519 / 673750)
 
 
@@ -219,7 +219,7 @@ def _ab_mu0(mu, lambda_m):
 @register("arruda_boyce", units=("MPa", "1"), bounds=(_POS, (1.0, math.inf)),
           derivatives=_ab_dW, mu0=_ab_mu0, example=(0.1, 3.0), linear_params=("mu",))
 def arruda_boyce(I1, I2, mu, lambda_m):
-    """Arruda–Boyce (Abaqus 5-term form): W = μ Σ_{i=1..5} C_i/λm^(2i−2) (I1^i − 3^i).
+    """Arruda–Boyce (the solvers' 5-term form): W = μ Σ_{i=1..5} C_i/λm^(2i−2) (I1^i − 3^i).
 
     C = 1/2, 1/20, 11/1050, 19/7000, 519/673750; λm is the locking stretch (λm → ∞
     gives neo-Hooke with C10 = μ/2); μ0 = μ (1 + 3/(5λm²) + 99/(175λm⁴) + ...).
@@ -257,7 +257,7 @@ def _vdw_dW(I1, I2, mu, lambda_m, a, beta):
           mu0=lambda mu, lambda_m, a, beta: mu, example=(0.1, 4.0, 0.1, 0.3),
           linear_params=("mu",))
 def van_der_waals(I1, I2, mu, lambda_m, a, beta):
-    """Van der Waals (Kilian; Abaqus form), with Ĩ = (1 − β) I1 + β I2, η = √((Ĩ − 3)/(λm² − 3)):
+    """Van der Waals (Kilian), with Ĩ = (1 − β) I1 + β I2, η = √((Ĩ − 3)/(λm² − 3)):
 
     W = μ [−(λm² − 3) (ln(1 − η) + η) − 2/3 a ((Ĩ − 3)/2)^(3/2)];  μ0 = μ.
     """

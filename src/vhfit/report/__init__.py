@@ -158,8 +158,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         The data it was fitted to (at its reference temperature); default
         ``cal.curves``. Without data there are no fit figures.
     cards : dict, optional
-        Solver -> card text (None: no card). Default: the Abaqus, LS-DYNA and Ansys
-        cards written from ``cal``, checked against the data.
+        Solver -> card text (None: no card). Default: every registered solver's card
+        written from ``cal`` (:func:`vhfit.export.solvers`), checked against the data.
     card_check : dict, optional
         Solver -> :class:`vhfit.export.check.CardCheck` or its ``to_dict()``.
     card_notes : dict, optional
