@@ -77,18 +77,16 @@ def data_stability_range(curves) -> tuple[float, float]:
             max(hi * STABILITY_MARGIN, MIN_STRETCH_RANGE))
 
 
-def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                       np.ndarray, np.ndarray]]:
-    """Per test of the Drucker check (:func:`vhfit.stability.modes_checked`): the
-    principal stretches half a step above and below each grid stretch."""
+def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Per test of the Drucker check (:func:`vhfit.stability.modes_checked`): its
+    principal stretches half a step above each grid stretch, then half a step below (one
+    array each: one evaluation of the law per test)."""
     lo, hi = map(float, stretch_range)
     lam = np.exp(np.linspace(math.log(lo), math.log(hi), GRID_POINTS))
-    out = []
-    for m in modes_checked():
-        stretches = get_deformation(m).stretches
-        out.append(tuple(stretches(lam * math.exp(_D), None))
-                   + tuple(stretches(lam * math.exp(-_D), None)))
-    return out
+    both = np.concatenate([lam * math.exp(_D), lam * math.exp(-_D)])
+    return [tuple(np.ascontiguousarray(v, dtype=np.float64)
+                  for v in get_deformation(m).stretches(both, None))
+            for m in modes_checked()]
 
 
 class Admissible:
@@ -104,10 +102,10 @@ class Admissible:
         """d(σ1 − σ3)/d ln λ of laws X (..., n_h) on the grid of every mode (..., 3 n)."""
         out = [np.zeros(np.shape(X)[:-1] + (0,))]
         with np.errstate(all="ignore"):
-            for u1, u2, u3, d1, d2, d3 in self.grid:
-                up = principal_difference(self.hm, X, u1, u2, u3)
-                dn = principal_difference(self.hm, X, d1, d2, d3)
-                out.append((up - dn) / (2 * _D))
+            for l1, l2, l3 in self.grid:
+                d = principal_difference(self.hm, X, l1, l2, l3)
+                n = d.shape[-1] // 2
+                out.append((d[..., :n] - d[..., n:]) / (2 * _D))
         return np.concatenate(out, axis=-1)
 
     def __call__(self, X: np.ndarray) -> np.ndarray:
