@@ -3,6 +3,7 @@
 Run::
 
     python benchmarks/bench_dma.py --pyvisco /path/to/venv/bin/python [--data DIR] [--quick]
+        [--base REF [--only-base]]
 
 pyvisco (NREL) is not a dependency of vhfit: it is installed into an environment of
 its own (``python -m venv ENV && ENV/bin/pip install pyvisco``) and run in that
@@ -23,10 +24,17 @@ or ``$VHFIT_DATA``), folder ``pyvisco_dmta_examples``; nothing is copied.
    Rows also give :func:`vhfit.calibrate` on the master curve alone at pyvisco's N and
    with ``n_prony="auto"`` (neo-Hooke long-term law, E∞ = 6 C10; moduli alone take its
    per-decade spectrum route: medians of the repeats), and ``vhfit fit`` at pyvisco's
-   N in a fresh interpreter (start and imports included) and in this process through
+   N in a fresh interpreter (start and imports included; bytecode cached, as in an
+   installed package, after one warm-up run) and in this process through
    ``vhfit.cli.main`` (imports done, as pyvisco's own timings are).
    Reported: vhfit's error at pyvisco's N, the smallest N at which vhfit reaches
-   pyvisco's error, and fit wall times (medians).
+   pyvisco's error, and fit wall times (medians). Each goal names the pyvisco time it
+   is compared with: its whole pipeline as a user runs it (``prony.fit``, then
+   ``opt.nprony`` over every N), or its one fit at the N it chose.
+0. With ``--base REF`` (e.g. ``main``): ``vhfit fit`` in a fresh interpreter at git
+   ``REF`` (its ``src`` extracted with ``git archive`` into a temporary folder) and at
+   this tree, runs interleaved, medians, the ratio and the largest relative difference
+   of the fitted constants and errors (``--only-base``: that table alone).
 2. **Shift factors**: WLF fitted by :func:`vhfit.tts.fit_shift_law` to each shipped
    shift-factor file, against a direct least-squares fit written here
    (``scipy.optimize.curve_fit``) and pyvisco's ``shift.fit_WLF``; and the shift
