@@ -283,7 +283,7 @@ def cli_fit_at(folder: Path, domain: str, n: int, repeats: int):
     p, k = cal.params, cal.n_prony
     G = np.array([p[f"G{i}"] for i in range(1, k + 1)])
     tau = np.array([p[f"tau{i}"] for i in range(1, k + 1)])
-    cmd = fit_command(folder, domain, n, Path("OUT"))
+    cmd = fit_command(Path("."), domain, n, Path("OUT"))  # as a user types it
     return t, k, (6.0 * p["C10"], G, tau), " ".join(["vhfit", *cmd[3:]])
 
 
