@@ -1552,11 +1552,11 @@ MUTANTS: list[Mutant] = [
        "test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it",)),
     # i20-rest: the seeded second fit's looser stopping gap
     M("i20rest_seeded_tol_ignored", "vhfit/calibration/_for.py",
-      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": tol}',
+      "    tol = max(tol, SEEDED_TOL)", "    tol = float(tol)",
       "the second fit's search converges as tightly as a fresh one (costs ~30 % more)",
       ("tests/test_calibrate_for.py",)),
     M("i20rest_seeded_tol_overrides_caller", "vhfit/calibration/_for.py",
-      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": SEEDED_TOL}',
+      "    tol = max(tol, SEEDED_TOL)", "    tol = SEEDED_TOL",
       "a looser tol the caller gave is tightened for the second fit",
       ("tests/test_calibrate_for.py",)),
     # i20-rest: the plots of an unfinished fit say so
