@@ -1552,11 +1552,11 @@ MUTANTS: list[Mutant] = [
        "test_cli_resume_of_a_checkpoint_that_is_not_utf8_is_exit_2_leaving_it",)),
     # i20-rest: the seeded second fit's looser stopping gap
     M("i20rest_seeded_tol_ignored", "vhfit/calibration/_for.py",
-      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": tol}',
+      "    tol = max(tol, SEEDED_TOL)", "    tol = float(tol)",
       "the second fit's search converges as tightly as a fresh one (costs ~30 % more)",
       ("tests/test_calibrate_for.py",)),
     M("i20rest_seeded_tol_overrides_caller", "vhfit/calibration/_for.py",
-      '            "tol": max(tol, SEEDED_TOL)}', '            "tol": SEEDED_TOL}',
+      "    tol = max(tol, SEEDED_TOL)", "    tol = SEEDED_TOL",
       "a looser tol the caller gave is tightened for the second fit",
       ("tests/test_calibrate_for.py",)),
     # i20-rest: the plots of an unfinished fit say so
@@ -1888,4 +1888,28 @@ MUTANTS: list[Mutant] = [
       'TEMPERATURE_LABEL = "temperature"',
       "the temperature colour bar and axis name no unit",
       ("tests/test_plot_dma.py",)),
+    # i22-start: a fit of sweeps alone loads only what it uses
+    M("i22start_sobol_start_for_moduli", "vhfit/calibration/_for.py",
+      "if int(n_prony) and _spectrum.applies(", "if int(n_prony) and not _spectrum.applies(",
+      "the second formulation's fit of moduli alone gets the Sobol start it never reads "
+      "(scipy.stats imported), and a search's gets one vector", (
+          "tests/test_fit_imports.py", "tests/test_calibrate_for.py")),
+    M("i22start_matplotlib_imported_to_ask", "vhfit/plot.py",
+      '    return find_spec("matplotlib") is not None',
+      '    return __import__("matplotlib") is not None',
+      "asking whether matplotlib is installed imports it", ("tests/test_fit_imports.py",)),
+    M("i22start_numba_at_import", "vhfit/_kernels.py",
+      "prange = range  # numba.prange once the kernels are compiled",
+      "from numba import prange  # noqa: E402",
+      "numba imported with the package again", ("tests/test_fit_imports.py",)),
+    M("i22start_version_of_unloaded_package", "vhfit/_version.py",
+      'version = getattr(module, "__version__", None)',
+      'version = getattr(module, "__version__", "")',
+      "a package not imported is recorded with an empty version",
+      ("tests/test_fit_imports.py",)),
+    M("i22start_builtin_law_not_linear", "vhfit/hyperelastic/_laws.py",
+      "+ C30 * x**3 + C21", "+ C30**2 * x**3 + C21",
+      "a typo makes polynomial3 nonlinear in a constant it declares linear (the check "
+      "register() made at import runs in the tests)",
+      ("tests/test_laws.py::test_every_built_in_law_passes_the_registration_check",)),
 ]

@@ -319,3 +319,20 @@ def test_exact_solve_searches_the_stable_set_and_keeps_the_users_lower_limits():
     unbounded = vhfit.calibrate(curves, n_prony=0, uncertainty=False, polish=False,
                                 bounds={"C01": (-np.inf, np.inf)})
     assert unbounded.params == pytest.approx(cal.params, rel=1e-9)
+
+
+def test_every_built_in_law_passes_the_registration_check():
+    """The built-in laws are registered without register()'s check (it would load the
+    Ogden laws' compiled kernel at every import): it runs here on each of them, with
+    the outcome the registration would need — a finite stress at the example constants,
+    and the stress linear in the constants declared linear."""
+    from vhfit.hyperelastic import _registry
+
+    builtin = [n for n in hyp.available()
+               if hyp.get(n).energy.__module__ == "vhfit.hyperelastic._laws"]
+    assert len(builtin) == 20
+    lam = np.array([0.6, 0.9, 1.3, 2.0])
+    for name in builtin:
+        m = hyp.get(name)
+        assert np.all(np.isfinite(m.stress(lam, np.array(m.example)))), name
+        assert _registry._validate(m, strict=True, declared=True), name

@@ -29,8 +29,72 @@ uniaxial kernel above is kept as it is, so that uniaxial results do not change b
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
-from numba import njit, prange
+
+# numba is imported when a kernel first runs, not with the package: its import takes a
+# fifth of a second that a fit which never runs a kernel (sweeps and relaxation tests
+# alone) need not pay. Each kernel below is written as plain Python under a placeholder
+# (:class:`_Kernel`); the first call of any of them compiles them all (from numba's
+# cache) and puts numba's dispatchers in their place in this module, where the compiled
+# kernels find one another.
+prange = range  # numba.prange once the kernels are compiled
+_KERNELS: list[_Kernel] = []
+_LOCK = threading.Lock()
+
+
+class _Kernel:
+    """A kernel until numba compiles it: calling it compiles every kernel, then calls
+    the compiled one."""
+
+    def __init__(self, fn, options: dict):
+        self.py_func, self.options = fn, options
+
+    def __call__(self, *args):
+        return compiled(self.py_func.__name__)(*args)
+
+
+def _njit(**options):
+    """numba.njit, deferred: registers the function as a :class:`_Kernel`."""
+    def decorator(fn):
+        kernel = _Kernel(fn, options)
+        _KERNELS.append(kernel)
+        return kernel
+
+    return decorator
+
+
+def compiled(name: str):
+    """The numba dispatcher of the kernel ``name``, every kernel compiled on first use
+    (in the order written: a kernel's callees before it).
+
+    Parameters
+    ----------
+    name : str
+        A kernel of this module (``"_psi"``, ``"_overstress_seq"``, ...).
+
+    Returns
+    -------
+    numba dispatcher
+        Called like the kernel.
+
+    Examples
+    --------
+    >>> compiled("_psi")(0.0)[:3]
+    (1.0, 1.0, 0.5)
+    """
+    kernel = globals()[name]
+    if not isinstance(kernel, _Kernel):
+        return kernel
+    with _LOCK:
+        if isinstance(globals()[name], _Kernel):
+            import numba
+
+            globals()["prange"] = numba.prange
+            for k in _KERNELS:
+                globals()[k.py_func.__name__] = numba.njit(**k.options)(k.py_func)
+    return globals()[name]
 
 # Gauss–Lobatto points of a step (v in [0, 1]) and the matrix mapping the five values
 # of a quartic at those points to the coefficients of its derivative in v.
@@ -44,7 +108,7 @@ DERIV = (np.diag(np.arange(1.0, LOBATTO.size)) @ np.linalg.inv(_V)[1:, :]).copy(
 _INV_FACT4 = np.array([1.0 / np.prod(np.arange(1.0, k + 5.0)) for k in range(20)])
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@_njit(cache=True, inline="always", error_model="numpy")
 def _psi(x):
     """e^(−x) and ψ_j(x) = ∫_0^1 e^(−x(1−v)) v^j dv for j = 0..3.
 
@@ -68,7 +132,7 @@ def _psi(x):
     return e, psi0, psi1, psi2, psi3
 
 
-@njit(cache=True, error_model="numpy")
+@_njit(cache=True, error_model="numpy")
 def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out):
     """One parameter set on one curve: the recursion over the curve's steps.
 
@@ -135,7 +199,7 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out):
             out[p, node0 + k + 1] = acc
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
+@_njit(cache=True, parallel=True, error_model="numpy")
 def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D, columns):
     C = sample_off.shape[0] - 1
     rows = tau.shape[0] * (tau.shape[1] if columns else 1)
@@ -145,7 +209,7 @@ def _overstress_par(s_hat, lam, h, sample_off, step_off, G, tau, D, columns):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@_njit(cache=True, error_model="numpy")
 def _overstress_seq(s_hat, lam, h, sample_off, step_off, G, tau, D, columns):
     C = sample_off.shape[0] - 1
     rows = tau.shape[0] * (tau.shape[1] if columns else 1)
@@ -196,7 +260,7 @@ def overstress(s_hat, lam, h, sample_off, step_off, G, tau, D, parallel=None):
     """
     if parallel is None:
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
-    f = _overstress_par if parallel else _overstress_seq
+    f = compiled("_overstress_par" if parallel else "_overstress_seq")
     return f(s_hat, lam, h, sample_off, step_off, G, tau, D, False)
 
 
@@ -217,12 +281,12 @@ def overstress_columns(s_hat, lam, h, sample_off, step_off, tau, D, parallel=Non
     P, N = tau.shape
     if parallel is None:
         parallel = use_threads(P * N, 1, h.shape[0], sample_off.shape[0] - 1)
-    f = _overstress_par if parallel else _overstress_seq
+    f = compiled("_overstress_par" if parallel else "_overstress_seq")
     return f(s_hat, lam, h, sample_off, step_off, _NO_MODULI, tau, D, True)
 
 
 # ------------------------------------------------------------- every other test
-@njit(cache=True, error_model="numpy")
+@_njit(cache=True, error_model="numpy")
 def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d, out):
     """One parameter set on one curve: h = Σ_i G_i (c_0 R_0,i + c_1 R_1,i) at every node.
 
@@ -283,7 +347,7 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d, ou
         out[p, node] = acc
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
+@_njit(cache=True, parallel=True, error_model="numpy")
 def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d):
     C = sample_off.shape[0] - 1
     out = np.empty((G.shape[0], h.shape[0] + C))
@@ -293,7 +357,7 @@ def _general_par(f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@_njit(cache=True, error_model="numpy")
 def _general_seq(f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d):
     C = sample_off.shape[0] - 1
     out = np.empty((G.shape[0], h.shape[0] + C))
@@ -335,7 +399,7 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
                          f"{repeat * f0.shape[0]}")
     if parallel is None:
         parallel = use_threads(G.shape[0], G.shape[1], h.shape[0], sample_off.shape[0] - 1)
-    f = _general_par if parallel else _general_seq
+    f = compiled("_general_par" if parallel else "_general_seq")
     return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat),
              _NO_STEPS if steps is None else steps)
 

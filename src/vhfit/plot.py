@@ -26,6 +26,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import os
+import sys
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -61,12 +62,13 @@ class PlotUnavailable(ImportError):
 
 
 def have_matplotlib() -> bool:
-    """Whether matplotlib can be imported."""
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    """Whether matplotlib is installed (found on the path, not imported: its import
+    takes a tenth of a second that a run without figures need not pay)."""
+    if "matplotlib" in sys.modules:  # loaded (or set to None: an import that fails)
+        return sys.modules["matplotlib"] is not None
+    from importlib.util import find_spec
+
+    return find_spec("matplotlib") is not None
 
 
 def _figure(path, nrows: int = 1, ncols: int = 1, **kw) -> tuple[Any, Any]:

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit.calibration import _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._result import Calibration
@@ -202,7 +203,10 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     dict
         ``popsize``, ``de_options`` (with an ``init`` population) and ``tol`` to add
         to the call; empty when there is nothing to start from (an order scan ``n_prony="auto"``,
-        an ``init`` of the caller's own, or a law with nothing to search).
+        an ``init`` of the caller's own, or a law with nothing to search). For data that
+        take the per-decade spectrum route (sweeps and relaxation tests alone), which
+        starts from the first fit's τ and searches no population, ``init`` is that one
+        search vector.
 
     Examples
     --------
@@ -251,6 +255,14 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     lo, hi = b[:, 0], b[:, 1]
     z0 = np.clip(_search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
+    tol = float(kwargs.get("tol", DEFAULT_TOL))
+    if method == "full" and tol == DEFAULT_TOL:
+        tol = FULL_TOL  # (what the full method's search takes the default for)
+    tol = max(tol, SEEDED_TOL)
+    if int(n_prony) and _spectrum.applies(ref.items, _RouteKeys(method, kwargs)):
+        # moduli alone take the spectrum route, which starts from the first fit's τ (the
+        # init's first row) and searches no population: no cloud, no Sobol sequence
+        return {"popsize": popsize, "de_options": {**opts, "init": z0[None, :]}, "tol": tol}
     rng = np.random.default_rng(kwargs.get("seed"))
     k = max(1, int(round(CLOUD_SHARE * popsize)))
     cloud = z0 + rng.normal(size=(k, len(z0))) * (CLOUD_WIDTH * (hi - lo))
@@ -261,11 +273,17 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
         warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
         rest = qmc.Sobol(len(z0), seed=rng).random(popsize - k)
     init = np.clip(np.vstack([cloud, lo + rest * (hi - lo)]), lo, hi)
-    tol = float(kwargs.get("tol", DEFAULT_TOL))
-    if method == "full" and tol == DEFAULT_TOL:
-        tol = FULL_TOL  # (what the full method's search takes the default for)
-    return {"popsize": popsize, "de_options": {**opts, "init": init},
-            "tol": max(tol, SEEDED_TOL)}
+    return {"popsize": popsize, "de_options": {**opts, "init": init}, "tol": tol}
+
+
+class _RouteKeys:
+    """What :func:`vhfit.calibration._spectrum.applies` reads of the settings, from the
+    keywords of a calibrate call."""
+
+    def __init__(self, method: str, kwargs: dict):
+        self.method = method
+        self.tau_strategy = kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY)
+        self.bounds = kwargs.get("bounds", "auto")
 
 
 def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, Calibration]:

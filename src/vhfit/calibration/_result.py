@@ -52,16 +52,13 @@ def set_html_report(write, repr_html) -> None:
 
 
 def _versions() -> dict[str, str]:
-    import numba
-    import scipy
-
-    from vhfit._version import __version__
+    from vhfit._version import __version__, package_version
 
     return {
         "vhfit": __version__,
         "numpy": np.__version__,
-        "scipy": scipy.__version__,
-        "numba": numba.__version__,
+        "scipy": package_version("scipy"),
+        "numba": package_version("numba"),  # not imported for it: a moduli fit needs none
         "python": platform.python_version(),
         "platform": platform.platform(),
     }

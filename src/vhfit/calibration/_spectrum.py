@@ -198,6 +198,15 @@ def cap_message(n: int, what: str, fix: str) -> str:
             f"fit better; {fix}")
 
 
+def _given_tau(settings, n: int) -> np.ndarray | None:
+    """The log10 τ of N terms that a fit after the first starts from: the last N entries
+    of the first row of its ``de_options["init"]``; None when there is none."""
+    init = (settings.de_options or {}).get("init")
+    if init is not None and np.ndim(init) == 2 and np.shape(init)[1] >= n:
+        return np.asarray(init, dtype=np.float64)[0, -n:]
+    return None
+
+
 def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     """The calibration of moduli-only data by the per-decade spectrum.
 
@@ -211,7 +220,10 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     shape = _shape(grid_prob)
     mod = _Moduli(grid_prob, shape)
     grid = tau_grid(curves, tau_b)
-    path = pruning_path(mod.matrix(grid), mod.ys)
+    given = None if n_prony is None else _given_tau(s, n_prony)
+    # the pruning path picks the refinement's start (and an automatic N): not needed
+    # for a given N from given τ
+    path = None if given is not None else pruning_path(mod.matrix(grid), mod.ys)
     scan, heads = None, []
     if n_prony is None:
         # within order_tol of the full grid; an error at round-off level (EXACT times
@@ -226,19 +238,18 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
                                      "give a larger N (n_prony=, --prony N) to fit more "
                                      "than one per decade"))
         model, tau_b, auto = model_for(n)
+        given = _given_tau(s, n)
     else:
         n = n_prony
     bounds = (float(tau_b[0, 0]), float(tau_b[0, 1]))
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
     mod.prob = prob
-    if n <= grid.size:
-        keep = next(k for k, _, _ in path if k.size == n)
-    else:  # more terms than decades: N values spread evenly over the grid's span
+    if n > grid.size:  # more terms than decades: N values spread evenly over the grid
         grid, keep = np.geomspace(grid[0], grid[-1], n), np.arange(n)
-    init = (s.de_options or {}).get("init")  # a fit after the first starts from it
-    given = None
-    if init is not None and np.ndim(init) == 2 and np.shape(init)[1] >= n:
-        given = np.asarray(init, dtype=np.float64)[0, -n:]
+    elif path is not None:
+        keep = next(k for k, _, _ in path if k.size == n)
+    else:
+        keep = None  # (the refinement starts from the given τ)
     z, a, _ = _refined(mod, grid, keep, n, bounds, given)
     space = SeparableSpace(prob)
     x = space.assemble(shape, a[0], a[1:], 10.0**z)

@@ -1,4 +1,5 @@
-"""The built-in strain energies, registered by name when the package is imported."""
+"""The built-in strain energies, registered by name when the package is imported (their
+registration check runs in the test suite: :func:`._registry.register_builtin`)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import math
 import numpy as np
 
 from vhfit.hyperelastic._ogden import ogden_sums
-from vhfit.hyperelastic._registry import register
+from vhfit.hyperelastic._registry import register_builtin as register
 
 _POS = (0.0, math.inf)
 _FREE = (-math.inf, math.inf)

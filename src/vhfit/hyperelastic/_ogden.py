@@ -12,8 +12,9 @@ stretches once per call.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
-from numba import njit
 
 # how a stretch's power follows (rules of stretch_plan, as kernel codes)
 EXP, SAME0, SAME1, ONE, RSQRT, INV, INCOMPRESSIBLE = range(7)
@@ -63,7 +64,6 @@ def stretch_plan(l1, l2, l3) -> tuple[list[int], list[np.ndarray]]:
     return rules, logs
 
 
-@njit(cache=True, error_model="numpy")
 def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
     """out[k, p, s] = Σ_t (2 μ[p, t]/α[p, t]) λk[s]^α[p, t] for the stretches with a row.
 
@@ -120,6 +120,22 @@ def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
             out[2, p, s] = a2
 
 
+_COMPILED: list = []
+_LOCK = threading.Lock()
+
+
+def _compiled_sums():
+    """:func:`_sums` compiled by numba (from its cache), on first use: numba's import
+    takes a fifth of a second that a fit with another law need not pay."""
+    if not _COMPILED:
+        with _LOCK:
+            if not _COMPILED:
+                from numba import njit
+
+                _COMPILED.append(njit(cache=True, error_model="numpy")(_sums))
+    return _COMPILED[0]
+
+
 def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """λk ∂W/∂λk = Σ_p (2μp/αp) λk^αp, k = 1, 2, 3, of an n-term Ogden law.
 
@@ -162,7 +178,7 @@ def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndar
     rules, logs = stretch_plan(*lam)
     big = max(float(np.max(np.abs(v), initial=0.0)) for v in logs)
     out = np.empty((3, mu.shape[0], lam[0].size))
-    _sums(np.stack(logs), np.array(rules, dtype=np.int64), big, mu, al, out)
+    _compiled_sums()(np.stack(logs), np.array(rules, dtype=np.int64), big, mu, al, out)
     res = [out[0], out[1], out[2]] if lead else [out[0, 0], out[1, 0], out[2, 0]]
     for k in (1, 2):
         if rules[k] in (SAME0, SAME1):

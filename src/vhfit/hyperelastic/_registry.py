@@ -6,6 +6,7 @@ import inspect
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -328,10 +329,55 @@ def register(
             fewer=fewer, term=int(term),
         )
         declared = bool(linear) or linear_params is not None
-        if not _validate(model, strict=example is not None, declared=declared):
+        if name not in _UNCHECKED and not _validate(model, strict=example is not None,
+                                                    declared=declared):
             model = replace(model, linear_params=())
         _REGISTRY[name] = model
         return fn
+
+    return decorator
+
+
+#: Names being registered by :func:`register_builtin` (their check is not run)
+_UNCHECKED: set[str] = set()
+
+
+def register_builtin(name: str, **kwargs: Any) -> Callable[[Callable], Callable]:
+    """:func:`register` for the package's own laws, without the registration check.
+
+    The check (:func:`_validate`: a finite stress at the example constants, the stress
+    linear in the constants declared linear) evaluates each law's stress; for the Ogden
+    laws that loads their compiled kernel, a quarter of a second at every import that
+    a fit with another law never uses. The built-in laws are fixed code: the test suite
+    runs the same check on every one of them (``tests/test_laws.py``), where a law that
+    failed it would be refused here.
+
+    Parameters
+    ----------
+    name : str
+        Registry name.
+    **kwargs
+        The keywords of :func:`register`.
+
+    Returns
+    -------
+    decorator
+
+    Examples
+    --------
+    >>> @register_builtin("_doc_unchecked", linear=True, overwrite=True)
+    ... def _doc_unchecked(I1, I2, C10):
+    ...     return C10 * (I1 - 3)
+    >>> get("_doc_unchecked").linear_params
+    ('C10',)
+    >>> unregister("_doc_unchecked")
+    """
+    def decorator(fn: Callable) -> Callable:
+        _UNCHECKED.add(name)
+        try:
+            return register(name, **kwargs)(fn)
+        finally:
+            _UNCHECKED.discard(name)
 
     return decorator
 

@@ -48,18 +48,15 @@ def versions() -> dict[str, str]:
     >>> {"vhfit", "numpy", "scipy", "numba", "python"} <= set(versions())
     True
     """
-    import numba
     import numpy
-    import scipy
 
-    from vhfit._version import __version__
+    from vhfit._version import __version__, package_version
 
-    out = {"vhfit": __version__, "numpy": numpy.__version__, "scipy": scipy.__version__,
-           "numba": numba.__version__}
+    # numba and matplotlib are not imported for their version: a fit may need neither
+    out = {"vhfit": __version__, "numpy": numpy.__version__,
+           "scipy": package_version("scipy"), "numba": package_version("numba")}
     if plot.have_matplotlib():
-        import matplotlib
-
-        out["matplotlib"] = matplotlib.__version__
+        out["matplotlib"] = package_version("matplotlib")
     out.update(python=platform.python_version(), platform=platform.platform())
     return out
 
