@@ -1912,4 +1912,8 @@ MUTANTS: list[Mutant] = [
       "a typo makes polynomial3 nonlinear in a constant it declares linear (the check "
       "register() made at import runs in the tests)",
       ("tests/test_laws.py::test_every_built_in_law_passes_the_registration_check",)),
+    M("s27_spectrum_polish_drifts", "vhfit/calibration/_spectrum.py",
+      "        x = _at_shape(prob, x, shape)\n", "",
+      "the spectrum route keeps the polish's constants: Mooney-Rivlin drifts along C10 - C01 "
+      "into an unstable law the moduli cannot see", ("tests/test_dma_spectrum_route.py",)),
 ]

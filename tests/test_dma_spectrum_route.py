@@ -187,3 +187,20 @@ def test_a_joint_fit_starts_from_the_moduli_spectrum(monkeypatch):
           uncertainty=False)
     assert seen and seen[0] is not None
     np.testing.assert_allclose(10.0 ** seen[0][-2:], tau, rtol=1e-6)
+
+
+@pytest.mark.parametrize("n_prony", [3, "auto"])
+def test_a_law_of_two_moduli_keeps_its_stable_shape(n_prony):
+    """Moduli see Mooney–Rivlin only through μ0 = 2 (C10 + C01): the polish of every
+    constant must not drift along C10 − C01 (it went to C10 = 511, C01 = −506 MPa on a
+    master curve, unstable at once). The law keeps its example's ratio C01 / C10 and is
+    Drucker-stable. The loss modulus is doubled, as no Prony series can follow (like that
+    master curve's), so the polish has a residual to move along."""
+    f = np.logspace(-3, 3, 37)
+    e1, e2 = maxwell(f, E_INF, G3, TAU3)
+    item = vhfit.FrequencySweep(frequency=f, storage=e1, loss=2 * e2)
+    cal = quiet(vhfit.calibrate, [item], hyperelastic="mooney_rivlin", n_prony=n_prony,
+                seed=0)
+    ex = vhfit.hyperelastic.get("mooney_rivlin").example
+    assert cal.params["C01"] / cal.params["C10"] == pytest.approx(ex[1] / ex[0], rel=1e-12)
+    assert cal.stability.stable

@@ -192,6 +192,24 @@ def _refined(mod: _Moduli, grid: np.ndarray, keep: np.ndarray, n: int, bounds,
     return z, a, rn
 
 
+def _at_shape(prob: Problem, x: np.ndarray, shape: np.ndarray) -> np.ndarray:
+    """``x`` with the law's constants put back to ``shape`` scaled to the same initial
+    shear modulus: moduli see a law only through μ0, so a polish of all the constants
+    drifts freely along the directions they cannot see (Mooney–Rivlin's C10 − C01, to
+    C10 = 511 and C01 = −506 MPa on a master curve: a law unstable at once). The moduli,
+    and so the error, are unchanged."""
+    hm = prob.hm
+    nh = hm.n_params
+    with np.errstate(all="ignore"):
+        mu, mu_s = (float(hm.initial_shear_modulus(v)) for v in (x[:nh], shape))
+    if not (np.isfinite(mu) and mu > 0 and mu_s > 0):
+        return x
+    out = np.array(x, dtype=np.float64, copy=True)
+    out[:nh] = shape
+    out[list(hm.linear_index)] *= mu / mu_s
+    return out
+
+
 def cap_message(n: int, what: str, fix: str) -> str:
     """The headline of an automatic N that stopped at the largest N it tried."""
     return (f"n_prony='auto' chose N = {n}, the largest it tried ({what}): more terms may "
@@ -258,6 +276,8 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     if s.polish:
         x, err, n_pol = polish_fit(prob, x, POLISH_NFEV)
         nfev += n_pol
+        x = _at_shape(prob, x, shape)
+        err = float(prob.errors(x[None, :])[0])
     found = Search(np.log10(x[model.hyperelastic.n_params + 1::2]), 0, nfev, ROUTE,
                    _history(None), t0)
     options = dict(
