@@ -1916,4 +1916,8 @@ MUTANTS: list[Mutant] = [
       "        x = _at_shape(prob, x, shape)\n", "",
       "the spectrum route keeps the polish's constants: Mooney-Rivlin drifts along C10 - C01 "
       "into an unstable law the moduli cannot see", ("tests/test_dma_spectrum_route.py",)),
+    M("s27_no_other_basins", "vhfit/calibration/_search.py",
+      "                    and space.several_basins()):", "                    and False):",
+      "a gathered search is never compared with polishes from other basins",
+      ("tests/test_calibration_admissible.py",)),
 ]

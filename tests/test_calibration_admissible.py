@@ -213,13 +213,17 @@ def test_yeoh_with_negative_c20_and_prony_terms_is_recovered():
         assert cal.params[k] == pytest.approx(v, rel=1e-4), k
 
 
-def test_ogden2_with_a_negative_mu_is_recovered_from_three_modes():
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_ogden2_with_a_negative_mu_is_recovered_from_three_modes(seed):
+    # seeds 1 and 2: the population gathers in a basin at 0.31 % (τ shifted down
+    # together, another μ2 < 0 law); a polish from a member of the first population in
+    # another basin reaches the material
     from bench_modes import PRONY, multimode_curves
 
     truth = dict(mu1=0.4, alpha1=3.0, mu2=-0.05, alpha2=-2.0, **PRONY)
     curves = multimode_curves("ogden2", truth, n=50)
     assert ogden_stable([0.4, -0.05], [3.0, -2.0], data_stability_range(curves))
-    cal = fit(curves, "ogden2", n_prony=3, seed=0, uncertainty=False)
+    cal = fit(curves, "ogden2", n_prony=3, seed=seed, uncertainty=False)
     assert cal.rmsape <= 1e-6
     got = cal.params
     if got["mu1"] < 0:  # the two terms in the other order: the same law

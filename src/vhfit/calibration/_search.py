@@ -185,15 +185,55 @@ class _Objective:
     def __init__(self, space, mapper=None, chunks: int = 1):
         self.space, self.mapper, self.chunks = space, mapper, chunks
         self.nfev = 0  # individuals evaluated
+        self.first = None  # (Z, errors) of the first population evaluated
 
     def __call__(self, Zt: np.ndarray) -> np.ndarray:
         Z = np.atleast_2d(Zt.T) if Zt.ndim > 1 else Zt[None, :]
         self.nfev += Z.shape[0]
         if self.mapper is None:
-            return self.space.errors(Z)
-        parts = np.array_split(Z, min(self.chunks, Z.shape[0]))
-        out = list(self.mapper(_chunk_errors, [(self.space, z) for z in parts]))
-        return np.concatenate(out)
+            out = self.space.errors(Z)
+        else:
+            parts = np.array_split(Z, min(self.chunks, Z.shape[0]))
+            out = np.concatenate(list(self.mapper(_chunk_errors,
+                                                  [(self.space, z) for z in parts])))
+        if self.first is None:
+            self.first = (np.array(Z, copy=True), np.array(out, copy=True))
+        return out
+
+
+#: The lowest members of the first population that are polished after a search that
+#: ended on a gathered population (briefly; the lowest of them to the end if it beats
+#: the search's result).
+OTHER_BASINS = 8
+#: Evaluations of each of those polishes before the lowest goes on to the end.
+OTHER_NFEV = 40
+
+
+def other_basins(space, z, polished, first):
+    """The best of the search's result and polishes of the lowest members of its first
+    population that lie in other basins: ``(z, polished, evaluations)``.
+
+    A population that gathered has searched one basin; on a law whose constants can
+    trade off in several (Ogden terms of either sign, τ shifted together) it may not be
+    the lowest. The first population is a Sobol sample of the whole box: its lowest
+    members start a polish each (:func:`varpro_polish`, :data:`OTHER_NFEV` evaluations),
+    and the lowest of those goes on to the end when it is below the result."""
+    Z, E = first
+    err = polished[1] if polished is not None else float(space.errors(z[None, :])[0])
+    order = [i for i in np.argsort(E)[:OTHER_BASINS] if np.isfinite(E[i])]
+    n, scouts = 0, []
+    for z0 in Z[order]:  # short polishes: which basin is lower
+        z1, x1, e1, k = varpro_polish(space, z0, OTHER_NFEV, tol=1e-8)
+        n += k
+        scouts.append((e1, z1))
+    if scouts:
+        e1, z1 = min(scouts, key=lambda ez: ez[0])
+        if e1 < err * (1 - 1e-9):
+            z1, x1, e1, k = varpro_polish(space, z1)
+            n += k
+            if e1 < err * (1 - 1e-9):
+                z, polished = z1, (x1, e1)
+    return z, polished, n
 
 
 def stop_criteria(tol, target, stall, max_time):
@@ -275,6 +315,10 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
                     z = track.finish.z
             if track.finish is not None:
                 objective.nfev += track.finish.nfev
+            if (stop == _EarlyFinish.GATHERED and objective.first is not None
+                    and space.several_basins()):
+                z, polished, n = other_basins(space, z, polished, objective.first)
+                objective.nfev += n
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
                                  None if stop == "interrupted" else stop)

@@ -177,9 +177,15 @@ class SeparableSpace:
         on. Every
         other law: none.
         """
-        if self.other and len(self.amp) > 1 and not self.exact:
+        if self.several_basins():
             return tuple(target * f for f in self.FINISH_LEVELS)
         return ()
+
+    def several_basins(self) -> bool:
+        """Whether the space has basins a gathered population may miss: a law with
+        several linear constants (of either sign) and nonlinear ones, with Prony terms
+        (Ogden-2 and more: terms that trade their signs and exponents)."""
+        return bool(self.other) and len(self.amp) > 1 and not self.exact
 
     def bounds(self) -> list[tuple[float, float]]:
         hm, pb, b = self.prob.hm, self.prob.bounds, []
@@ -414,6 +420,10 @@ class FullSpace:
 
     def __init__(self, prob: Problem):
         self.prob = prob
+
+    def several_basins(self) -> bool:
+        """The paper's search ends by its own criteria only."""
+        return False
 
     def finish_levels(self, target: float) -> tuple[float, ...]:
         """No early polish of the all-parameter search."""
