@@ -158,3 +158,31 @@ def test_a_first_fit_merged_into_fewer_like_terms_seeds_the_law_asked_for():
     # (mu2's share of the moduli, alpha1, alpha2, log10 tau1)
     np.testing.assert_allclose(z0, [0.0, 3.0, 3.0, np.log10(0.02)], rtol=1e-12, atol=0)
     assert start_options(first, curves, **dict(kw, hyperelastic="yeoh")) == {}
+
+
+def test_after_an_order_scan_the_next_fit_is_made_at_the_n_it_chose():
+    """``n_prony="auto"``: the further formulation's fit is one seeded fit at the N the
+    first fit's scan chose (not a scan of its own), reaching what a separate calibrate
+    at that N reaches."""
+    import dataclasses
+
+    curves = ramps("lsdyna")
+    kw = dict(n_prony="auto", max_prony=2, seed=0, uncertainty=False)
+    fits = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)
+    first, second = fits["hereditary"], fits["lsdyna"]
+    n = first.options["n_prony_chosen"]
+    assert first.order_scan and first.options["n_prony"] == "auto"
+    assert second.order_scan == [] and second.options["n_prony"] == n
+    assert second.options["popsize"] == 24  # seeded: 3/8 of the first's population
+    alone = quiet(vhfit.calibrate, curves, formulation="lsdyna", n_prony=n, seed=0,
+                  uncertainty=False)
+    assert second.rmsape < 1e-6 and alone.rmsape < 1e-6  # the data's own law: exact
+    for k, v in P.items():
+        assert second.params[k] == pytest.approx(v, rel=1e-6)
+    # the N comes from the scan's choice, whatever it was; the seeds have that many τ
+    two = dataclasses.replace(first, options={**first.options, "n_prony_chosen": 2})
+    opts = start_options(two, curves, formulation="lsdyna", **kw)
+    assert opts["n_prony"] == 2 and opts["de_options"]["init"].shape == (24, 3)
+    # a scan that chose nothing (interrupted before a result): nothing to start from
+    none = dataclasses.replace(first, options={**first.options, "n_prony_chosen": None})
+    assert start_options(none, curves, formulation="lsdyna", **kw) == {}

@@ -185,7 +185,10 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     scrambled Sobol sequence over the whole box. The search stops at a best-mean gap of
     :data:`SEEDED_TOL` (or the looser ``tol`` given): the polish that follows converges
     the rest. Everything else — bounds, other stopping criteria, polish, report — is the
-    ordinary calibration's.
+    ordinary calibration's. After an order scan (``n_prony="auto"``) the new fit is made
+    at the N the first fit's scan chose (``options["n_prony_chosen"]``) instead of a
+    scan of its own: the number of relaxation times the data support is the data's, and
+    a second scan would cost as much as the first.
 
     Parameters
     ----------
@@ -201,8 +204,9 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     -------
     dict
         ``popsize``, ``de_options`` (with an ``init`` population) and ``tol`` to add
-        to the call; empty when there is nothing to start from (an order scan ``n_prony="auto"``,
-        an ``init`` of the caller's own, or a law with nothing to search).
+        to the call, and ``n_prony`` (the first's chosen N) after an order scan; empty
+        when there is nothing to start from (an ``init`` of the caller's own, or a scan
+        that chose no N), only ``n_prony`` after a scan with nothing to search.
 
     Examples
     --------
@@ -222,8 +226,15 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     n_prony = kwargs.get("n_prony")
     if n_prony is None:
         n_prony = first.options.get("n_prony")
+    chosen = {}
+    if isinstance(n_prony, str):  # an order scan: at the N the first fit's scan chose
+        n_prony = first.options.get("n_prony_chosen")
+        if not isinstance(n_prony, (int, np.integer)) or isinstance(n_prony, bool):
+            return {}
+        n_prony = int(n_prony)
+        chosen = {"n_prony": n_prony}
     opts = dict(kwargs.get("de_options") or {})
-    if isinstance(n_prony, str) or "init" in opts or "x0" in opts:
+    if "init" in opts or "x0" in opts:
         return {}
     method = kwargs.get("method", "separable")
     ref = shift_to_reference(_as_curves(curves), shift_factors=kwargs.get("shift_factors"),
@@ -231,7 +242,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     law = get_law(kwargs.get("hyperelastic", "mooney_rivlin"))
     x_first = _in_law(first, law)
     if x_first is None:
-        return {}
+        return chosen
     model = ViscoHyperelastic(law, int(n_prony),
                               rtol=kwargs.get("rtol", 1e-6),
                               formulation=kwargs.get("formulation", "hereditary"))
@@ -247,7 +258,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
                                    kwargs.get("objective", "rmsape"), sr, set(user)))
     b = np.array(space.bounds(), dtype=np.float64).reshape(-1, 2)
     if not len(b):
-        return {}
+        return chosen
     lo, hi = b[:, 0], b[:, 1]
     z0 = np.clip(_search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
@@ -264,7 +275,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     tol = float(kwargs.get("tol", DEFAULT_TOL))
     if method == "full" and tol == DEFAULT_TOL:
         tol = FULL_TOL  # (what the full method's search takes the default for)
-    return {"popsize": popsize, "de_options": {**opts, "init": init},
+    return {**chosen, "popsize": popsize, "de_options": {**opts, "init": init},
             "tol": max(tol, SEEDED_TOL)}
 
 
