@@ -186,3 +186,30 @@ def test_after_an_order_scan_the_next_fit_is_made_at_the_n_it_chose():
     # a scan that chose nothing (interrupted before a result): nothing to start from
     none = dataclasses.replace(first, options={**first.options, "n_prony_chosen": None})
     assert start_options(none, curves, formulation="lsdyna", **kw) == {}
+
+
+def test_without_prony_terms_the_further_fit_is_the_first_in_its_formulation():
+    """No Prony terms: every formulation has the law's long-term stress (σ = σ_h), so the
+    further fit is the first's constants with no search of its own (``same_fit``); with
+    terms, or other keywords than the first's, it is a fit of its own."""
+    from vhfit.calibration import same_fit
+
+    curves = ramps("hereditary")
+    kw = dict(n_prony=0, seed=0, uncertainty=False)
+    fits = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)
+    first, second = fits["hereditary"], fits["lsdyna"]
+    assert second.model.formulation == "lsdyna" and second.nfev == 0
+    assert second.params == first.params and second.rmsape == first.rmsape
+    assert "same_as" in second.options and second.settings.formulation == "lsdyna"
+    # the reason, checked independently: both models give the same stresses
+    for c in curves:
+        s1 = first.model.stress(first.params, strain=c.strain, strain_rate=c.strain_rate,
+                                measure="engineering")
+        s2 = second.model.stress(second.params, strain=c.strain, strain_rate=c.strain_rate,
+                                 measure="engineering")
+        np.testing.assert_allclose(s2, s1, rtol=1e-12, atol=0)
+    assert same_fit(first, curves, **dict(kw, formulation="lsdyna", seed=1)) is None
+    assert same_fit(first, curves, **dict(kw, formulation="lsdyna", n_prony=1)) is None
+    viscous = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
+    assert same_fit(viscous, curves, n_prony=1, seed=0, uncertainty=False,
+                    formulation="lsdyna") is None

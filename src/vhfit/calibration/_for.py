@@ -14,8 +14,10 @@ evaluations of a fresh one.
 from __future__ import annotations
 
 import math
+import time
 import warnings
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -23,7 +25,12 @@ import numpy as np
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._result import Calibration
-from vhfit.calibration._settings import DEFAULT_TOL, FULL_TOL, bounds_for_terms
+from vhfit.calibration._settings import (
+    DEFAULT_TOL,
+    FULL_TOL,
+    CalibrationSettings,
+    bounds_for_terms,
+)
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.calibration._workflow import (
     DEFAULT_DECADES_ABOVE,
@@ -37,7 +44,7 @@ from vhfit.hyperelastic import get as get_law
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
-__all__ = ["calibrate_for", "plan_formulations", "start_options", "CLOUD_WIDTH",
+__all__ = ["calibrate_for", "plan_formulations", "start_options", "same_fit", "CLOUD_WIDTH",
            "CLOUD_SHARE", "POPSIZE_SHARE", "MIN_POPSIZE", "SEEDED_TOL"]
 
 #: Standard deviation of the cloud around the first fit, as a fraction of each search
@@ -279,6 +286,69 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
             "tol": max(tol, SEEDED_TOL)}
 
 
+def same_fit(first: Calibration, curves, **kwargs) -> Calibration | None:
+    """The fit :func:`vhfit.calibrate` would make in another formulation, taken from a
+    first fit without Prony terms; None where it is not that.
+
+    A formulation says how the Prony series acts (:mod:`vhfit.formulations`): without
+    Prony terms the stress is the law's long-term stress in every formulation, so the
+    objective — and its optimum — is the first fit's. Such a fit is the first's
+    constants, errors, intervals and checks with the model in the new formulation (no
+    search: ``nit``, ``nfev`` 0; ``options["same_as"]`` names the fit it came from).
+    That holds when the first fit was asked for no Prony terms (``n_prony=0``, or the
+    default for data that cannot separate elastic from viscous response) and the new
+    keywords are the first's but for ``formulation`` (and the ``checkpoint``,
+    ``callback`` and ``resume`` that only steer a search).
+
+    Parameters
+    ----------
+    first : Calibration
+        The first fit (made by :func:`vhfit.calibrate`: its ``settings`` recorded).
+    curves : sequence
+        The curves of both fits (unused: the first's are the same).
+    **kwargs
+        The keywords of the new fit, its ``formulation`` among them.
+
+    Returns
+    -------
+    Calibration or None
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> from vhfit.calibration import same_fit
+    >>> eps = np.linspace(-0.05, -0.5, 10)
+    >>> curves = [vhfit.Curve(strain=eps, stress=0.1 * eps, strain_rate=-1.0)]
+    >>> first = vhfit.calibrate(curves, n_prony=0, seed=0)
+    >>> other = next(f for f in vhfit.formulations.FORMULATIONS if f != "hereditary")
+    >>> fit = same_fit(first, curves, n_prony=0, seed=0, formulation=other)
+    >>> fit.model.formulation == other, fit.params == first.params, fit.nfev
+    (True, True, 0)
+    >>> same_fit(first, curves, n_prony=1, seed=0, formulation=other) is None
+    True
+    """
+    t0 = time.perf_counter()
+    form = kwargs.get("formulation", "hereditary")
+    old = first.settings
+    if old is None or first.model.n_prony != 0 or first.options.get("n_prony") != 0:
+        return None
+    try:
+        new = CalibrationSettings(**kwargs)
+        steer = dict(formulation=old.formulation, checkpoint=old.checkpoint,
+                     callback=old.callback, resume=old.resume)
+        if replace(new, **steer) != old:
+            return None
+    except (TypeError, ValueError):  # a keyword calibrate lacks; arrays compared
+        return None
+    model = ViscoHyperelastic(first.model.hyperelastic, 0, rtol=first.model.rtol,
+                              formulation=form)
+    return replace(first, model=model, settings=new, nit=0, nfev=0, history={},
+                   options={**first.options, "same_as": (
+                       f"the '{first.model.formulation}' fit: without Prony terms every "
+                       "formulation has the same stress")},
+                   wall_time=time.perf_counter() - t0)
+
+
 def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, Calibration]:
     """Calibrate once per viscoelastic formulation that the given solvers integrate.
 
@@ -341,6 +411,10 @@ def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, C
         if first is not None:
             if kw.get("checkpoint") is not None:
                 kw["checkpoint"] = f"{kw['checkpoint']}.{form}"
+            same = same_fit(first, curves, **kw)
+            if same is not None:  # no Prony terms: the same fit in every formulation
+                fits[form] = same
+                continue
             kw.update(start_options(first, curves, **kw))
         fits[form] = cal = calibrate(curves, **kw)
         if first is None:
