@@ -52,7 +52,7 @@ from bench_modes import multimode_curves  # noqa: E402
 
 import vhfit  # noqa: E402
 from vhfit import datasets  # noqa: E402
-from vhfit.calibration import _for, start_options  # noqa: E402
+from vhfit.calibration import _for, same_fit, start_options  # noqa: E402
 from vhfit.export import export  # noqa: E402
 from vhfit.export.check import SOLVER_FORMULATIONS, allowed_rmsape, check_cards  # noqa: E402
 
@@ -177,17 +177,17 @@ def shared_sets(data, only=None) -> dict:
 
 #: The row of a fresh lsdyna fit: the second fit of an order scan before it started from
 #: the first (``start_options`` was empty for ``n_prony="auto"``).
-FRESH = "fresh lsdyna fit (before, for an order scan)"
+FRESH = "fresh lsdyna fit (the second fit before, after an order scan)"
 
 
 def second_fit_shared(curves, kw: dict, repeats: int = 3, shares=(None,)) -> dict:
     """What ``vhfit fit`` runs by default, timed: the first (hereditary) fit, then the
-    lsdyna fit with ``start_options`` of it (the command line's ``_search``: the same
-    keywords, updated by ``start_options``), the defaults otherwise (``uncertainty=True``),
-    once per population share of ``shares`` (None: ``POPSIZE_SHARE`` as it is); and a
-    fresh lsdyna fit with the same keywords (before the second fit started from the
-    first after an order scan, it was that: a scan of its own). Medians of ``repeats``,
-    warm. Returns variant -> row."""
+    lsdyna fit as the command line's ``_search`` makes it (``same_fit`` of the first
+    where it has no Prony terms, else ``calibrate`` with the same keywords updated by
+    ``start_options``), the defaults otherwise (``uncertainty=True``), once per seeded
+    population share of ``shares`` (None: ``POPSIZE_SHARE`` as it is); and a fresh
+    lsdyna fit with the same keywords (the second fit before, after an order scan: a
+    scan of its own). Medians of ``repeats``, warm. Returns variant -> row."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for f in FORMULATIONS:  # compile every kernel first: the times are the searches'
@@ -198,8 +198,11 @@ def second_fit_shared(curves, kw: dict, repeats: int = 3, shares=(None,)) -> dic
                     pass
         t1, first = _timed(lambda: vhfit.calibrate(curves, **kw), repeats)
 
-        def seeded(share):
+        def seeded(share):  # as the command line's _search
             k = dict(kw, formulation="lsdyna")
+            same = same_fit(first, curves, **k)
+            if same is not None:  # no Prony terms: the first fit, in its formulation
+                return same
             kept = _for.POPSIZE_SHARE
             _for.POPSIZE_SHARE = kept if share is None else share
             try:
@@ -210,7 +213,8 @@ def second_fit_shared(curves, kw: dict, repeats: int = 3, shares=(None,)) -> dic
 
         runs = {}
         for share in shares:
-            label = f"from the first, share {_for.POPSIZE_SHARE if share is None else share:g}"
+            label = ("vhfit fit's second fit" if share is None
+                     else f"vhfit fit's second fit, seeded share {share:g}")
             runs[label] = _timed(lambda share=share: seeded(share), repeats)
         runs[FRESH] = _timed(
             lambda: vhfit.calibrate(curves, formulation="lsdyna", **kw), repeats)
