@@ -238,11 +238,16 @@ def second_fit_shared(curves, kw: dict, repeats: int = 3, shares=(None,)) -> dic
             label = ("vhfit fit's second fit" if share is None
                      else f"vhfit fit's second fit, seeded share {share:g}")
             runs[label] = _timed(lambda share=share: seeded(share), repeats)
-        def before():  # no same_fit; after a scan start_options was empty: a scan
-            k = dict(kw, formulation="lsdyna")
+        def before():  # no same_fit; after a scan start_options was empty: a scan;
+            k = dict(kw, formulation="lsdyna")  # the gathered best polished to rounding
             if not isinstance(kw.get("n_prony"), str):
                 k.update(start_options(first, curves, **k))
-            return vhfit.calibrate(curves, **k)
+            kept = _search.LOOSE_TOL
+            _search.LOOSE_TOL = 1e-15  # varpro_polish's own default
+            try:
+                return vhfit.calibrate(curves, **k)
+            finally:
+                _search.LOOSE_TOL = kept
 
         runs[BEFORE] = _timed(before, repeats)
     fresh = runs[BEFORE][1]
