@@ -29,9 +29,8 @@ Run::
 First, the cost of the second fit: per data set the wall time of the hereditary fit, of
 the lsdyna fit started from it (``vhfit.calibration.start_options``, what ``vhfit fit``
 and ``vhfit.calibrate_for`` run; median of 3 warm runs each), their ratio, the same
-started fit with its search converged to a gap of 1e-6 as before ``SEEDED_TOL``, and with
-its gathered best polished to rounding as before ``LOOSE_TOL`` (the before/after in one
-run), and a fresh lsdyna fit for comparison (time and RMSAPE).
+started fit with its search converged to a gap of 1e-6 as before ``SEEDED_TOL`` (the
+before/after in one run), and a fresh lsdyna fit for comparison (time and RMSAPE).
 
 Then the same on the shared real datasets (``benchmarks/bench_real.py``'s ``DATASETS``,
 read at run time from ``--data``, default ``../shared/data`` or ``$VHFIT_DATA``, with
@@ -62,7 +61,7 @@ from bench_modes import multimode_curves  # noqa: E402
 
 import vhfit  # noqa: E402
 from vhfit import datasets  # noqa: E402
-from vhfit.calibration import _for, _search, same_fit, start_options  # noqa: E402
+from vhfit.calibration import _for, same_fit, start_options  # noqa: E402
 from vhfit.export import export  # noqa: E402
 from vhfit.export.check import SOLVER_FORMULATIONS, allowed_rmsape, check_cards  # noqa: E402
 
@@ -160,23 +159,13 @@ def second_fit(curves, n_prony: int, repeats: int = 3) -> dict:
             opts["tol"] = 1e-6
             return vhfit.calibrate(curves, formulation="lsdyna", **kw, **opts)
 
-        def seeded_rounding():  # as before LOOSE_TOL: the gathered best polished to rounding
-            kept = _search.LOOSE_TOL
-            _search.LOOSE_TOL = 1e-15  # varpro_polish's own default
-            try:
-                return seeded()
-            finally:
-                _search.LOOSE_TOL = kept
-
         t2, second = _timed(seeded, repeats)
         t4, tight = _timed(seeded_tight, repeats)
-        t5, rounding = _timed(seeded_rounding, repeats)
         t3, fresh = _timed(lambda: vhfit.calibrate(curves, formulation="lsdyna", **kw), repeats)
     return {"first_s": t1, "second_s": t2, "ratio": t2 / t1, "fresh_s": t3,
             "second_rmsape": second.rmsape, "fresh_rmsape": fresh.rmsape,
             "evaluations": second.nfev / first.nfev, "tight_s": t4, "tight_ratio": t4 / t1,
-            "tight_rmsape": tight.rmsape, "tight_evaluations": tight.nfev / first.nfev,
-            "rounding_s": t5, "rounding_ratio": t5 / t1, "rounding_rmsape": rounding.rmsape}
+            "tight_rmsape": tight.rmsape, "tight_evaluations": tight.nfev / first.nfev}
 
 
 def shared_sets(data, only=None) -> dict:
@@ -238,16 +227,11 @@ def second_fit_shared(curves, kw: dict, repeats: int = 3, shares=(None,)) -> dic
             label = ("vhfit fit's second fit" if share is None
                      else f"vhfit fit's second fit, seeded share {share:g}")
             runs[label] = _timed(lambda share=share: seeded(share), repeats)
-        def before():  # no same_fit; after a scan start_options was empty: a scan;
-            k = dict(kw, formulation="lsdyna")  # the gathered best polished to rounding
+        def before():  # no same_fit; after a scan start_options was empty: a scan
+            k = dict(kw, formulation="lsdyna")
             if not isinstance(kw.get("n_prony"), str):
                 k.update(start_options(first, curves, **k))
-            kept = _search.LOOSE_TOL
-            _search.LOOSE_TOL = 1e-15  # varpro_polish's own default
-            try:
-                return vhfit.calibrate(curves, **k)
-            finally:
-                _search.LOOSE_TOL = kept
+            return vhfit.calibrate(curves, **k)
 
         runs[BEFORE] = _timed(before, repeats)
     fresh = runs[BEFORE][1]
@@ -274,17 +258,14 @@ def shared_table(rows: dict) -> list[str]:
 
 def second_fit_table(rows: dict) -> list[str]:
     lines = ["| data | hereditary fit s | lsdyna fit from it s | ratio | evaluations ratio "
-             "| same, tol 1e-6 (before SEEDED_TOL) s | ratio | same, polish to rounding "
-             "(before LOOSE_TOL) s | ratio | fresh lsdyna fit s | RMSAPE % from it "
-             "| RMSAPE % tol 1e-6 | RMSAPE % polish to rounding | RMSAPE % fresh |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "| same, tol 1e-6 (before) s | ratio | fresh lsdyna fit s | RMSAPE % from it "
+             "| RMSAPE % tol 1e-6 | RMSAPE % fresh |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, r in rows.items():
         lines.append(f"| {name} | {r['first_s']:.3f} | {r['second_s']:.3f} | {r['ratio']:.2f} "
                      f"| {r['evaluations']:.2f} | {r['tight_s']:.3f} | {r['tight_ratio']:.2f} "
-                     f"| {r['rounding_s']:.3f} | {r['rounding_ratio']:.2f} "
-                     f"| {r['fresh_s']:.3f} | {r['second_rmsape']:.10g} | "
-                     f"{r['tight_rmsape']:.10g} | {r['rounding_rmsape']:.10g} | "
-                     f"{r['fresh_rmsape']:.10g} |")
+                     f"| {r['fresh_s']:.3f} | {r['second_rmsape']:.6g} | "
+                     f"{r['tight_rmsape']:.6g} | {r['fresh_rmsape']:.6g} |")
     return lines
 
 
@@ -319,10 +300,8 @@ def main(argv=None) -> int:
         before_evals = statistics.median(r["tight_evaluations"] for r in timing.values())
         print("synthetic data sets:\n")
         print("\n".join(second_fit_table(timing)))
-        rounding = statistics.median(r["rounding_ratio"] for r in timing.values())
         print(f"\nin this run, the second fit's search to a gap of 1e-6 (before SEEDED_TOL) "
-              f"added {before:.0%} to the wall time and {before_evals:.0%} to the evaluations; "
-              f"with its gathered best polished to rounding (before LOOSE_TOL) {rounding:.0%}")
+              f"added {before:.0%} to the wall time and {before_evals:.0%} to the evaluations")
         evals = statistics.median(r["evaluations"] for r in timing.values())
         print(f"\nsynthetic: the second fit adds {ratio:.0%} to the first's wall time and "
               f"{evals:.0%} to its evaluations (medians over the data sets)\n")

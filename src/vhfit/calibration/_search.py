@@ -17,7 +17,6 @@ import numpy as np
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import polish as polish_fit
-from vhfit.calibration._settings import DEFAULT_TOL
 from vhfit.calibration._varpro import varpro_polish
 
 __all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS",
@@ -152,13 +151,6 @@ def search_problem(prob, curves):
 #: iterations reach rounding (a real record's last ~half of them, at the cost of the
 #: whole record each).
 FINAL_TOL = 1e-10
-
-#: Tolerances of the polish that ends a search on a gathered population (else run to
-#: rounding) when the search stops at a looser best-mean gap than the default: the
-#: second formulation's fit started from the first (``SEEDED_TOL``). On the synthetic
-#: sets of ``benchmarks/bench_solvers.py`` the same RMSAPE to 10 digits, and a fifth
-#: less wall time (SEBS: the polish to rounding was 70 % of that fit).
-LOOSE_TOL = 1e-12
 
 
 def final_polish(space, found: Search, x: np.ndarray, err: float):
@@ -402,9 +394,6 @@ class _EarlyFinish:
 
     def __init__(self, space, target: float, tol: float = 1e-6):
         self.space, self.target = space, float(target)
-        # a search asked to stop at a looser gap than the default (a second formulation's,
-        # started from the first fit: SEEDED_TOL) polishes its gathered best to LOOSE_TOL
-        self.loose = tol > DEFAULT_TOL
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
         # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
@@ -427,8 +416,7 @@ class _EarlyFinish:
             return self.done
         if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
             self.collapse = False  # once: a polish that did not help is not repeated
-            z1, x, err, n = (varpro_polish(self.space, z, tol=LOOSE_TOL) if self.loose
-                             else varpro_polish(self.space, z))
+            z1, x, err, n = varpro_polish(self.space, z)
             self.nfev += n
             self.result = (x, err)
             self.z = z1
