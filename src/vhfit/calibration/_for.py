@@ -8,7 +8,9 @@ solvers need. The first is an ordinary search; each further one starts from it
 (:func:`start_options`): half of a population of 3/8 the size is a cloud around the
 first fit's search vector, half a Sobol sequence over the whole box, so that the search
 keeps its reach (the other law's optimum may lie in another basin) at under half the
-evaluations of a fresh one.
+evaluations of a fresh one. After an order scan the further fit is made at the N the
+first chose (no scan of its own), and without Prony terms it is the first fit itself
+in the other formulation (:func:`same_fit`: no search).
 """
 
 from __future__ import annotations
