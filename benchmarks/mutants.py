@@ -1910,4 +1910,9 @@ MUTANTS: list[Mutant] = [
       "",
       "the first fit is copied even when the further fit's keywords differ from its own",
       ("tests/test_calibrate_for.py",)),
+    M("i23second_cli_searches_again", "vhfit/cli/_fit.py",
+      "        same = None if start is None else same_fit(start, curves, **kw)\n",
+      "        same = None\n",
+      "vhfit fit searches again in the second formulation for a fit without Prony terms",
+      ("tests/test_calibrate_for.py::test_vhfit_fit_without_prony_terms_makes_one_search",)),
 ]

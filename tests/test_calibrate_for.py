@@ -233,3 +233,24 @@ def test_after_a_spectrum_scan_the_next_fit_starts_its_tau_from_the_first():
     second = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)["lsdyna"]
     assert second.order_scan == [] and second.n_prony <= n
     assert second.rmsape == pytest.approx(first.rmsape, rel=1e-6, abs=1e-8)
+
+
+def test_vhfit_fit_without_prony_terms_makes_one_search(tmp_path):
+    """The command line, equilibrium curves (no Prony terms by default): the LS-DYNA
+    fit is the first fit in its formulation, with no search of its own."""
+    from vhfit.cli import main
+
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
+    eps = np.linspace(0.0, 0.6, 13)
+    sig = m.stress(dict(C10=0.2, C01=0.1), strain=eps, strain_rate=1.0, measure="engineering")
+    csv = tmp_path / "eq.csv"
+    csv.write_text("strain,stress_MPa\n"
+                   + "\n".join(f"{float(e)!r},{float(s)!r}" for e, s in zip(eps, sig)))
+    out = tmp_path / "out"
+    code = quiet(main, ["fit", str(csv), "--no-plot", "--quiet", "--out", str(out)])
+    assert code == 0
+    cal = vhfit.Calibration.load(out / "results.json")
+    lsd = cal.fits["lsdyna"]
+    assert lsd.model.formulation == "lsdyna" and lsd.model.n_prony == 0
+    assert lsd.nfev == 0 and "same_as" in lsd.options
+    assert lsd.params == cal.fits["hereditary"].params
