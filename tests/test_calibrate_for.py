@@ -158,3 +158,99 @@ def test_a_first_fit_merged_into_fewer_like_terms_seeds_the_law_asked_for():
     # (mu2's share of the moduli, alpha1, alpha2, log10 tau1)
     np.testing.assert_allclose(z0, [0.0, 3.0, 3.0, np.log10(0.02)], rtol=1e-12, atol=0)
     assert start_options(first, curves, **dict(kw, hyperelastic="yeoh")) == {}
+
+
+def test_after_an_order_scan_the_next_fit_is_made_at_the_n_it_chose():
+    """``n_prony="auto"``: the further formulation's fit is one fit at the N the first
+    fit's scan chose (not a scan of its own): the search a separate calibrate at that N
+    runs (the scan in that formulation would run it too)."""
+    import dataclasses
+
+    curves = ramps("lsdyna")
+    kw = dict(n_prony="auto", max_prony=2, seed=0, uncertainty=False)
+    fits = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)
+    first, second = fits["hereditary"], fits["lsdyna"]
+    n = first.options["n_prony_chosen"]
+    assert first.order_scan and first.options["n_prony"] == "auto"
+    assert second.order_scan == [] and second.options["n_prony"] == n
+    alone = quiet(vhfit.calibrate, curves, formulation="lsdyna", n_prony=n, seed=0,
+                  uncertainty=False)
+    assert second.params == alone.params and second.options["popsize"] == 64
+    assert second.rmsape < 1e-6  # the data's own law: exact, the generating constants
+    for k, v in P.items():
+        assert second.params[k] == pytest.approx(v, rel=1e-6)
+    # the N comes from the scan's choice, whatever it was
+    two = dataclasses.replace(first, options={**first.options, "n_prony_chosen": 2})
+    assert start_options(two, curves, formulation="lsdyna", **kw) == {"n_prony": 2}
+    # a scan that chose nothing (interrupted before a result): nothing to start from
+    none = dataclasses.replace(first, options={**first.options, "n_prony_chosen": None})
+    assert start_options(none, curves, formulation="lsdyna", **kw) == {}
+
+
+def test_without_prony_terms_the_further_fit_is_the_first_in_its_formulation():
+    """No Prony terms: every formulation has the law's long-term stress (σ = σ_h), so the
+    further fit is the first's constants with no search of its own (``same_fit``); with
+    terms, or other keywords than the first's, it is a fit of its own."""
+    from vhfit.calibration import same_fit
+
+    curves = ramps("hereditary")
+    kw = dict(n_prony=0, seed=0, uncertainty=False)
+    fits = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)
+    first, second = fits["hereditary"], fits["lsdyna"]
+    assert second.model.formulation == "lsdyna" and second.nfev == 0
+    assert second.params == first.params and second.rmsape == first.rmsape
+    assert "same_as" in second.options and second.settings.formulation == "lsdyna"
+    # the reason, checked independently: both models give the same stresses
+    for c in curves:
+        s1 = first.model.stress(first.params, strain=c.strain, strain_rate=c.strain_rate,
+                                measure="engineering")
+        s2 = second.model.stress(second.params, strain=c.strain, strain_rate=c.strain_rate,
+                                 measure="engineering")
+        np.testing.assert_allclose(s2, s1, rtol=1e-12, atol=0)
+    assert same_fit(first, curves, **dict(kw, formulation="lsdyna", seed=1)) is None
+    assert same_fit(first, curves, **dict(kw, formulation="lsdyna", n_prony=1)) is None
+    viscous = quiet(vhfit.calibrate, curves, n_prony=1, seed=0, uncertainty=False)
+    assert same_fit(viscous, curves, n_prony=1, seed=0, uncertainty=False,
+                    formulation="lsdyna") is None
+
+
+def test_after_a_spectrum_scan_the_next_fit_starts_its_tau_from_the_first():
+    """Sweeps alone (the per-decade spectrum, whose moduli are the same in every
+    formulation): after ``n_prony="auto"`` the next fit is at the first's N with its τ
+    seeded from the first fit, and reaches the same moduli."""
+    f = np.logspace(-2, 2, 41)
+    w = 2 * np.pi * f
+    E0, G, tau = 3.0, np.array([4.0, 2.0]), np.array([0.1, 10.0])
+    wt = np.outer(w, tau)
+    e1 = E0 + (G * wt**2 / (1 + wt**2)).sum(axis=1)  # a Maxwell series: exact for N = 2
+    e2 = (G * wt / (1 + wt**2)).sum(axis=1)
+    curves = [vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2)]
+    kw = dict(n_prony="auto", seed=0, uncertainty=False)
+    first = quiet(vhfit.calibrate, curves, **kw)
+    n = first.options["n_prony_chosen"]
+    opts = start_options(first, curves, formulation="lsdyna", **kw)
+    assert opts["n_prony"] == n and opts["de_options"]["init"].shape[1] >= n
+    second = quiet(vhfit.calibrate_for, ["abaqus", "lsdyna"], curves, **kw)["lsdyna"]
+    assert second.order_scan == [] and second.n_prony <= n
+    assert second.rmsape == pytest.approx(first.rmsape, rel=1e-6, abs=1e-8)
+
+
+def test_vhfit_fit_without_prony_terms_makes_one_search(tmp_path):
+    """The command line, equilibrium curves (no Prony terms by default): the LS-DYNA
+    fit is the first fit in its formulation, with no search of its own."""
+    from vhfit.cli import main
+
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 0)
+    eps = np.linspace(0.0, 0.6, 13)
+    sig = m.stress(dict(C10=0.2, C01=0.1), strain=eps, strain_rate=1.0, measure="engineering")
+    csv = tmp_path / "eq.csv"
+    csv.write_text("strain,stress_MPa\n"
+                   + "\n".join(f"{float(e)!r},{float(s)!r}" for e, s in zip(eps, sig)))
+    out = tmp_path / "out"
+    code = quiet(main, ["fit", str(csv), "--no-plot", "--quiet", "--out", str(out)])
+    assert code == 0
+    cal = vhfit.Calibration.load(out / "results.json")
+    lsd = cal.fits["lsdyna"]
+    assert lsd.model.formulation == "lsdyna" and lsd.model.n_prony == 0
+    assert lsd.nfev == 0 and "same_as" in lsd.options
+    assert lsd.params == cal.fits["hereditary"].params

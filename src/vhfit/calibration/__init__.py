@@ -17,7 +17,7 @@ Inside, one module per concern:
 """
 
 from vhfit.calibration._bounds import auto_bounds
-from vhfit.calibration._for import calibrate_for, plan_formulations, start_options
+from vhfit.calibration._for import calibrate_for, plan_formulations, same_fit, start_options
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import (
     GOOD_FIT,
@@ -41,4 +41,4 @@ __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarnin
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
            "bound_problem", "bounds_terms", "plan_formulations", "start_options", "grade",
-           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT"]
+           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit"]

@@ -8,14 +8,18 @@ solvers need. The first is an ordinary search; each further one starts from it
 (:func:`start_options`): half of a population of 3/8 the size is a cloud around the
 first fit's search vector, half a Sobol sequence over the whole box, so that the search
 keeps its reach (the other law's optimum may lie in another basin) at under half the
-evaluations of a fresh one.
+evaluations of a fresh one. After an order scan the further fit is made at the N the
+first chose (no scan of its own), and without Prony terms it is the first fit itself
+in the other formulation (:func:`same_fit`: no search).
 """
 
 from __future__ import annotations
 
 import math
+import time
 import warnings
 from collections.abc import Iterable, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -24,7 +28,12 @@ from vhfit.calibration import _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._result import Calibration
-from vhfit.calibration._settings import DEFAULT_TOL, FULL_TOL, bounds_for_terms
+from vhfit.calibration._settings import (
+    DEFAULT_TOL,
+    FULL_TOL,
+    CalibrationSettings,
+    bounds_for_terms,
+)
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.calibration._workflow import (
     DEFAULT_DECADES_ABOVE,
@@ -38,7 +47,7 @@ from vhfit.hyperelastic import get as get_law
 from vhfit.model import ViscoHyperelastic
 from vhfit.tts import shift_to_reference
 
-__all__ = ["calibrate_for", "plan_formulations", "start_options", "CLOUD_WIDTH",
+__all__ = ["calibrate_for", "plan_formulations", "start_options", "same_fit", "CLOUD_WIDTH",
            "CLOUD_SHARE", "POPSIZE_SHARE", "MIN_POPSIZE", "SEEDED_TOL"]
 
 #: Standard deviation of the cloud around the first fit, as a fraction of each search
@@ -188,6 +197,17 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     the rest. Everything else — bounds, other stopping criteria, polish, report — is the
     ordinary calibration's.
 
+    After an order scan (``n_prony="auto"``) the new fit is made at the N the first
+    fit's scan chose (``options["n_prony_chosen"]``) instead of a scan of its own, which
+    would cost as much as the first: only ``n_prony`` is returned, and the search at
+    that N is the one a scan in the new formulation would run there (a fresh
+    population). On the shared real data sets (``benchmarks/bench_solvers.py
+    --second-fit``) the seeded population reached a higher error than that fresh search
+    on the Ogden fits of VHB, whose optimum in the other formulation lies in another
+    basin (up to 8e-3 relative over three seeds), and a fresh search at one N costs a
+    third of a scan. Small-strain data alone (the per-decade spectrum, whose moduli are
+    the same in every formulation) start their τ from the first fit's as for a given N.
+
     Parameters
     ----------
     first : Calibration
@@ -202,11 +222,12 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     -------
     dict
         ``popsize``, ``de_options`` (with an ``init`` population) and ``tol`` to add
-        to the call; empty when there is nothing to start from (an order scan ``n_prony="auto"``,
-        an ``init`` of the caller's own, or a law with nothing to search). For data that
-        take the per-decade spectrum route (sweeps and relaxation tests alone), which
-        starts from the first fit's τ and searches no population, ``init`` is that one
-        search vector.
+        to the call; after an order scan ``n_prony`` (the first's chosen N), alone unless
+        the fit is by the per-decade spectrum. Empty when there is nothing to start from
+        (an ``init`` of the caller's own, a scan that chose no N, or a law with nothing
+        to search). For data that take the per-decade spectrum route (sweeps and
+        relaxation tests alone), which starts from the first fit's τ and searches no
+        population, ``init`` is that one search vector.
 
     Examples
     --------
@@ -226,8 +247,18 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     n_prony = kwargs.get("n_prony")
     if n_prony is None:
         n_prony = first.options.get("n_prony")
+    chosen = {}
+    if isinstance(n_prony, str):  # an order scan: at the N the first fit's scan chose
+        n_prony = first.options.get("n_prony_chosen")
+        if not isinstance(n_prony, (int, np.integer)) or isinstance(n_prony, bool):
+            return {}
+        n_prony = int(n_prony)
+        chosen = {"n_prony": n_prony}
+        route = _RouteKeys(kwargs.get("method", "separable"), kwargs)
+        if not _spectrum.applies(_as_curves(curves), route):
+            return chosen  # a search of its own at that N (see above)
     opts = dict(kwargs.get("de_options") or {})
-    if isinstance(n_prony, str) or "init" in opts or "x0" in opts:
+    if "init" in opts or "x0" in opts:
         return {}
     method = kwargs.get("method", "separable")
     ref = shift_to_reference(_as_curves(curves), shift_factors=kwargs.get("shift_factors"),
@@ -235,7 +266,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     law = get_law(kwargs.get("hyperelastic", "mooney_rivlin"))
     x_first = _in_law(first, law)
     if x_first is None:
-        return {}
+        return chosen
     model = ViscoHyperelastic(law, int(n_prony),
                               rtol=kwargs.get("rtol", 1e-6),
                               formulation=kwargs.get("formulation", "hereditary"))
@@ -251,7 +282,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
                                    kwargs.get("objective", "rmsape"), sr, set(user)))
     b = np.array(space.bounds(), dtype=np.float64).reshape(-1, 2)
     if not len(b):
-        return {}
+        return chosen
     lo, hi = b[:, 0], b[:, 1]
     z0 = np.clip(_search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
@@ -262,7 +293,8 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     if int(n_prony) and _spectrum.applies(ref.items, _RouteKeys(method, kwargs)):
         # moduli alone take the spectrum route, which starts from the first fit's τ (the
         # init's first row) and searches no population: no cloud, no Sobol sequence
-        return {"popsize": popsize, "de_options": {**opts, "init": z0[None, :]}, "tol": tol}
+        return {**chosen, "popsize": popsize, "de_options": {**opts, "init": z0[None, :]},
+                "tol": tol}
     rng = np.random.default_rng(kwargs.get("seed"))
     k = max(1, int(round(CLOUD_SHARE * popsize)))
     cloud = z0 + rng.normal(size=(k, len(z0))) * (CLOUD_WIDTH * (hi - lo))
@@ -273,7 +305,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
         warnings.filterwarnings("ignore", "The balance properties of Sobol", UserWarning)
         rest = qmc.Sobol(len(z0), seed=rng).random(popsize - k)
     init = np.clip(np.vstack([cloud, lo + rest * (hi - lo)]), lo, hi)
-    return {"popsize": popsize, "de_options": {**opts, "init": init}, "tol": tol}
+    return {**chosen, "popsize": popsize, "de_options": {**opts, "init": init}, "tol": tol}
 
 
 class _RouteKeys:
@@ -284,6 +316,69 @@ class _RouteKeys:
         self.method = method
         self.tau_strategy = kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY)
         self.bounds = kwargs.get("bounds", "auto")
+
+
+def same_fit(first: Calibration, curves, **kwargs) -> Calibration | None:
+    """The fit :func:`vhfit.calibrate` would make in another formulation, taken from a
+    first fit without Prony terms; None where it is not that.
+
+    A formulation says how the Prony series acts (:mod:`vhfit.formulations`): without
+    Prony terms the stress is the law's long-term stress in every formulation, so the
+    objective — and its optimum — is the first fit's. Such a fit is the first's
+    constants, errors, intervals and checks with the model in the new formulation (no
+    search: ``nit``, ``nfev`` 0; ``options["same_as"]`` names the fit it came from).
+    That holds when the first fit was asked for no Prony terms (``n_prony=0``, or the
+    default for data that cannot separate elastic from viscous response) and the new
+    keywords are the first's but for ``formulation`` (and the ``checkpoint``,
+    ``callback`` and ``resume`` that only steer a search).
+
+    Parameters
+    ----------
+    first : Calibration
+        The first fit (made by :func:`vhfit.calibrate`: its ``settings`` recorded).
+    curves : sequence
+        The curves of both fits (unused: the first's are the same).
+    **kwargs
+        The keywords of the new fit, its ``formulation`` among them.
+
+    Returns
+    -------
+    Calibration or None
+
+    Examples
+    --------
+    >>> import numpy as np, vhfit
+    >>> from vhfit.calibration import same_fit
+    >>> eps = np.linspace(-0.05, -0.5, 10)
+    >>> curves = [vhfit.Curve(strain=eps, stress=0.1 * eps, strain_rate=-1.0)]
+    >>> first = vhfit.calibrate(curves, n_prony=0, seed=0)
+    >>> other = next(f for f in vhfit.formulations.FORMULATIONS if f != "hereditary")
+    >>> fit = same_fit(first, curves, n_prony=0, seed=0, formulation=other)
+    >>> fit.model.formulation == other, fit.params == first.params, fit.nfev
+    (True, True, 0)
+    >>> same_fit(first, curves, n_prony=1, seed=0, formulation=other) is None
+    True
+    """
+    t0 = time.perf_counter()
+    form = kwargs.get("formulation", "hereditary")
+    old = first.settings
+    if old is None or first.model.n_prony != 0 or first.options.get("n_prony") != 0:
+        return None
+    try:
+        new = CalibrationSettings(**kwargs)
+        steer = dict(formulation=old.formulation, checkpoint=old.checkpoint,
+                     callback=old.callback, resume=old.resume)
+        if replace(new, **steer) != old:
+            return None
+    except (TypeError, ValueError):  # a keyword calibrate lacks; arrays compared
+        return None
+    model = ViscoHyperelastic(first.model.hyperelastic, 0, rtol=first.model.rtol,
+                              formulation=form)
+    return replace(first, model=model, settings=new, nit=0, nfev=0, history={},
+                   options={**first.options, "same_as": (
+                       f"the '{first.model.formulation}' fit: without Prony terms every "
+                       "formulation has the same stress")},
+                   wall_time=time.perf_counter() - t0)
 
 
 def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, Calibration]:
@@ -348,6 +443,10 @@ def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, C
         if first is not None:
             if kw.get("checkpoint") is not None:
                 kw["checkpoint"] = f"{kw['checkpoint']}.{form}"
+            same = same_fit(first, curves, **kw)
+            if same is not None:  # no Prony terms: the same fit in every formulation
+                fits[form] = same
+                continue
             kw.update(start_options(first, curves, **kw))
         fits[form] = cal = calibrate(curves, **kw)
         if first is None:

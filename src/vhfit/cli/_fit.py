@@ -30,6 +30,7 @@ from vhfit.calibration import (
     CalibrationWarning,
     calibrate,
     default_n_prony,
+    same_fit,
     start_options,
 )
 from vhfit.cli._cards import (
@@ -423,7 +424,8 @@ def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Pr
             start: Calibration | None = None) -> Calibration:
     """The calibration with progress, signals and a checkpoint in ``out`` (one per
     formulation: ``checkpoint.json`` for the first); a fit after the first starts from
-    ``start`` (``start_options``)."""
+    ``start`` (``start_options``), or is ``start`` in its formulation where that is the
+    same fit (``same_fit``: no Prony terms)."""
     def callback(d):
         progress(d)
         sigs.check()  # raises KeyboardInterrupt (caught by calibrate) after a signal
@@ -433,6 +435,10 @@ def _search(curves, settings: CalibrationSettings, args, out: Path, progress: Pr
                        checkpoint=str(out / _checkpoint(formulation)))
     try:
         kw = settings.keywords()
+        same = None if start is None else same_fit(start, curves, **kw)
+        if same is not None:  # no Prony terms: the first fit in every formulation
+            progress.close()
+            return same
         if start is not None:  # the next solver's fit starts from the first
             kw.update(start_options(start, curves, **kw))
         cal = calibrate(curves, **kw)
