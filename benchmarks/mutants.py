@@ -1948,4 +1948,9 @@ MUTANTS: list[Mutant] = [
       "        same = None\n",
       "vhfit fit searches again in the second formulation for a fit without Prony terms",
       ("tests/test_calibrate_for.py::test_vhfit_fit_without_prony_terms_makes_one_search",)),
+    M("s27_resumed_gathered_polish_loose", "vhfit/calibration/_workflow.py",
+      "final_polish(space, found, x, err, fewer=searched is not space)",
+      "final_polish(space, found, x, err)",
+      "a search resumed from its final checkpoint is polished to the long records' looser "
+      "tolerance: it no longer ends where it did", ("tests/test_reliability.py",)),
 ]

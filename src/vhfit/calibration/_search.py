@@ -153,18 +153,20 @@ def search_problem(prob, curves):
 FINAL_TOL = 1e-10
 
 
-def final_polish(space, found: Search, x: np.ndarray, err: float):
+def final_polish(space, found: Search, x: np.ndarray, err: float, fewer: bool = True):
     """The polish after a search that did not end by a polish on ``space``'s own points:
     ``(x, err, evaluations)``, never a higher error than ``err`` at ``x``.
 
     A search that ended on a gathered population (:class:`_EarlyFinish`; on fewer points
-    of a long record) continues in the space's coordinates on every point
-    (:func:`varpro_polish` from ``found.z``); any other, the all-parameter polish, from
-    its polish on fewer points if that is lower on every point.
+    of a long record, ``fewer``, or resumed from its final checkpoint) continues in the
+    space's coordinates on every point (:func:`varpro_polish` from ``found.z``; to
+    :data:`FINAL_TOL` after a search on fewer points, else to rounding as the search's own
+    polish, so that a resumed search ends where it did); any other, the all-parameter
+    polish, from its polish on fewer points if that is lower on every point.
     """
     prob = space.prob
     if found.stop == _EarlyFinish.GATHERED:
-        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL)
+        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL if fewer else 1e-15)
         return (x1, e1, n) if e1 < err else (x, err, n)
     if found.polished is not None:  # polished on the search's points: start from it
         xp = found.polished[0]

@@ -541,7 +541,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
     elif settings.polish and found.stop != "interrupted":
-        x, err, n_pol = final_polish(space, found, x, err)
+        x, err, n_pol = final_polish(space, found, x, err, fewer=searched is not space)
         nfev += n_pol
     return found, x, err, nfev
 
