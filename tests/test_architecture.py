@@ -384,9 +384,13 @@ def test_the_checks_find_what_they_look_for(tmp_path):
 
 # ------------------------------------------------- a solver is named by its module only
 def shipped_solvers() -> dict[Path, object]:
-    """Source file -> record of each solver module of vhfit.export (a public module that
-    defines a registered ``RECORD``), found as the package finds them."""
+    """Source file (relative to the package: ``export/NAME.py``, the same for a checkout
+    and an installed copy) -> record of each solver module of vhfit.export (a public
+    module that defines a registered ``RECORD``), found as the package finds them."""
+    import vhfit
     import vhfit.export as export
+
+    top = Path(vhfit.__file__).resolve().parent
 
     out = {}
     for info in pkgutil.iter_modules(export.__path__):
@@ -396,7 +400,7 @@ def shipped_solvers() -> dict[Path, object]:
         record = getattr(module, "RECORD", None)
         if isinstance(record, export.Solver):
             assert export.get_solver(record.name) is record, f"{info.name}: not registered"
-            out[Path(module.__file__).resolve()] = record
+            out[Path(module.__file__).resolve().relative_to(top)] = record
     return out
 
 
@@ -415,10 +419,10 @@ def solver_pattern(records) -> re.Pattern:
 
 def solver_mentions(allowed: set[Path], pattern: re.Pattern, root: Path = SRC) -> list[str]:
     """``file:line: text`` of every line of a source file under ``root/vhfit`` outside
-    ``allowed`` that names a solver."""
+    ``allowed`` (paths relative to ``root/vhfit``) that names a solver."""
     hits = []
     for path in sorted((root / TOP).rglob("*.py")):
-        if path.resolve() in allowed:
+        if path.relative_to(root / TOP) in allowed:
             continue
         for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
             if pattern.search(line):
@@ -434,7 +438,7 @@ def test_only_a_solvers_own_module_names_it():
     """
     shipped = shipped_solvers()
     assert len(shipped) >= 3, "the solver modules of vhfit.export are not found"
-    allowed = {*shipped, (SRC / TOP / "formulations.py").resolve()}
+    allowed = {*shipped, Path("formulations.py")}
     hits = solver_mentions(allowed, solver_pattern(shipped.values()))
     assert not hits, ("source files outside the solver modules name a solver (read it from "
                       "the registry, vhfit.export.solvers(), or word it generically):\n"
@@ -458,5 +462,5 @@ def test_the_solver_name_check_finds_a_name(tmp_path):
     other = tmp_path / TOP / "model.py"
     own.write_text(f'"""The {rec.label} card."""\n')
     other.write_text(f'"""Stress."""\n\nDEFAULT = "{rec.name}"\n')
-    assert solver_mentions({own.resolve()}, pattern, tmp_path) == [
+    assert solver_mentions({own.relative_to(tmp_path / TOP)}, pattern, tmp_path) == [
         f"{TOP}/model.py:3: DEFAULT = \"{rec.name}\""]
