@@ -1953,4 +1953,9 @@ MUTANTS: list[Mutant] = [
       "final_polish(space, found, x, err)",
       "a search resumed from its final checkpoint is polished to the long records' looser "
       "tolerance: it no longer ends where it did", ("tests/test_reliability.py",)),
+    M("s27_failed_solve_drops_the_polished_fit", "vhfit/calibration/_workflow.py",
+      "        if np.isfinite(ep):\n            x, err = xp, ep\n",
+      "        if np.isfinite(ep):\n            pass\n",
+      "a search whose vector fails on every point ends in 'no finite error' despite its "
+      "polished fit", ("tests/test_search_finish.py",)),
 ]

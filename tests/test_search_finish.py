@@ -115,3 +115,30 @@ def test_an_ogden2_recovery_ends_by_the_polish_and_reaches_the_data():
             assert abs(cal.params[k[:-1] + other] - v) <= 1e-6 * abs(v)
         elif not k.startswith(("mu", "alpha")):
             assert abs(cal.params[k] - v) <= 1e-6 * abs(v)
+
+
+def test_a_search_whose_constants_fail_on_every_point_keeps_its_polished_result(
+        monkeypatch):
+    """The linear solve on every point can fail (+inf) for the search's vector where the
+    search's own polish on fewer points had a finite fit: that polish is the result, not
+    "no parameter set with a finite error"."""
+    from vhfit.calibration import _workflow
+
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    eps = np.linspace(-0.05, -0.5, 12)
+    curves = [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=r,
+                                                      measure="engineering"), strain_rate=r)
+              for r in (-1.0, -100.0)]
+    good = m.as_array(truth)
+
+    def search(space, settings, **kw):  # a vector whose solve fails, and a polished fit
+        return _search.Search(np.array([np.nan, -2.0]), 3, 10, _search._EarlyFinish.GATHERED,
+                              _search._history(None), kw["t0"], (good, 0.0))
+
+    monkeypatch.setattr(_workflow, "run_search", search)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = vhfit.calibrate(curves, n_prony=1, seed=0, uncertainty=False)
+    assert cal.rmsape < 1e-9
+    assert cal.params == pytest.approx(truth, rel=1e-9)

@@ -531,6 +531,13 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
                        max_time=max_time, t0=t0, x0=x0)
     x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
+    if not np.isfinite(err) and found.polished is not None:
+        # the solve on every point can fail where the search's own polish (on fewer
+        # points) did not: keep that polish's constants, the final polish starts there
+        xp = np.asarray(found.polished[0], dtype=np.float64)
+        ep = float(prob.errors(xp[None, :])[0])
+        if np.isfinite(ep):
+            x, err = xp, ep
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
         if found.stop == "interrupted":
             raise KeyboardInterrupt  # the search may yet find one: resume the checkpoint
