@@ -82,10 +82,13 @@ def invariant_gradient(energy: Callable, closed_form: Callable | None, I1, I2,
 
 
 def stretch_gradient(energy: Callable, l1, l2, l3, cols: Sequence,
-                     axes: Sequence[int] = (0, 1, 2)) -> list[np.ndarray]:
+                     axes: Sequence[int] = (0, 1, 2),
+                     closed_form: Callable | None = None) -> list[np.ndarray]:
     """λa ∂W/∂λa of a principal-stretch energy W(l1, l2, l3, *cols), for a in ``axes``.
 
-    The step is relative (λa (1 + d)), which gives λa ∂W/∂λa directly.
+    ``closed_form`` (l1, l2, l3, *cols) -> (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3), when given,
+    is used as is; otherwise the complex step, relative (λa (1 + d)), which gives
+    λa ∂W/∂λa directly.
 
     Examples
     --------
@@ -93,6 +96,9 @@ def stretch_gradient(energy: Callable, l1, l2, l3, cols: Sequence,
     >>> [float(x) for x in stretch_gradient(W, 2.0, 1.0, 0.5, [1.0])]   # mu λa²
     [4.0, 1.0, 0.25]
     """
+    if closed_form is not None:
+        d = closed_form(l1, l2, l3, *cols)
+        return [d[a] for a in axes]
     lam = [l1, l2, l3]
 
     def along(a: int) -> Callable:

@@ -31,10 +31,11 @@ def principal_kirchhoff(model: Hyperelastic, cols, l1, l2, l3):
         I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
         W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         return tuple(2.0 * W1 * ak + 2.0 * W2 * (I1 * ak - ak * ak) for ak in a)
-    if model.derivatives is not None:  # closed form (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3)
-        return tuple(model.derivatives(l1, l2, l3, *cols))
+    t = stretch_gradient(model.energy, l1, l2, l3, cols, closed_form=model.derivatives)
+    if model.derivatives is not None:  # the closed form is used as it is
+        return tuple(t)
     bad = outside_domain(model.energy, l1, l2, l3, *cols)
-    return tuple(np.where(bad, np.nan, t) for t in stretch_gradient(model.energy, l1, l2, l3, cols))
+    return tuple(np.where(bad, np.nan, x) for x in t)
 
 
 def kirchhoff_stress(model: Hyperelastic, params, l1, l2, l3):

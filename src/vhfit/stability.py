@@ -53,10 +53,8 @@ def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
         W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         a, c = l1**2, l3**2
         return 2 * W1 * (a - c) + 2 * W2 * (I1 * (a - c) - (a**2 - c**2))
-    if model.derivatives is not None:  # the law's closed form (Ogden: no complex powers)
-        d1, _, d3 = model.derivatives(l1, l2, l3, *cols)
-        return d1 - d3
-    d1, d3 = stretch_gradient(model.energy, l1, l2, l3, cols, axes=(0, 2))
+    d1, d3 = stretch_gradient(model.energy, l1, l2, l3, cols, axes=(0, 2),
+                              closed_form=model.derivatives)
     return d1 - d3
 
 

@@ -116,11 +116,11 @@ class Hyperelastic:
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
         l2 = lam**-0.5
+        # dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
+        dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1),
+                                    closed_form=self.derivatives)
         if self.derivatives is not None:
-            dW1, dW2, _ = self.derivatives(lam, l2, l2, *cols)
             return dW1 - dW2
-        # relative steps: dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
-        dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1))
         return np.where(outside_domain(self.energy, lam, l2, l2, *cols), np.nan, dW1 - dW2)
 
     # ------------------------------------------------------------------- public
