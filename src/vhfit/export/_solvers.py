@@ -240,18 +240,15 @@ def card_body(text: str) -> str:
                      if ln.strip() and not ln.lstrip().startswith(prefixes)).upper()
 
 
-class LiveMapping(Mapping):
-    """A read-only mapping built anew from the solver registry at each use, so that it
-    follows solvers registered later: a subclass gives :meth:`_now`, the mapping now."""
+class _Live:
+    """A read-only view built anew from the solver registry at each use, so that it
+    follows solvers registered later: a subclass gives :meth:`_now`, the view now."""
 
-    def _now(self) -> dict:
+    def _now(self):
         raise NotImplementedError
 
     def __getitem__(self, key):
         return self._now()[key]
-
-    def __iter__(self) -> Iterator:
-        return iter(self._now())
 
     def __len__(self) -> int:
         return len(self._now())
@@ -260,7 +257,14 @@ class LiveMapping(Mapping):
         return repr(self._now())
 
 
-class _Names(Sequence):
+class LiveMapping(_Live, Mapping):
+    """A read-only mapping that follows the solver registry (:class:`_Live`)."""
+
+    def __iter__(self) -> Iterator:
+        return iter(self._now())
+
+
+class _Names(_Live, Sequence):
     """The names of the registered solvers that ``keep`` accepts, read at each use."""
 
     def __init__(self, keep: Callable[[Solver], bool]):
@@ -268,15 +272,6 @@ class _Names(Sequence):
 
     def _now(self) -> tuple[str, ...]:
         return tuple(r.name for r in _SOLVERS.values() if self._keep(r))
-
-    def __getitem__(self, i):
-        return self._now()[i]
-
-    def __len__(self) -> int:
-        return len(self._now())
-
-    def __repr__(self) -> str:
-        return repr(self._now())
 
 
 def names(keep: Callable[[Solver], bool] | None = None) -> Sequence[str]:
