@@ -1832,7 +1832,8 @@ MUTANTS: list[Mutant] = [
       "Curve.resample(max_points=) has no effect",
       ("tests/test_search_speed.py",)),
     M("i22speed_no_polish_on_every_point", "vhfit/calibration/_search.py",
-      "        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL)\n",
+      "        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL if fewer else "
+      "ROUNDING_TOL)\n",
       "        _, x1, e1, n = found.z, x, err, 0\n",
       "a long record's fit ends at the search's optimum on fewer points, not polished on "
       "every point", ("tests/test_search_speed.py",)),

@@ -6,7 +6,10 @@ import numpy as np
 
 from vhfit.calibration._space import Problem
 
-__all__ = ["polish", "g_inf_ok"]
+__all__ = ["polish", "g_inf_ok", "ROUNDING_TOL"]
+
+#: Tolerances (xtol, ftol, gtol) of a polish run to rounding.
+ROUNDING_TOL = 1e-15
 
 
 def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
@@ -75,7 +78,8 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
 
             res = least_squares(
                 fun, z0_full[free], jac=jac, bounds=(lo[free], hi[free]), method="trf",
-                x_scale="jac", max_nfev=max_nfev, xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                x_scale="jac", max_nfev=max_nfev, xtol=ROUNDING_TOL, ftol=ROUNDING_TOL,
+                gtol=ROUNDING_TOL,
             )
         x1 = expand(res.x)
         e1 = float(np.sqrt(2 * res.cost))

@@ -16,6 +16,7 @@ import numpy as np
 
 from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
+from vhfit.calibration._polish import ROUNDING_TOL
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._varpro import varpro_polish
 
@@ -166,7 +167,7 @@ def final_polish(space, found: Search, x: np.ndarray, err: float, fewer: bool = 
     """
     prob = space.prob
     if found.stop == _EarlyFinish.GATHERED:
-        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL if fewer else 1e-15)
+        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL if fewer else ROUNDING_TOL)
         return (x1, e1, n) if e1 < err else (x, err, n)
     if found.polished is not None:  # polished on the search's points: start from it
         xp = found.polished[0]

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vhfit.calibration._polish import g_inf_ok
+from vhfit.calibration._polish import ROUNDING_TOL, g_inf_ok
 
 __all__ = ["varpro_polish", "VARPRO_NFEV"]
 
@@ -21,7 +21,8 @@ __all__ = ["varpro_polish", "VARPRO_NFEV"]
 VARPRO_NFEV = 200
 
 
-def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV, tol: float = 1e-15):
+def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
+                  tol: float = ROUNDING_TOL):
     """Bounded least squares over the search vector of ``space`` from ``z0``.
 
     Parameters
