@@ -248,19 +248,19 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     if n_prony is None:
         n_prony = first.options.get("n_prony")
     chosen = {}
+    method = kwargs.get("method", "separable")
+    route = _RouteKeys(method, kwargs)
     if isinstance(n_prony, str):  # an order scan: at the N the first fit's scan chose
         n_prony = first.options.get("n_prony_chosen")
         if not isinstance(n_prony, (int, np.integer)) or isinstance(n_prony, bool):
             return {}
         n_prony = int(n_prony)
         chosen = {"n_prony": n_prony}
-        route = _RouteKeys(kwargs.get("method", "separable"), kwargs)
         if not _spectrum.applies(_as_curves(curves), route):
             return chosen  # a search of its own at that N (see above)
     opts = dict(kwargs.get("de_options") or {})
     if "init" in opts or "x0" in opts:
         return {}
-    method = kwargs.get("method", "separable")
     ref = shift_to_reference(_as_curves(curves), shift_factors=kwargs.get("shift_factors"),
                              T_ref=kwargs.get("T_ref"))
     law = get_law(kwargs.get("hyperelastic", "mooney_rivlin"))
@@ -290,7 +290,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     if method == "full" and tol == DEFAULT_TOL:
         tol = FULL_TOL  # (what the full method's search takes the default for)
     tol = max(tol, SEEDED_TOL)
-    if int(n_prony) and _spectrum.applies(ref.items, _RouteKeys(method, kwargs)):
+    if int(n_prony) and _spectrum.applies(ref.items, route):
         # moduli alone take the spectrum route, which starts from the first fit's τ (the
         # init's first row) and searches no population: no cloud, no Sobol sequence
         return {**chosen, "popsize": popsize, "de_options": {**opts, "init": z0[None, :]},
