@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _folders import listing
 
 import vhfit
 from vhfit import cli, datasets
@@ -689,14 +690,6 @@ def write_locking(folder: Path) -> Path:
     path.write_text("strain,stress_MPa\n" + "".join(f"{float(e)!r},{float(v)!r}\n"
                                                     for e, v in zip(eps, s)))
     return path
-
-
-def listing(folder: Path) -> dict[str, bytes] | None:
-    """Every file below ``folder`` with its bytes (None: no folder)."""
-    if not folder.exists():
-        return None
-    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else b"<dir>"
-            for p in sorted(folder.rglob("*"))}
 
 
 GENT_LOCKED = (r"the gent fit found no parameter set with a finite error \(\d+ evaluated, "

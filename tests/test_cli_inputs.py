@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _folders import listing
 
 import vhfit
 from vhfit import cli
@@ -46,13 +47,6 @@ def ogden_csv(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("ogden")
     s = ogden_engineering(TRUTH["mu1"], TRUTH["alpha1"], EPS)
     return write(folder / "ogden.csv", "strain,stress_MPa", zip(EPS, s))
-
-
-def listing(folder: Path) -> dict[str, bytes] | None:
-    if not folder.exists():
-        return None
-    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else b"<dir>"
-            for p in sorted(folder.rglob("*"))}
 
 
 def refused(argv, out: Path, capsys, before: str = "absent") -> str:
