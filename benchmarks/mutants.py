@@ -1920,7 +1920,8 @@ MUTANTS: list[Mutant] = [
       "the spectrum route keeps the polish's constants: Mooney-Rivlin drifts along C10 - C01 "
       "into an unstable law the moduli cannot see", ("tests/test_dma_spectrum_route.py",)),
     M("s27_no_other_basins", "vhfit/calibration/_search.py",
-      "                    and space.several_basins()):", "                    and False):",
+      "if stop == _EarlyFinish.GATHERED and space.several_basins():",
+      "if stop == _EarlyFinish.GATHERED and False:",
       "a gathered search is never compared with polishes from other basins",
       ("tests/test_calibration_admissible.py",)),
     # i23-second: the second fit after an order scan, and without Prony terms
@@ -1960,4 +1961,9 @@ MUTANTS: list[Mutant] = [
       "        if np.isfinite(ep):\n            pass\n",
       "a search whose vector fails on every point ends in 'no finite error' despite its "
       "polished fit", ("tests/test_search_finish.py",)),
+    M("s27_resumed_gathered_not_polished_again", "vhfit/calibration/_search.py",
+      "                if polished is None:  # resumed after it had ended: its polish again",
+      "                if False:  # resumed after it had ended: its polish again",
+      "a search resumed after it had gathered compares other basins without its own polish",
+      ("tests/test_calibration_admissible.py",)),
 ]

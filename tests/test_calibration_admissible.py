@@ -233,6 +233,22 @@ def test_ogden2_with_a_negative_mu_is_recovered_from_three_modes(seed):
         assert got[k] == pytest.approx(v, rel=1e-5), k
 
 
+def test_a_search_rescued_by_another_basin_resumes_to_the_same_fit(tmp_path):
+    # seed 1 ends by a polish from another basin (see above): resumed from its final
+    # checkpoint, the search finds the same basins from the same first population
+    from bench_modes import PRONY, multimode_curves
+
+    truth = dict(mu1=0.4, alpha1=3.0, mu2=-0.05, alpha2=-2.0, **PRONY)
+    curves = multimode_curves("ogden2", truth, n=50)
+    kw = dict(n_prony=3, seed=1, uncertainty=False)
+    ref = fit(curves, "ogden2", **kw)
+    ck = tmp_path / "ck.json"
+    first = fit(curves, "ogden2", checkpoint=ck, checkpoint_every=0.0, resume=True, **kw)
+    again = fit(curves, "ogden2", checkpoint=ck, checkpoint_every=0.0, resume=True, **kw)
+    assert first.params == ref.params
+    assert again.params == ref.params and again.rmsape == ref.rmsape
+
+
 # ----------------------------------------------------------------- bounds that are hit
 def brain_curves(alpha, mu=0.001):
     """Uniaxial tension and compression (λ in [0.9, 1.1]) of one-term Ogden, equilibrium."""

@@ -188,20 +188,15 @@ class _Objective:
     def __init__(self, space, mapper=None, chunks: int = 1):
         self.space, self.mapper, self.chunks = space, mapper, chunks
         self.nfev = 0  # individuals evaluated
-        self.first = None  # (Z, errors) of the first population evaluated
 
     def __call__(self, Zt: np.ndarray) -> np.ndarray:
         Z = np.atleast_2d(Zt.T) if Zt.ndim > 1 else Zt[None, :]
         self.nfev += Z.shape[0]
         if self.mapper is None:
-            out = self.space.errors(Z)
-        else:
-            parts = np.array_split(Z, min(self.chunks, Z.shape[0]))
-            out = np.concatenate(list(self.mapper(_chunk_errors,
-                                                  [(self.space, z) for z in parts])))
-        if self.first is None:
-            self.first = (np.array(Z, copy=True), np.array(out, copy=True))
-        return out
+            return self.space.errors(Z)
+        parts = np.array_split(Z, min(self.chunks, Z.shape[0]))
+        out = list(self.mapper(_chunk_errors, [(self.space, z) for z in parts]))
+        return np.concatenate(out)
 
 
 #: The lowest members of the first population that are polished after a search that
@@ -222,14 +217,16 @@ def other_basins(space, z, polished, first):
 
     A population that gathered has searched one basin; on a law whose constants can
     trade off in several (Ogden terms of either sign, τ shifted together) it may not be
-    the lowest. The first population is a Sobol sample of the whole box: its lowest
-    members start a polish each (:func:`varpro_polish`, :data:`OTHER_NFEV` steps),
-    and the lowest of those goes on to the end when it is below the result."""
-    Z, E = first
-    err = polished[1] if polished is not None else float(space.errors(z[None, :])[0])
+    the lowest. The first population ``first`` (search vectors) is a Sobol sample of the
+    whole box, the same for a search resumed from a checkpoint: its lowest members start
+    a polish each (:func:`varpro_polish`, :data:`OTHER_NFEV` steps), and the lowest of
+    those goes on to the end when it is below the result ``polished`` (x, error) at
+    ``z``."""
+    E = space.errors(first)
+    err = polished[1]
     order = [i for i in np.argsort(E)[:OTHER_BASINS] if np.isfinite(E[i])]
-    n, scouts = 0, []
-    for z0 in Z[order]:  # short polishes: which basin is lower
+    n, scouts = len(first), []
+    for z0 in first[order]:  # short polishes: which basin is lower
         z1, x1, e1, k = varpro_polish(space, z0, OTHER_NFEV, tol=1e-8)
         n += k
         scouts.append((e1, z1))
@@ -302,6 +299,8 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         solver = new_solver(space, s, objective, track, crits, x0=x0)
+        b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
+        first = b[:, 0] + solver.population * (b[:, 1] - b[:, 0])  # (before any resume)
         with solver:
             track.solver = solver
             finished = None
@@ -322,9 +321,12 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
                     z = track.finish.z
             if track.finish is not None:
                 objective.nfev += track.finish.nfev
-            if (stop == _EarlyFinish.GATHERED and objective.first is not None
-                    and space.several_basins()):
-                z, polished, n = other_basins(space, z, polished, objective.first)
+            if stop == _EarlyFinish.GATHERED and space.several_basins():
+                if polished is None:  # resumed after it had ended: its polish again
+                    z, x, e, n = varpro_polish(space, z)
+                    polished = (x, e)
+                    objective.nfev += n
+                z, polished, n = other_basins(space, z, polished, first)
                 objective.nfev += n
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
