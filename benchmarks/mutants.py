@@ -1466,8 +1466,8 @@ MUTANTS: list[Mutant] = [
       "the global order scan does not say it chose its largest N",
       ("tests/test_dma_spectrum_route.py::test_the_global_order_scan_says_when_it_chose_its_largest_n",)),
     M("i22dma_seed_not_given", "vhfit/calibration/_workflow.py",
-      "                       max_time=max_time, t0=t0, x0=x0)",
-      "                       max_time=max_time, t0=t0, x0=None)",
+      "                       max_time=max_time, t0=t0, x0=x0, full=",
+      "                       max_time=max_time, t0=t0, x0=None, full=",
       "a joint fit's search no longer starts from the moduli's spectrum",
       ("tests/test_dma_spectrum_route.py::test_a_joint_fit_starts_from_the_moduli_spectrum",)),
     M("i22dma_wlf_degenerate_threshold", "vhfit/tts/_laws.py",
@@ -1752,6 +1752,7 @@ MUTANTS: list[Mutant] = [
       ("tests/test_calibration_admissible.py",)),
     M("i22s2_limits_not_solved", "vhfit/calibration/_space.py",
       "                amps[p], err[p] = self._limited(A, ys, hyper[p] / E_shape[p], kappa)\n"
+      "                if residuals:\n                    R[p] = A @ amps[p] - ys\n"
       "                continue\n",
       "                pass\n",
       "the separable solve with Prony terms ignores the user's bounds on linear constants "
@@ -1966,4 +1967,24 @@ MUTANTS: list[Mutant] = [
       "                if False:  # resumed after it had ended: its polish again",
       "a search resumed after it had gathered compares other basins without its own polish",
       ("tests/test_calibration_admissible.py",)),
+    M("s28_coarse_flag_lost", "vhfit/calibration/_search.py",
+      "    out.coarse = True\n", "",
+      "the search on fewer points is not marked coarse: its members polish to rounding",
+      ("tests/test_search_speed.py",)),
+    M("s28_no_check_on_every_point", "vhfit/calibration/_search.py",
+      "            if self.full is not None and self.target < err <= self.floor:",
+      "            if False:",
+      "a level polish at the coarse problem's floor is never checked on every point",
+      ("tests/test_search_speed.py",)),
+    M("s28_residuals_of_another_solve", "vhfit/calibration/_space.py",
+      "                R[p] = A @ a - ys\n",
+      "                R[p] = A @ amps[p - 1] - ys\n",
+      "the polish's residuals are not those of the individual's own solve",
+      ("tests/test_search_finish.py",)),
+    M("s28_plan_of_a_writeable_array_kept", "vhfit/hyperelastic/_ogden.py",
+      "    fixed = all(not v.flags.writeable and (v.base is None or not v.base.flags.writeable)\n"
+      "                for v in lam)\n",
+      "    fixed = True\n",
+      "stretch plans of arrays that can change are remembered (stale after a change)",
+      ("tests/test_ogden_sums.py",)),
 ]

@@ -548,11 +548,11 @@ def test_ctrl_c_mid_generation_still_resumes_bit_identically(tmp_path, monkeypat
     real = SeparableSpace.solve_linear
     calls = {"n": 0}
 
-    def flaky(self, hyper, tau):
+    def flaky(self, hyper, tau, residuals=False):
         calls["n"] += 1
         if calls["n"] == 7:  # inside the 6th generation's evaluation
             raise KeyboardInterrupt
-        return real(self, hyper, tau)
+        return real(self, hyper, tau, residuals)
 
     monkeypatch.setattr(SeparableSpace, "solve_linear", flaky)
     cut = calibrate(curves, n_prony=2, seed=4, uncertainty=False, checkpoint=ck,

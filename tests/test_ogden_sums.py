@@ -230,3 +230,30 @@ def test_population_past_the_exp_range_each_set_alone_and_overflow_is_inf_error(
         sig = (ref[0, 0] - ref[0, 2]) / lam
         assert np.all(np.abs(s[i] - sig) <= (tol[0, 0] + tol[0, 2]) / lam + 4 * EPS * abs(sig))
         assert np.isfinite(err[i])
+
+
+def test_plans_are_remembered_only_for_stretches_that_cannot_change():
+    """The stretch plan (logarithms, derived powers) is kept by the arrays' identity only
+    for read-only arrays; a writeable array changed in place is planned again."""
+    from vhfit.hyperelastic import _ogden
+
+    x = np.linspace(0.5, 2.0, 7)
+    lam = [x, x**-0.5, x**-0.5]
+    mu, al = [np.array([[0.4]]), np.array([[-0.05]])], [np.array([[3.0]]), np.array([[-2.0]])]
+    _ogden.ogden_sums(*lam, mu, al)
+    lam[0][:] = np.linspace(1.5, 3.0, 7)  # in place: the old logarithms would be stale
+    lam[1][:] = lam[0] ** -0.5
+    lam[2][:] = lam[0] ** -0.5
+    got = np.array(_ogden.ogden_sums(*lam, mu, al))[:, 0, :]
+    ref, scale = reference("uniaxial", lam[0], lam[0], [(0.4, 3.0, -0.05, -2.0)])
+    assert np.all(np.abs(got - ref[0]) <= 1e-13 * scale[0])
+    fixed = [v.copy() for v in lam]
+    for v in fixed:
+        v.flags.writeable = False
+    _ogden._PLANS.clear()
+    _ogden.ogden_sums(*fixed, mu, al)
+    assert tuple(map(id, fixed)) in _ogden._PLANS
+    view = np.asarray(lam[0])[::1]  # a read-only view of writeable data is not fixed
+    view.flags.writeable = False
+    _ogden.ogden_sums(view, fixed[1], fixed[2], mu, al)
+    assert len(_ogden._PLANS) == 1

@@ -13,7 +13,7 @@ import pytest
 import vhfit
 from vhfit.calibration import CalibrationWarning, _search
 from vhfit.calibration._bounds import search_bounds
-from vhfit.calibration._space import Problem
+from vhfit.calibration._space import Problem, SeparableSpace
 
 
 class _Space:
@@ -39,7 +39,7 @@ def test_the_best_is_polished_once_when_every_member_is_within_1e4_of_it(monkeyp
         calls.append(float(z[0]))
         return z, z, 0.6, 4  # not below the best 0.6 it is called with: the search goes on
 
-    monkeypatch.setattr(_search, "varpro_polish", fake_polish)
+    monkeypatch.setattr(_search, "gathered_polish", fake_polish)
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0 + 2e-4) is False and calls == []  # gap 2e-4
     assert f(1.0, np.array([2.0]), np.inf) is False and calls == []  # an infinite member
@@ -49,7 +49,7 @@ def test_the_best_is_polished_once_when_every_member_is_within_1e4_of_it(monkeyp
 
 
 def test_a_polish_that_lowers_the_gathered_best_ends_the_search(monkeypatch):
-    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: (z + 2, z + 1, 0.999, 9))
+    monkeypatch.setattr(_search, "gathered_polish", lambda space, z: (z + 2, z + 1, 0.999, 9))
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is True
     assert f.done and f.result[1] == 0.999 and f.nfev == 9
@@ -58,19 +58,19 @@ def test_a_polish_that_lowers_the_gathered_best_ends_the_search(monkeypatch):
 
 
 def test_a_polish_that_does_not_lower_the_best_lets_the_search_go_on(monkeypatch):
-    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: (z, z, 1.0, 9))
+    monkeypatch.setattr(_search, "gathered_polish", lambda space, z: (z, z, 1.0, 9))
     f = _search._EarlyFinish(_Space(), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is False and not f.done
 
 
 def test_a_search_without_the_best_mean_gap_stop_never_finishes_gathered(monkeypatch):
-    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: 1 / 0)
+    monkeypatch.setattr(_search, "gathered_polish", lambda space, z: 1 / 0)
     f = _search._EarlyFinish(_Space(), 1e-4, tol=0.0)  # tol = 0: run to maxiter
     assert f(1.0, np.array([1.0]), 1.0) is False
 
 
 def test_the_all_parameter_search_never_finishes_on_a_gathered_population(monkeypatch):
-    monkeypatch.setattr(_search, "varpro_polish", lambda space, z: 1 / 0)
+    monkeypatch.setattr(_search, "gathered_polish", lambda space, z: 1 / 0)
     f = _search._EarlyFinish(_Space("full"), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is False
 
@@ -137,6 +137,51 @@ def test_the_search_problem_keeps_the_space_and_shortens_the_objective():
                       strain_rate=1.0)
     p2 = Problem(model, [few], tau_b, auto, 1e-6)
     assert _search.search_problem(p2, [few]) is p2
+
+
+def test_the_search_problem_is_marked_coarse_and_its_members_polish_to_a_looser_tol(
+        monkeypatch):
+    long, _ = _ramp_hold()
+    model = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    tau_b, auto = search_bounds(model, [long], "free", 3, 1, "auto")
+    prob = Problem(model, [long], tau_b, auto, 1e-6)
+    short = _search.search_problem(prob, [long])
+    assert short.coarse and not prob.coarse
+    tols = []
+    monkeypatch.setattr(_search, "varpro_polish",
+                        lambda space, z, n, tol: tols.append(tol) or (z, z, 1.0, 0))
+    for p in (short, prob):
+        _search.gathered_polish(SeparableSpace(p), np.zeros(2))
+    assert tols == [_search.COARSE_TOL, _search.ROUNDING_TOL]
+
+
+def test_a_level_polish_at_the_coarse_floor_is_checked_on_every_point(monkeypatch):
+    """On fewer points and a coarser model exact data stop at the model's own floor
+    (~1e-3 %): a level polish that gets below the lowest level goes on with the problem
+    on every point, which may reach the target and end the search."""
+    calls = []
+
+    def fake_polish(prob, x, n):
+        calls.append(prob)
+        return (x, 2e-3, 5) if prob == "coarse" else (x + 1, 1e-9, 7)
+
+    monkeypatch.setattr(_search, "polish_fit", fake_polish)
+
+    class Coarse(_Space):
+        prob = "coarse"
+
+        def finish_levels(self, target):
+            return (1e4 * target, 1e2 * target)
+
+    f = _search._EarlyFinish(Coarse(), 1e-4, full="full")
+    assert f(0.5, np.array([1.0])) is True and calls == ["coarse", "full"]
+    assert f.result[1] == 1e-9 and f.result[0][0] == 2.0 and f.nfev == 12
+    # above the lowest level the coarse points still tell: no polish on every point
+    monkeypatch.setattr(_search, "polish_fit", lambda prob, x, n: (
+        calls.append(prob), (x, 0.05, 5))[1])
+    calls.clear()
+    f = _search._EarlyFinish(Coarse(), 1e-4, full="full")
+    assert f(0.5, np.array([1.0])) is False and calls == ["coarse"]
 
 
 def test_a_long_exact_record_is_recovered_through_the_shortened_search():

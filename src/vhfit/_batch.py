@@ -119,6 +119,9 @@ class Batch:
         cat = lambda parts, dtype=np.float64: (  # noqa: E731
             np.concatenate(parts) if parts else np.zeros(0, dtype=dtype))
         self.sample_stretch = cat(lam_s)
+        # a read-only copy for the law: what it derives from the stretches is remembered
+        self._fixed_stretch = self.sample_stretch.copy()
+        self._fixed_stretch.flags.writeable = False
         self.step = cat(hstep)
         self.sample_off = np.array(s_off, dtype=np.int64)
         self.step_off = np.array(k_off, dtype=np.int64)
@@ -178,7 +181,7 @@ class Batch:
         hm = self.model.hyperelastic
         with np.errstate(all="ignore"):
             E_inf = 3.0 * hm.initial_shear_modulus(hyper)
-            sig_h = hm.stress(self.sample_stretch, hyper)
+            sig_h = hm.stress(self._fixed_stretch, hyper)
             s_hat = sig_h / E_inf[:, None]
         # an infinite constant is no material even where the law has a finite limit
         # (Arruda–Boyce with λm = ∞ is neo-Hooke)

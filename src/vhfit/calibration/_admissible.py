@@ -84,9 +84,15 @@ def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     lo, hi = map(float, stretch_range)
     lam = np.exp(np.linspace(math.log(lo), math.log(hi), GRID_POINTS))
     both = np.concatenate([lam * math.exp(_D), lam * math.exp(-_D)])
-    return [tuple(np.ascontiguousarray(v, dtype=np.float64)
-                  for v in get_deformation(m).stretches(both, None))
-            for m in modes_checked()]
+    out = []
+    for m in modes_checked():
+        arrays = []
+        for v in get_deformation(m).stretches(both, None):
+            v = np.array(v, dtype=np.float64)  # its own data, read-only: a law may
+            v.flags.writeable = False  # remember what it derives from it
+            arrays.append(v)
+        out.append(tuple(arrays))
+    return out
 
 
 class Admissible:

@@ -18,7 +18,7 @@ from vhfit._pools import worker_map
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import ROUNDING_TOL
 from vhfit.calibration._polish import polish as polish_fit
-from vhfit.calibration._varpro import varpro_polish
+from vhfit.calibration._varpro import VARPRO_NFEV, varpro_polish
 
 __all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS",
            "search_items", "search_problem", "final_polish", "SEARCH_POINTS",
@@ -144,6 +144,7 @@ def search_problem(prob, curves):
     out = copy.copy(prob)
     for k in _CURVE_FIELDS:
         setattr(out, k, getattr(short, k))
+    out.coarse = True
     return out
 
 
@@ -152,6 +153,20 @@ def search_problem(prob, curves):
 #: iterations reach rounding (a real record's last ~half of them, at the cost of the
 #: whole record each).
 FINAL_TOL = 1e-10
+
+
+#: Tolerances of the polishes of the search's own members on the fewer points of a long
+#: record (the one that ends a gathered search, the other basins'): the polish on every
+#: point follows from where they end, so settling them further only repeats its work.
+COARSE_TOL = 1e-8
+
+
+def gathered_polish(space, z, max_nfev: int = VARPRO_NFEV):
+    """:func:`varpro_polish` of a search's member: to rounding on the problem's own
+    points (its result is the fit), to :data:`COARSE_TOL` on fewer points of a long record
+    (:func:`search_problem`; the polish on every point follows)."""
+    return varpro_polish(space, z, max_nfev,
+                         tol=COARSE_TOL if space.prob.coarse else ROUNDING_TOL)
 
 
 def final_polish(space, found: Search, x: np.ndarray, err: float, fewer: bool = True):
@@ -233,7 +248,7 @@ def other_basins(space, z, polished, first):
     if scouts:
         e1, z1 = min(scouts, key=lambda ez: ez[0])
         if e1 < err * (1 - 1e-9):
-            z1, x1, e1, k = varpro_polish(space, z1)
+            z1, x1, e1, k = gathered_polish(space, z1)
             n += k
             if e1 < err * (1 - 1e-9):
                 z, polished = z1, (x1, e1)
@@ -267,7 +282,7 @@ def _history(solver, setup: float = 0.0) -> dict:
 
 
 def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | None,
-               t0: float, x0: np.ndarray | None = None) -> Search:
+               t0: float, x0: np.ndarray | None = None, full=None) -> Search:
     """Differential evolution over ``space`` until a stopping criterion is met.
 
     ``settings`` (a :class:`CalibrationSettings`) gives the search's seed, population,
@@ -276,6 +291,9 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     ``settings.polish`` a polish follows the search, which may then stop as soon as a
     polish of its best member reaches the target (:class:`_EarlyFinish`). ``x0``, a
     search vector inside the bounds, replaces the first member of the first population.
+    ``full``: the :class:`Problem` on every point when ``space`` compares fewer
+    (:func:`search_problem`), where a polish that reaches the coarse problem's floor
+    checks the target.
     """
     s = settings
     seed, workers, popsize = s.seed, s.workers, s.popsize
@@ -295,7 +313,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     t_in = t0
     track = _Tracker(s.callback, n_prony, ckpt, key, s.checkpoint_every, t0)
     if s.polish:
-        track.finish = _EarlyFinish(space, target, tol)
+        track.finish = _EarlyFinish(space, target, tol, full)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
         solver = new_solver(space, s, objective, track, crits, x0=x0)
@@ -323,7 +341,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
                 objective.nfev += track.finish.nfev
             if stop == _EarlyFinish.GATHERED and space.several_basins():
                 if polished is None:  # resumed after it had ended: its polish again
-                    z, x, e, n = varpro_polish(space, z)
+                    z, x, e, n = gathered_polish(space, z)
                     polished = (x, e)
                     objective.nfev += n
                 z, polished, n = other_basins(space, z, polished, first)
@@ -445,10 +463,13 @@ class _EarlyFinish:
     COLLAPSE = 1e-4  # best–mean gap, relative to the mean, at which the best is polished
     GATHERED = "converged: population gathered, ended by a polish of the best member"
 
-    def __init__(self, space, target: float, tol: float = 1e-6):
+    def __init__(self, space, target: float, tol: float = 1e-6, full=None):
         self.space, self.target = space, float(target)
+        self.full = full  # the problem on every point, when the search's has fewer
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
+        # below the lowest level the search's own points no longer tell the bottom
+        self.floor = self.levels[-1] if self.levels else 0.0
         # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
         self.collapse = space.method == "separable" and tol > 0
         self.done = False
@@ -463,13 +484,19 @@ class _EarlyFinish:
                 self.levels.pop(0)  # one polish covers every level the error has passed
             x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
             self.nfev += n
+            if self.full is not None and self.target < err <= self.floor:
+                # fewer points and a coarser model have an error floor of their own
+                # (~1e-3 % on exact data): whether the target is in reach is a question
+                # for every point at the calibration's accuracy
+                x, err, n = polish_fit(self.full, x, self.MAX_NFEV)
+                self.nfev += n
             self.result = (x, err)
             self.done = bool(err <= self.ACCEPT * self.target)
             self.reason = "target reached by a polish of the best member"
             return self.done
         if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
             self.collapse = False  # once: a polish that did not help is not repeated
-            z1, x, err, n = varpro_polish(self.space, z)
+            z1, x, err, n = gathered_polish(self.space, z)
             self.nfev += n
             self.result = (x, err)
             self.z = z1

@@ -53,6 +53,7 @@ class Problem:
         self.stability_range = stability_range
         self.adm = None if stability_range is None else Admissible(self.hm, stability_range)
         self.user_bounds = frozenset(user_bounds)  # names whose bounds the user gave
+        self.coarse = False  # fewer points, coarser model: a long record's search
 
     def admissible(self, X: np.ndarray) -> np.ndarray:
         """Whether the law of each parameter set X (P, n_params) is admissible."""
@@ -220,19 +221,24 @@ class SeparableSpace:
         logtau[:, self.free_tau] = Z[:, j:]
         return hyper, 10.0**logtau
 
-    def solve_linear(self, hyper, tau):
-        """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)."""
+    def solve_linear(self, hyper, tau, residuals: bool = False):
+        """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)
+        and, with ``residuals``, the weighted residuals (P, n_points) of the solution
+        (NaN rows where nothing was solved)."""
         prob = self.prob
         P, N = tau.shape
         amps = np.zeros((P, 1 + N))
         err = np.full(P, np.inf)
+        R = np.full((P, prob.y.size), np.nan) if residuals else None
         # inadmissible shapes are rejected before the model is evaluated for them
         keep = np.flatnonzero(admissible(prob.adm, hyper))
         if keep.size < P:
-            a, e = self.solve_linear(hyper[keep], tau[keep]) if keep.size else (amps[:0],
-                                                                              err[:0])
-            amps[keep], err[keep] = a, e
-            return amps, err
+            if keep.size:
+                out = self.solve_linear(hyper[keep], tau[keep], residuals)
+                amps[keep], err[keep] = out[0], out[1]
+                if residuals:
+                    R[keep] = out[2]
+            return (amps, err, R) if residuals else (amps, err)
         base, H = prob.batch.shape_columns(hyper, tau)
         from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
 
@@ -253,6 +259,8 @@ class SeparableSpace:
             A = C[p]
             if self.limits or self.g_limits:
                 amps[p], err[p] = self._limited(A, ys, hyper[p] / E_shape[p], kappa)
+                if residuals:
+                    R[p] = A @ amps[p] - ys
                 continue
             a, rn = nnls(A, ys)
             if kappa > 0 and a[0] < kappa * a[1:].sum():
@@ -262,7 +270,9 @@ class SeparableSpace:
                 a = np.concatenate([[kappa * g.sum()], g])
             amps[p] = a
             err[p] = rn
-        return amps, err
+            if residuals:
+                R[p] = A @ a - ys
+        return (amps, err, R) if residuals else (amps, err)
 
     def _limited(self, A, ys, unit, kappa) -> tuple[np.ndarray, float]:
         """(E∞, G_i) of one individual by least squares under the user's bounds on linear
@@ -366,11 +376,25 @@ class SeparableSpace:
     def params_of(self, Z: np.ndarray) -> np.ndarray:
         """Full parameter vectors (P, n_params) of search vectors Z (P, d), their linear
         constants solved as one batch (a polish's Jacobian rows at once)."""
+        return self.fit_of(Z)[0]
+
+    def fit_of(self, Z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Full parameter vectors (P, n_params) of search vectors Z and their weighted
+        residuals (P, n_points) (:meth:`Problem.residuals`), from one solve of the
+        linear constants: with Prony terms the residuals of the least squares itself
+        (the stress is linear in E∞ and the G_i), without the model evaluated again."""
         hyper, tau = self.decode(np.atleast_2d(Z))
         if self.exact:
-            return self.solve_constants(hyper)[0]
-        amps, _ = self.solve_linear(hyper, tau)
-        return np.array([self.assemble(h, a[0], a[1:], t) for h, a, t in zip(hyper, amps, tau)])
+            X = self.solve_constants(hyper)[0]
+            with np.errstate(all="ignore"):
+                return X, self.prob.residuals(X)
+        amps, _, R = self.solve_linear(hyper, tau, residuals=True)
+        X = np.array([self.assemble(h, a[0], a[1:], t) for h, a, t in zip(hyper, amps, tau)])
+        bad = ~np.isfinite(R).all(axis=1)
+        if bad.any():  # nothing solved (inadmissible, not finite): the model says what
+            with np.errstate(all="ignore"):
+                R[bad] = self.prob.residuals(X[bad])
+        return X, R
 
     def assemble(self, shape, E_inf, G, tau) -> np.ndarray:
         """Full parameter vector from a law's shape, its E∞, and the Prony terms.

@@ -73,10 +73,8 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
         return out
 
     def resid(Z):
-        X = space.params_of(Z)
         count[0] += len(Z)
-        with np.errstate(all="ignore"):
-            return prob.residuals(X)
+        return space.fit_of(Z)[1]
 
     def fun(z):
         return resid(full(z)[None, :])[0]

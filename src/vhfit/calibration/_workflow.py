@@ -528,7 +528,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
         curves, searched, settings, n_prony)
     found = run_search(searched, settings, n_prony=n_prony, checkpoint=checkpoint,
-                       max_time=max_time, t0=t0, x0=x0)
+                       max_time=max_time, t0=t0, x0=x0, full=None if short is prob else prob)
     x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err) and found.polished is not None:

@@ -120,6 +120,32 @@ def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
             out[2, p, s] = a2
 
 
+#: Plans of read-only stretch arrays (a batch's samples, the stability grid), by the
+#: arrays' identities: the same arrays come back for every population.
+_PLANS: dict = {}
+
+
+def _plan(lam: list) -> tuple:
+    """:func:`stretch_plan` of ``lam`` (rules, ln λk), its largest |ln λ|, and the kernel's
+    arguments (ln λk stacked, the rules' codes); remembered for arrays that cannot change
+    (read-only, owning their data or views of read-only data)."""
+    fixed = all(not v.flags.writeable and (v.base is None or not v.base.flags.writeable)
+                for v in lam)
+    key = tuple(id(v) for v in lam)
+    if fixed:
+        hit = _PLANS.get(key)
+        if hit is not None and all(a is b for a, b in zip(hit[0], lam)):
+            return hit[1]
+    rules, logs = stretch_plan(*lam)
+    plan = (rules, max(float(np.max(np.abs(v), initial=0.0)) for v in logs), np.stack(logs),
+            np.array(rules, dtype=np.int64))
+    if fixed:
+        if len(_PLANS) >= 64:
+            _PLANS.clear()
+        _PLANS[key] = (tuple(lam), plan)  # holds the arrays: their ids stay theirs
+    return plan
+
+
 _COMPILED: list = []
 _LOCK = threading.Lock()
 
@@ -175,10 +201,9 @@ def ogden_sums(l1, l2, l3, mus, alphas) -> tuple[np.ndarray, np.ndarray, np.ndar
         P = lead[0] if lead else 1
         cols = [np.broadcast_to(v, lead).reshape(P) for v in consts]
         mu, al = np.column_stack(cols[:len(mus)]), np.column_stack(cols[len(mus):])
-    rules, logs = stretch_plan(*lam)
-    big = max(float(np.max(np.abs(v), initial=0.0)) for v in logs)
+    rules, big, logs, codes = _plan(lam)
     out = np.empty((3, mu.shape[0], lam[0].size))
-    _compiled_sums()(np.stack(logs), np.array(rules, dtype=np.int64), big, mu, al, out)
+    _compiled_sums()(logs, codes, big, mu, al, out)
     res = [out[0], out[1], out[2]] if lead else [out[0, 0], out[1, 0], out[2, 0]]
     for k in (1, 2):
         if rules[k] in (SAME0, SAME1):

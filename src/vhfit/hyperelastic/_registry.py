@@ -18,6 +18,27 @@ _INVARIANT_ARGS = ("I1", "I2")
 _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
 
 
+_LATERAL: dict = {}
+
+
+def _lateral(lam: np.ndarray) -> np.ndarray:
+    """λ^(−1/2), the lateral stretches of uniaxial tension; the same read-only array for
+    the same read-only ``lam`` (a batch's samples, evaluated for every population), so
+    that what a law derives from its stretches can be remembered by identity."""
+    fixed = not lam.flags.writeable and (lam.base is None or not lam.base.flags.writeable)
+    if fixed:
+        hit = _LATERAL.get(id(lam))
+        if hit is not None and hit[0] is lam:
+            return hit[1]
+    l2 = lam**-0.5
+    if fixed:
+        l2.flags.writeable = False
+        if len(_LATERAL) >= 64:
+            _LATERAL.clear()
+        _LATERAL[id(lam)] = (lam, l2)
+    return l2
+
+
 def invariants(stretch) -> tuple[np.ndarray, np.ndarray]:
     """I1 = λ² + 2/λ and I2 = 2λ + 1/λ² on the incompressible uniaxial path.
 
@@ -115,7 +136,7 @@ class Hyperelastic:
             I1, I2 = invariants(lam)
             W1, W2 = self._dW_invariant(I1, I2, cols)
             return 2.0 * (lam**2 - 1.0 / lam) * (W1 + W2 / lam)
-        l2 = lam**-0.5
+        l2 = _lateral(lam)
         # dW1 = λ1 ∂W/∂λ1 and dW2 = λ2 ∂W/∂λ2
         dW1, dW2 = stretch_gradient(self.energy, lam, l2, l2, cols, axes=(0, 1),
                                     closed_form=self.derivatives)
@@ -146,7 +167,7 @@ class Hyperelastic:
         """
         lam = np.asarray(stretch, dtype=np.float64)
         cols, lead = self._columns(params)
-        out = self._stress_raw(lam.reshape(-1), cols)
+        out = self._stress_raw(lam if lam.ndim == 1 else lam.reshape(-1), cols)
         out = np.broadcast_to(out, lead + (lam.size,))
         return out.reshape(lead + lam.shape)
 
