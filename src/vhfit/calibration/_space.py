@@ -389,7 +389,7 @@ class SeparableSpace:
             with np.errstate(all="ignore"):
                 return X, self.prob.residuals(X)
         amps, _, R = self.solve_linear(hyper, tau, residuals=True)
-        X = np.array([self.assemble(h, a[0], a[1:], t) for h, a, t in zip(hyper, amps, tau)])
+        X = self.assemble_many(hyper, amps, tau)
         bad = ~np.isfinite(R).all(axis=1)
         if bad.any():  # nothing solved (inadmissible, not finite): the model says what
             with np.errstate(all="ignore"):
@@ -405,27 +405,39 @@ class SeparableSpace:
         constants the user bounded are kept within those bounds (the least squares met
         them up to rounding).
         """
+        amps = np.concatenate([[E_inf], np.atleast_1d(np.asarray(G, dtype=np.float64))])
+        return self.assemble_many(np.asarray(shape, dtype=np.float64)[None, :],
+                                  amps[None, :], np.asarray(tau, dtype=np.float64)[None, :])[0]
+
+    def assemble_many(self, shapes, amps, tau) -> np.ndarray:
+        """:meth:`assemble` of many: shapes (P, n_h), amplitudes (E∞, G_i) (P, 1 + N) and
+        τ (P, N); (P, n_params)."""
         hm = self.prob.hm
-        shape = np.array(shape, dtype=np.float64)
+        P, nh = shapes.shape[0], hm.n_params
+        shape = np.array(shapes, dtype=np.float64)
         with np.errstate(all="ignore"):
-            E_shape = 3.0 * float(hm.initial_shear_modulus(shape))
-        if not (np.isfinite(E_shape) and E_shape > 0):
-            shape[self.amp] = np.nan  # no stiffness to scale: no constants either
-        else:
-            if E_inf <= 0:
-                # no long-term stiffness at all: keep the shape at a vanishing scale
-                E_inf = max(E_inf, 1e-12 * max(1.0, float(np.sum(G))))
-            shape[self.amp] *= E_inf / E_shape
-            for j, lo, hi in self.limits:
-                shape[self.amp[j]] = min(max(shape[self.amp[j]], lo), hi)
-        G = np.array(G, dtype=np.float64, copy=True)
+            E_shape = 3.0 * np.asarray(hm.initial_shear_modulus(shape),
+                                       dtype=np.float64).reshape(P)
+        stiff = np.isfinite(E_shape) & (E_shape > 0)
+        E_inf = amps[:, 0].astype(np.float64)
+        G = np.array(amps[:, 1:], dtype=np.float64)
+        # no long-term stiffness at all: keep the shape at a vanishing scale
+        none = E_inf <= 0
+        E_inf[none] = np.maximum(E_inf[none],
+                                 1e-12 * np.maximum(1.0, np.sum(G[none], axis=1)))
+        with np.errstate(all="ignore"):
+            scaled = shape[:, self.amp] * (E_inf / E_shape)[:, None]
+        # no stiffness to scale: no constants either
+        shape[:, self.amp] = np.where(stiff[:, None], scaled, np.nan)
+        for j, lo, hi in self.limits:
+            k = self.amp[j]
+            shape[stiff, k] = np.minimum(np.maximum(shape[stiff, k], lo), hi)
         for i, lo, hi in self.g_limits:
-            G[i] = min(max(G[i], lo), hi)
-        x = np.empty(self.prob.model.n_params)
-        nh = hm.n_params
-        x[:nh] = shape
-        x[nh::2] = G
-        x[nh + 1::2] = tau
+            G[:, i] = np.minimum(np.maximum(G[:, i], lo), hi)
+        x = np.empty((P, self.prob.model.n_params))
+        x[:, :nh] = shape
+        x[:, nh::2] = G
+        x[:, nh + 1::2] = tau
         return x
 
 
