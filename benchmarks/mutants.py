@@ -1772,7 +1772,8 @@ MUTANTS: list[Mutant] = [
       "the polish lets a Prony modulus leave the user's bounds",
       ("tests/test_calibration_admissible.py",)),
     M("i22s2_assemble_zero_stiffness", "vhfit/calibration/_space.py",
-      "if not (np.isfinite(E_shape) and E_shape > 0):", "if False:",
+      "        stiff = np.isfinite(E_shape) & (E_shape > 0)\n",
+      "        stiff = np.ones(P, dtype=bool)\n",
       "a shape without stiffness is scaled: division by zero",
       ("tests/test_calibration_admissible.py",)),
     M("i22s2_no_stiffness_unnamed", "vhfit/calibration/_workflow.py",
@@ -1839,7 +1840,7 @@ MUTANTS: list[Mutant] = [
       "a long record's fit ends at the search's optimum on fewer points, not polished on "
       "every point", ("tests/test_search_speed.py",)),
     M("i22speed_varpro_residual_of_start", "vhfit/calibration/_varpro.py",
-      "        return resid(full(z)[None, :])[0]", "        return resid(z0[None, :])[0]",
+      "        r = resid(full(z)[None, :])[0]\n", "        r = resid(z0[None, :])[0]\n",
       "the variable-projection polish scores its start at every step: it never moves",
       ("tests/test_search_speed.py", doc("vhfit.calibration._varpro"))),
     # s27 (lead): the order scan ends when a term gains less than order_tol
@@ -1987,4 +1988,9 @@ MUTANTS: list[Mutant] = [
       "    fixed = True\n",
       "stretch plans of arrays that can change are remembered (stale after a change)",
       ("tests/test_ogden_sums.py",)),
+    M("s28_jacobian_reuses_another_points_residuals", "vhfit/calibration/_polish.py",
+      "    if last[0] is not None and np.array_equal(last[0], z):\n",
+      "    if last[0] is not None:\n",
+      "the polish's Jacobian reuses the residuals of a point other than its own",
+      ("tests/test_search_finish.py",)),
 ]

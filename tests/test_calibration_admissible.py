@@ -448,6 +448,9 @@ def test_a_shape_without_stiffness_assembles_to_no_constants_not_a_division_by_z
     x = space.assemble(np.zeros(2), 0.0, np.array([0.0]), np.array([0.01]))
     assert np.isnan(x[:2]).all() and x[2:].tolist() == [0.0, 0.01]
     assert prob.errors(x[None, :])[0] == np.inf
+    # μ0 = 2 (C10 + C01) < 0: no positive stiffness to scale either
+    neg = space.assemble(np.array([-0.5, 0.2]), 1.0, np.array([1.0]), np.array([0.01]))
+    assert np.isnan(neg[:2]).all()
     # a shape with stiffness but no long-term modulus keeps its shape at a vanishing scale
     y = space.assemble(np.array([0.6, 0.4]), 0.0, np.array([1.0]), np.array([0.01]))
     assert y[0] / y[1] == pytest.approx(1.5) and 0 < y[0] < 1e-11

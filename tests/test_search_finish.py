@@ -165,3 +165,23 @@ def test_the_polishs_residuals_of_the_linear_solve_are_the_models(law, truth):
     # gave none, which shifts the model's stress by ~1e-11 of the data's scale
     assert np.allclose(R[solved], model[solved], rtol=0, atol=1e-10 * scale)
     assert np.array_equal(X, space.params_of(Z), equal_nan=True)
+
+
+def test_forward_jacobian_reuses_the_residuals_least_squares_just_evaluated():
+    from vhfit.calibration._polish import forward_jacobian
+
+    M = np.array([[1.0, -2.0, 0.5], [3.0, 0.25, -1.0]])  # residuals r = M z + c
+    rows = []
+
+    def resid(Z):
+        rows.append(len(Z))
+        return Z @ M.T + np.array([0.3, -0.7])
+
+    z = np.array([0.4, -1.2, 2.0])
+    hi = np.array([10.0, 10.0, 2.0])  # the last one on its upper bound: a backward step
+    J = forward_jacobian(resid, z, hi, [None, None])
+    assert rows == [4] and np.allclose(J, M, rtol=1e-6, atol=1e-8)
+    J2 = forward_jacobian(resid, z, hi, [z.copy(), resid(z[None, :])[0]])
+    assert rows == [4, 1, 3] and np.array_equal(J, J2)  # no second evaluation at z
+    J3 = forward_jacobian(resid, z, hi, [z + 1.0, np.zeros(2)])  # another point's: unused
+    assert rows == [4, 1, 3, 4] and np.array_equal(J, J3)

@@ -6,7 +6,7 @@ import numpy as np
 
 from vhfit.calibration._space import Problem
 
-__all__ = ["polish", "g_inf_ok", "ROUNDING_TOL"]
+__all__ = ["polish", "g_inf_ok", "forward_jacobian", "ROUNDING_TOL"]
 
 #: Tolerances (xtol, ftol, gtol) of a polish run to rounding.
 ROUNDING_TOL = 1e-15
@@ -56,18 +56,15 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
         counter["n"] += len(Z)
         return prob.residuals(X)
 
+    last = [None, None]  # the last point fun evaluated, and its residuals
+
     def fun(z):
-        return resid_batch(z[None, :])[0]
+        r = resid_batch(z[None, :])[0]
+        last[:] = z.copy(), r
+        return r
 
     def jac(z):
-        h = 1e-7 * np.maximum(np.abs(z), 1e-3)
-        Z = np.vstack([z, z + np.diag(h)])
-        # step backwards where forwards would leave the bounds
-        over = Z[1:] > hi[free]
-        Z[1:][over] = (z - np.diag(h))[over]
-        R = resid_batch(Z)
-        sgn = np.where(over.any(axis=1), -1.0, 1.0)
-        return ((R[1:] - R[0]) / (h * sgn)[:, None]).T
+        return forward_jacobian(resid_batch, z, hi[free], last)
 
     e0 = float(np.sqrt(np.sum(fun(z0_full[free]) ** 2)))
     if not np.isfinite(e0) or not free.any():
@@ -88,6 +85,24 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
     if np.isfinite(e1) and e1 < e0 and g_inf_ok(prob, x1) and prob.admissible(x1)[0]:
         return x1, e1, counter["n"]
     return x0, e0, counter["n"]
+
+
+def forward_jacobian(resid, z: np.ndarray, hi: np.ndarray, last: list) -> np.ndarray:
+    """Forward differences of the residuals ``resid`` (a batch of points -> rows) at
+    ``z``, all steps in one batch; backwards where forwards would pass ``hi``. ``last``
+    ([point, residuals] of the polish's last evaluation): least squares asks for the
+    Jacobian where it has just evaluated, and those residuals are reused."""
+    h = 1e-7 * np.maximum(np.abs(z), 1e-3)
+    steps = z + np.diag(h)
+    over = steps > hi
+    steps[over] = (z - np.diag(h))[over]
+    if last[0] is not None and np.array_equal(last[0], z):
+        r0, R = last[1], resid(steps)
+    else:
+        R = resid(np.vstack([z, steps]))
+        r0, R = R[0], R[1:]
+    sgn = np.where(over.any(axis=1), -1.0, 1.0)
+    return ((R - r0) / (h * sgn)[:, None]).T
 
 
 def g_inf_ok(prob: Problem, x: np.ndarray) -> bool:

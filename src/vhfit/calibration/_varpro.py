@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vhfit.calibration._polish import ROUNDING_TOL, g_inf_ok
+from vhfit.calibration._polish import ROUNDING_TOL, forward_jacobian, g_inf_ok
 
 __all__ = ["varpro_polish", "VARPRO_NFEV"]
 
@@ -76,17 +76,16 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
         count[0] += len(Z)
         return space.fit_of(Z)[1]
 
+    last = [None, None]  # the last point fun evaluated, and its residuals
+
     def fun(z):
-        return resid(full(z)[None, :])[0]
+        r = resid(full(z)[None, :])[0]
+        last[:] = z.copy(), r
+        return r
 
     def jac(z):
-        h = 1e-7 * np.maximum(np.abs(z), 1e-3)
-        Z = np.vstack([z, z + np.diag(h)])
-        over = Z[1:] > hi[free]  # step backwards where forwards would leave the bounds
-        Z[1:][over] = (z - np.diag(h))[over]
-        R = resid(np.array([full(v) for v in Z]))
-        sgn = np.where(over.any(axis=1), -1.0, 1.0)
-        return ((R[1:] - R[0]) / (h * sgn)[:, None]).T
+        return forward_jacobian(lambda Z: resid(np.array([full(v) for v in Z])), z,
+                                hi[free], last)
 
     x0 = space.to_params(z0)
     e0 = float(prob.errors(x0[None, :])[0])
