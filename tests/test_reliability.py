@@ -549,7 +549,11 @@ def test_max_time_ends_the_search_cleanly_with_the_best_so_far():
     cpu = time.process_time() - t0
     assert cal.stop_reason == "max_time"
     assert np.isfinite(cal.rmsape)
-    assert cal.rmsape <= min(cal.history["best"]) * (1 + 1e-12)
+    # the search compares a model integrated to SEARCH_RTOL (1e-4 of the stress): its
+    # error differs from the reported one (every point, rtol 1e-6) by at most ~100 x that
+    # in percentage points (2x margin for rms/mean of the stresses)
+    from vhfit.calibration._search import SEARCH_RTOL
+    assert cal.rmsape <= min(cal.history["best"]) + 2 * 100 * SEARCH_RTOL
     # after the deadline: one generation, the polish and the report. Counted in this
     # process's CPU time, which a loaded machine does not stretch (the calibration runs
     # numba's kernels sequentially, so it is at most the wall time of an idle machine)

@@ -185,3 +185,41 @@ def test_forward_jacobian_reuses_the_residuals_least_squares_just_evaluated():
     assert rows == [4, 1, 3] and np.array_equal(J, J2)  # no second evaluation at z
     J3 = forward_jacobian(resid, z, hi, [z + 1.0, np.zeros(2)])  # another point's: unused
     assert rows == [4, 1, 3, 4] and np.array_equal(J, J3)
+
+
+def test_polishes_run_together_end_exactly_where_each_alone_ends():
+    """The other basins' scouts run side by side with their residuals evaluated as one
+    batch; each row is evaluated on its own, so every polish ends bit for bit where it
+    ends alone (and counts the same evaluations)."""
+    from vhfit.calibration._varpro import varpro_polish, varpro_polish_many
+
+    truth = dict(mu1=0.3, alpha1=1.8, mu2=0.01, alpha2=6.0, G1=1.0, tau1=0.3)
+    space = _space("ogden2", _multimode("ogden2", truth))
+    b = np.asarray(space.bounds())
+    Z0 = b[:, 0] + np.random.default_rng(5).random((5, len(b))) * (b[:, 1] - b[:, 0])
+    together = varpro_polish_many(space, Z0, 12, tol=1e-8)
+    alone = [varpro_polish(space, z, 12, tol=1e-8) for z in Z0]
+    assert len(together) == 5
+    for (z1, x1, e1, n1), (z2, x2, e2, n2) in zip(together, alone):
+        assert np.array_equal(z1, z2) and np.array_equal(x1, x2, equal_nan=True)
+        assert e1 == e2 and n1 == n2
+    assert sum(np.isfinite(r[2]) for r in alone) >= 2  # polishes that went somewhere
+
+
+def test_polishes_run_together_hand_an_error_of_one_to_the_caller(monkeypatch):
+    from vhfit.calibration import _varpro
+
+    truth = dict(mu1=0.3, alpha1=1.8, mu2=0.01, alpha2=6.0, G1=1.0, tau1=0.3)
+    space = _space("ogden2", _multimode("ogden2", truth))
+    b = np.asarray(space.bounds())
+    Z0 = b[:, 0] + np.random.default_rng(5).random((3, len(b))) * (b[:, 1] - b[:, 0])
+    real = _varpro.varpro_polish
+
+    def failing(space, z0, *a, **k):
+        if z0 is Z0[1] or np.array_equal(z0, Z0[1]):
+            raise RuntimeError("scout 1 failed")
+        return real(space, z0, *a, **k)
+
+    monkeypatch.setattr(_varpro, "varpro_polish", failing)
+    with pytest.raises(RuntimeError, match="scout 1 failed"):
+        _varpro.varpro_polish_many(space, Z0, 12, tol=1e-8)

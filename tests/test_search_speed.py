@@ -136,7 +136,15 @@ def test_the_search_problem_keeps_the_space_and_shortens_the_objective():
     few = vhfit.Curve(strain=np.linspace(0.01, 0.5, 40), stress=np.linspace(0.01, 0.5, 40),
                       strain_rate=1.0)
     p2 = Problem(model, [few], tau_b, auto, 1e-6)
-    assert _search.search_problem(p2, [few]) is p2
+    same = _search.search_problem(p2, [few])  # few points: all of them, a coarser model
+    assert same.batch.n_points == p2.batch.n_points and same.coarse
+    assert same.model.rtol == _search.SEARCH_RTOL
+    fine = vhfit.ViscoHyperelastic("mooney_rivlin", 1, rtol=1e-3)  # no finer than that
+    p3 = Problem(fine, [few], tau_b, auto, 1e-6)
+    assert _search.search_problem(p3, [few]) is p3
+    elastic = vhfit.ViscoHyperelastic("mooney_rivlin", 0)  # nothing to integrate
+    p4 = Problem(elastic, [few], np.zeros((0, 2)), {"C10": (0, 1), "C01": (-1, 1)}, 1e-6)
+    assert _search.search_problem(p4, [few]) is p4
 
 
 def test_the_search_problem_is_marked_coarse_and_its_members_polish_to_a_looser_tol(

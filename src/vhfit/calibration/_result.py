@@ -207,7 +207,9 @@ class Calibration:
     bounds : dict
         Search bounds used (τ bounds in s).
     history : dict
-        Per-generation best and mean error and wall time.
+        Per-generation best and mean error and wall time, of the objective the search
+        compares (with Prony terms, the separable search's coarser model and, for long
+        records, fewer points: docs/theory.md §12); ``rmsape`` is that of every point.
     confidence : dict
         Name -> (low, high) 95 % interval from the Jacobian at the optimum.
     stability : StabilityReport

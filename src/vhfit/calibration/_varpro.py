@@ -11,18 +11,20 @@ same minimum is reached in a few tens of evaluations.
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from vhfit.calibration._polish import ROUNDING_TOL, forward_jacobian, g_inf_ok
 
-__all__ = ["varpro_polish", "VARPRO_NFEV"]
+__all__ = ["varpro_polish", "varpro_polish_many", "VARPRO_NFEV"]
 
 #: Residual evaluations of one variable-projection polish (its Jacobian rows included).
 VARPRO_NFEV = 200
 
 
 def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
-                  tol: float = ROUNDING_TOL):
+                  tol: float = ROUNDING_TOL, residuals=None):
     """Bounded least squares over the search vector of ``space`` from ``z0``.
 
     Parameters
@@ -35,6 +37,9 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
         Least-squares iterations' residual evaluations (``scipy.optimize.least_squares``).
     tol : float
         Its ``xtol``, ``ftol`` and ``gtol`` (default: run to rounding).
+    residuals : callable, optional
+        Search vectors (k, d) -> their weighted residuals (k, n_points); default
+        ``space.fit_of(Z)[1]`` (:func:`varpro_polish_many` batches them).
 
     Returns
     -------
@@ -74,7 +79,7 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
 
     def resid(Z):
         count[0] += len(Z)
-        return space.fit_of(Z)[1]
+        return space.fit_of(Z)[1] if residuals is None else residuals(Z)
 
     last = [None, None]  # the last point fun evaluated, and its residuals
 
@@ -105,3 +110,93 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
             and bool(prob.admissible(x1[None, :])[0])):
         return z1, x1, e1, count[0]
     return z0, x0, e0, count[0]
+
+
+class _Batches:
+    """Residual requests of several polishes, answered together: one thread per polish,
+    one runs at a time (each holds the lock except while it waits for an answer), and
+    the caller's thread evaluates the requests once every live polish has made one."""
+
+    def __init__(self, space, n: int):
+        self.space = space
+        self.cv = threading.Condition()
+        self.live = n
+        self.asked: dict[int, np.ndarray] = {}
+        self.answers: dict[int, np.ndarray] = {}
+        self.aborted = False
+
+    def request(self, i: int, Z: np.ndarray) -> np.ndarray:  # a polish's thread, locked
+        self.asked[i] = Z
+        self.cv.notify_all()
+        self.cv.wait_for(lambda: i in self.answers or self.aborted)
+        if self.aborted:
+            raise _Aborted
+        return self.answers.pop(i)
+
+    def leave(self) -> None:  # a polish's thread, locked
+        self.live -= 1
+        self.cv.notify_all()
+
+    def serve(self) -> None:  # the caller's thread
+        with self.cv:
+            while True:
+                self.cv.wait_for(lambda: self.live == 0 or len(self.asked) == self.live)
+                if self.live == 0:
+                    return
+                order = sorted(self.asked)
+                R = self.space.fit_of(np.vstack([self.asked[i] for i in order]))[1]
+                k = 0
+                for i in order:
+                    n = len(self.asked[i])
+                    self.answers[i] = R[k:k + n]
+                    k += n
+                self.asked.clear()
+                self.cv.notify_all()
+
+
+class _Aborted(Exception):
+    """The caller stopped waiting (Ctrl-C): the polishes end."""
+
+
+def varpro_polish_many(space, Z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
+                       tol: float = ROUNDING_TOL) -> list:
+    """``[varpro_polish(space, z, max_nfev, tol) for z in Z0]``, the same results, with the
+    residuals of all the polishes evaluated as one batch per step (a polish's
+    evaluations are rows of their own: the batch does not change them).
+
+    Several short polishes (the other basins' scouts) spend most of their time in the
+    per-call cost of small evaluations; here each runs in a thread of its own, one at a
+    time, and the caller's thread evaluates what they ask once all of them wait.
+    """
+    Z0 = np.atleast_2d(np.asarray(Z0, dtype=np.float64))
+    if len(Z0) < 2:
+        return [varpro_polish(space, z, max_nfev, tol) for z in Z0]
+    batches = _Batches(space, len(Z0))
+    out: list = [None] * len(Z0)
+
+    def run(i: int) -> None:
+        with batches.cv:
+            try:
+                out[i] = varpro_polish(space, Z0[i], max_nfev, tol,
+                                       residuals=lambda Z: batches.request(i, Z))
+            except BaseException as exc:  # noqa: BLE001 - handed to the caller
+                out[i] = exc
+            finally:
+                batches.leave()
+
+    threads = [threading.Thread(target=run, args=(i,), daemon=True) for i in range(len(Z0))]
+    for t in threads:
+        t.start()
+    try:
+        batches.serve()
+    except BaseException:
+        with batches.cv:
+            batches.aborted = True
+            batches.cv.notify_all()
+        raise
+    for t in threads:
+        t.join()
+    for r in out:
+        if isinstance(r, BaseException):
+            raise r
+    return out
