@@ -1448,7 +1448,7 @@ MUTANTS: list[Mutant] = [
       "moduli-only data go back to the global search (slow; no route recorded)",
       ("tests/test_dma_spectrum_route.py",)),
     M("i22dma_refine_skipped", "vhfit/calibration/_spectrum.py",
-      "        return np.sort(sol.x)", "        return np.sort(z0)",
+      "        return np.sort(z)\n", "        return np.sort(z0)\n",
       "the free-τ refinement returns its start: τ stay where the grid put them",
       ("tests/test_dma_spectrum_route.py",)),
     M("i22dma_cap_not_said", "vhfit/calibration/_spectrum.py",
@@ -1916,10 +1916,6 @@ MUTANTS: list[Mutant] = [
       "a typo makes polynomial3 nonlinear in a constant it declares linear (the check "
       "register() made at import runs in the tests)",
       ("tests/test_laws.py::test_every_built_in_law_passes_the_registration_check",)),
-    M("s27_spectrum_polish_drifts", "vhfit/calibration/_spectrum.py",
-      "        x = _at_shape(prob, x, shape)\n", "",
-      "the spectrum route keeps the polish's constants: Mooney-Rivlin drifts along C10 - C01 "
-      "into an unstable law the moduli cannot see", ("tests/test_dma_spectrum_route.py",)),
     M("s27_no_other_basins", "vhfit/calibration/_search.py",
       "if stop == _EarlyFinish.GATHERED and space.several_basins():",
       "if stop == _EarlyFinish.GATHERED and False:",
@@ -1987,4 +1983,30 @@ MUTANTS: list[Mutant] = [
       "    fixed = True\n",
       "stretch plans of arrays that can change are remembered (stale after a change)",
       ("tests/test_ogden_sums.py",)),
+    # i22-dma: the spectrum route's refinement — closed-form column slopes, the
+    # closed-form pruning step, the active set of the moduli, further starts and exchanges
+    # (the spectrum route has no final polish any more: s27_spectrum_polish_drifts went
+    # with it; the law keeps its example's shape by construction)
+    M("i22dma2_storage_slope", "vhfit/calibration/_spectrum.py",
+      "D[sl.start:sl.start + m] = 2.0 * s * (1.0 - s)",
+      "D[sl.start:sl.start + m] = s * (1.0 - s)",
+      "the storage column's τ-derivative loses its factor 2: a wrong Jacobian",
+      ("tests/test_dma_spectrum_route.py",)),
+    M("i22dma2_relaxation_slope", "vhfit/calibration/_spectrum.py",
+      "np.where(e > 0, r * e, 0.0)", "np.where(e > 0, e, 0.0)",
+      "the relaxation column's τ-derivative drops its t/τ",
+      ("tests/test_dma_spectrum_route.py",)),
+    M("i22dma2_prune_by_modulus", "vhfit/calibration/_spectrum.py",
+      "j = int(np.argmin(c[1:] ** 2 / d))", "j = int(np.argmin(c[1:] ** 2))",
+      "the pruning step drops the smallest modulus, not the least missed column",
+      ("tests/test_dma_spectrum_route.py",)),
+    M("i22dma2_active_set_trusted", "vhfit/calibration/_spectrum.py",
+      "                if act.all() or np.all(", "                if True or np.all(",
+      "least squares on a stale active set is taken without the optimality check",
+      ("tests/test_dma_spectrum_route.py",)),
+    M("i22dma2_two_starts_only", "vhfit/calibration/_spectrum.py",
+      "    z, a, _ = _refined(mod, grid, keep, n, bounds, given)\n",
+      "    z, a, _ = _refined(mod, grid, keep, n, bounds, given, thorough=False)\n",
+      "the refinement goes back to its two starts, without finer grids or exchanges",
+      ("tests/test_dma_spectrum_route.py",)),
 ]
