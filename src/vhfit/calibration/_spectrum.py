@@ -43,6 +43,7 @@ import math
 
 import numpy as np
 
+from vhfit._blas import one_blas_thread
 from vhfit._linear import loss_shape, relaxation_shape, storage_shape
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._report import finish
@@ -397,8 +398,18 @@ def spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
 
     ``model_for(n)`` builds (model, tau_b, bounds) for N terms; ``n_prony`` None scans
     N automatically. Returns the :class:`Calibration`, the order scan (None for a given
-    N), the headlines of the scan and the N it chose.
+    N), the headlines of the scan and the N it chose. Runs with one BLAS thread
+    (:func:`vhfit._blas.one_blas_thread`): its thousands of small QR factorisations
+    and products gain nothing from more, and wait for busy cores.
     """
+    import scipy.optimize  # noqa: F401  (its BLAS loaded before the threads are set)
+
+    with one_blas_thread():
+        return _spectrum_fit(curves, settings, model_for, n_prony, t0)
+
+
+def _spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
+    """:func:`spectrum_fit` itself."""
     s = settings
     model, tau_b, auto = model_for(1 if n_prony is None else n_prony)
     grid_prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective)
