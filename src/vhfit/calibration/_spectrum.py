@@ -55,7 +55,7 @@ from vhfit.spectrum import pruning_path
 __all__ = ["applies", "tau_grid", "spectrum_fit", "seed_from_moduli", "ROUTE", "cap_message"]
 
 #: Steps of refinement that rank the starts before the best one goes on to the end
-SCOUT_NFEV = 40
+SCOUT_NFEV = 25
 
 #: Steps and tolerances (xtol, ftol, gtol) of a whole refinement of log10 τ
 MAX_NFEV = 400
