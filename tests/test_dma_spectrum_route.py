@@ -204,3 +204,122 @@ def test_a_law_of_two_moduli_keeps_its_stable_shape(n_prony):
     ex = vhfit.hyperelastic.get("mooney_rivlin").example
     assert cal.params["C01"] / cal.params["C10"] == pytest.approx(ex[1] / ex[0], rel=1e-12)
     assert cal.stability.stable
+
+
+# ---------------------------------------------------------------- the refinement's parts
+def _moduli_of(items, n=3):
+    """The route's column builder for ``items`` at N terms (neo-Hooke law)."""
+    from vhfit.calibration._bounds import search_bounds
+    from vhfit.calibration._settings import CalibrationSettings
+    from vhfit.calibration._space import Problem
+
+    m = vhfit.ViscoHyperelastic("neo_hooke", n)
+    s = CalibrationSettings("neo_hooke", n)
+    tau_b, auto = search_bounds(m, items, "free", s.decades_below, s.decades_above, "auto")
+    prob = Problem(m, items, tau_b, auto, s.g_inf_min)
+    return _spectrum._Moduli(prob, _spectrum._shape(prob)), tau_b
+
+
+def test_closed_form_columns_are_the_batch_columns_and_their_slopes_its_differences():
+    """The refinement's columns (closed forms) equal the batch's own evaluation of the
+    model, and their log10 τ-derivatives equal central differences of those columns,
+    for a sweep and a relaxation test together."""
+    f = np.logspace(-2, 2, 9)
+    e1, e2 = maxwell(f, E_INF, G3, TAU3)
+    t = np.logspace(-3, 3, 13)
+    items = [vhfit.FrequencySweep(frequency=f, storage=e1, loss=e2),
+             vhfit.Relaxation(time=t, modulus=relaxation(t, E_INF, G3, TAU3))]
+    mod, _ = _moduli_of(items)
+    z = np.array([-2.3, -0.4, 1.1])
+    A, dA = mod.columns(z)
+    np.testing.assert_array_equal(A, mod.matrix(10.0**z))
+    h = 1e-5
+    for i in range(z.size):
+        up, dn = z.copy(), z.copy()
+        up[i] += h
+        dn[i] -= h
+        fd = (mod.matrix(10.0**up)[:, 1 + i] - mod.matrix(10.0**dn)[:, 1 + i]) / (2 * h)
+        np.testing.assert_allclose(dA[:, i], fd, rtol=1e-6, atol=1e-9 * np.abs(fd).max())
+
+
+def test_the_closed_form_pruning_step_drops_the_column_least_squares_misses_least():
+    """With every modulus positive, the step removes the column whose removal (the others
+    re-fitted by ordinary least squares, here by brute force) raises the residual least;
+    on exact data of three terms on the grid it keeps exactly those three."""
+    from vhfit.calibration._spectrum import _fast_prune
+
+    t = np.logspace(-3, 3, 40)
+    grid = 10.0 ** np.arange(-3.0, 4.0)
+    A = np.column_stack([np.ones_like(t), np.exp(-t[:, None] / grid)])
+    b = 1.0 + 2.0 * np.exp(-t / 1e-2) + 1.5 * np.exp(-t / 1.0) + 0.5 * np.exp(-t / 1e2)
+    keep = _fast_prune(A / b[:, None], np.ones_like(t), 3)
+    assert keep.tolist() == [1, 3, 5]
+    rng = np.random.default_rng(3)
+    checked = 0
+    for _ in range(5):  # a positive solution everywhere: the rule is the brute force's
+        B = np.abs(rng.normal(size=(30, 6))) + 0.1 * np.eye(30, 6)
+        y = B @ rng.uniform(0.5, 2.0, 6)
+        y = y * (1 + 0.05 * rng.normal(size=30))
+        sol = np.linalg.lstsq(B, y, rcond=None)[0]
+        if not np.all(sol > 0):
+            continue
+        rise = [np.linalg.lstsq(np.delete(B, j, axis=1), y, rcond=None)[1].sum()
+                for j in range(1, 6)]
+        kept = _fast_prune(B, y, 4)
+        assert kept is not None
+        assert sorted(set(range(5)) - set(kept.tolist())) == [int(np.argmin(rise))]
+        checked += 1
+    assert checked >= 3
+
+
+def test_a_stale_active_set_gives_the_nnls_optimum():
+    """Least squares on the previous step's active set is taken only when it is the
+    constrained optimum: a set that leaves out a column the data need is refused and
+    the moduli are NNLS's (scipy's nnls here)."""
+    from scipy.optimize import nnls
+
+    t = np.logspace(-3, 3, 40)
+    tau = np.array([1e-2, 1.0, 1e2])
+    y = 1.0 + np.exp(-t[:, None] / tau) @ np.array([2.0, 1.5, 0.5])
+    items = [vhfit.Relaxation(time=t, modulus=y)]
+    mod, _ = _moduli_of(items)
+    A, _ = mod.columns(np.log10(tau))
+    stale = np.array([True, True, False, True])  # the 1 s term left out
+    a, Q, act = mod._projected(A, stale)
+    ref, rn = nnls(A, mod.ys)
+    np.testing.assert_allclose(a, ref, rtol=1e-8, atol=1e-12)
+    assert np.linalg.norm(A @ a - mod.ys) == pytest.approx(rn, rel=1e-8, abs=1e-14)
+    assert act.all()
+
+
+def test_the_refinement_leaves_the_local_minima_of_one_term_a_decade():
+    """E(t) over 23 decades, three stretched-exponential modes with a 0.2 % ripple (as a
+    master curve's shift errors leave): at N = 22 the free τ from the pruned grid and
+    from evenly spread τ end in local minima (0.14 %); the further starts and exchanges
+    reach a fit no worse than 1.01 × the best of an independent multi-start least
+    squares (scipy's trust-region solver on log τ from eight jittered starts, moduli by
+    NNLS at each step, written here)."""
+    from scipy.optimize import least_squares, nnls
+
+    t = np.logspace(-3, 20, 150)
+    E = 1.0 + sum(a * np.exp(-(t / tc) ** b) for a, tc, b in
+                  ((100, 1e-1, 0.4), (20, 1e6, 0.3), (10, 1e14, 0.5)))
+    E = E * (1 + 0.002 * np.sin(2 * np.pi * np.log10(t) / 1.7))
+    n = 22
+    cal = quiet(vhfit.calibrate, [vhfit.Relaxation(time=t, modulus=E)],
+                hyperelastic="neo_hooke", n_prony=n, seed=0)
+
+    def resid(z):
+        A = np.column_stack([np.ones_like(t), np.exp(-t[:, None] / 10.0**z)]) / E[:, None]
+        c, _ = nnls(A, np.ones_like(t))
+        with np.errstate(all="ignore"):  # (a spurious flag of the BLAS product)
+            return A @ c - 1.0
+
+    rng = np.random.default_rng(0)
+    best = np.inf
+    for _ in range(8):
+        z0 = np.sort(np.linspace(-3, 20, n) + rng.uniform(-0.5, 0.5, n))
+        sol = least_squares(resid, z0, method="trf", bounds=(-6.0, 23.0), max_nfev=3000,
+                            xtol=1e-12, ftol=1e-12)
+        best = min(best, 100 * np.sqrt(np.mean(sol.fun**2)))
+    assert cal.rmsape <= 1.01 * best

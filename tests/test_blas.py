@@ -1,0 +1,55 @@
+"""One BLAS thread for the spectrum route's small dense solves, restored afterwards."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+import scipy.optimize  # noqa: F401  (scipy's OpenBLAS loaded too)
+
+import vhfit
+from vhfit import _blas
+from vhfit.calibration import _spectrum
+
+
+@pytest.fixture
+def two_threads():
+    """Every OpenBLAS of the process at 2 threads (skip where none is found), then back."""
+    libs = _blas._libraries()
+    if not libs:
+        pytest.skip("no OpenBLAS found in this process")
+    before = [get() for get, _ in libs]
+    for _, put in libs:
+        put(2)
+    yield libs
+    for (_, put), n in zip(libs, before):
+        put(n)
+
+
+def test_one_blas_thread_inside_the_block_and_the_setting_back_after(two_threads):
+    with _blas.one_blas_thread():
+        inside = [get() for get, _ in two_threads]
+        with _blas.one_blas_thread():  # nested: still one, and the outer one restores
+            nested = [get() for get, _ in two_threads]
+        after_nested = [get() for get, _ in two_threads]
+    assert inside == nested == after_nested == [1] * len(two_threads)
+    assert [get() for get, _ in two_threads] == [2] * len(two_threads)
+
+
+def test_the_spectrum_route_runs_with_one_blas_thread(two_threads, monkeypatch):
+    seen = []
+    real = _spectrum._spectrum_fit
+
+    def spy(*a, **kw):
+        seen.append([get() for get, _ in two_threads])
+        return real(*a, **kw)
+
+    monkeypatch.setattr(_spectrum, "_spectrum_fit", spy)
+    t = np.logspace(-2, 2, 20)
+    item = vhfit.Relaxation(time=t, modulus=1.0 + np.exp(-t))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        vhfit.calibrate([item], hyperelastic="neo_hooke", n_prony=1, seed=0)
+    assert seen == [[1] * len(two_threads)]
+    assert [get() for get, _ in two_threads] == [2] * len(two_threads)
