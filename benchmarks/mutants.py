@@ -2044,4 +2044,9 @@ MUTANTS: list[Mutant] = [
       "    if True:\n        return _spectrum_fit(",
       "the spectrum route runs with every BLAS thread",
       ("tests/test_blas.py",)),
+    M("s28_search_all_blas_threads", "vhfit/calibration/_workflow.py",
+      "        with one_blas_thread():  # small solves: BLAS threads only wait for cores\n",
+      "        if True:\n",
+      "the order scan's searches run with every BLAS thread",
+      ("tests/test_blas.py",)),
 ]

@@ -53,3 +53,28 @@ def test_the_spectrum_route_runs_with_one_blas_thread(two_threads, monkeypatch):
         vhfit.calibrate([item], hyperelastic="neo_hooke", n_prony=1, seed=0)
     assert seen == [[1] * len(two_threads)]
     assert [get() for get, _ in two_threads] == [2] * len(two_threads)
+
+
+@pytest.mark.parametrize("n_prony", [1, "auto"])
+def test_the_global_search_runs_with_one_blas_thread(two_threads, monkeypatch, n_prony):
+    from vhfit.calibration import _workflow
+
+    seen = []
+    real = _workflow.run_search
+
+    def spy(*a, **kw):
+        seen.append([get() for get, _ in two_threads])
+        return real(*a, **kw)
+
+    monkeypatch.setattr(_workflow, "run_search", spy)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
+    eps = np.linspace(-0.05, -0.4, 12)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
+    curves = [vhfit.Curve(strain=eps, stress=m.stress(truth, strain=eps, strain_rate=r,
+                                                      measure="engineering"), strain_rate=r)
+              for r in (-1.0, -100.0)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        vhfit.calibrate(curves, n_prony=n_prony, max_prony=2, seed=0, uncertainty=False)
+    assert seen and all(s == [1] * len(two_threads) for s in seen)
+    assert [get() for get, _ in two_threads] == [2] * len(two_threads)

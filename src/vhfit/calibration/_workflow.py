@@ -11,6 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from vhfit._blas import one_blas_thread
 from vhfit.calibration import _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
@@ -290,10 +291,12 @@ def calibrate(
     if by_spectrum:  # sweeps and relaxation tests alone: the per-decade spectrum
         cal = _by_spectrum(curves, s, None if isinstance(n_prony, str) else int(n_prony), t0)
     elif isinstance(n_prony, str):
-        cal = _order_scan(curves, s, t0)
+        with one_blas_thread():  # small solves: BLAS threads only wait for cores
+            cal = _order_scan(curves, s, t0)
     else:
-        cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
-                           max_time=s.max_time, t0=t0)
+        with one_blas_thread():
+            cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
+                               max_time=s.max_time, t0=t0)
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
     for m in ref.notes:  # the shift law's fit (a degenerate WLF and the law chosen)
