@@ -447,7 +447,8 @@ def main(argv=None) -> int:
         names = a.only.split(",")
         chosen = [d for d in DATASETS if d.name in names]
     print(f"vhfit {vhfit.__version__}, {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}; data {a.data}; "
+          f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}, speed probe "
+          f"{speed_probe():.2f} s; data {a.data}; "
           f"up to {starts} starts or {budget:g} s of search a dataset, {repeats} repeat(s)")
     warm = [vhfit.Curve(strain=np.linspace(0.01, 0.2, 10), stress=np.linspace(0.01, 0.2, 10),
                         strain_rate=r) for r in (0.1, 1.0)]
@@ -497,8 +498,19 @@ def main(argv=None) -> int:
         print(f"\nwall time per fit: median {statistics.median(times):.2f} s, max "
               f"{max(times):.2f} s (goal: median <= 1 s, each <= 2 s); ratio (vhfit / best "
               f"stable) <= 1.01 on {sum(r['e'] <= 1.01 * r['stable'] for r in rows)}/"
-              f"{len(rows)} datasets; load now {os.getloadavg()[0]:.1f}")
+              f"{len(rows)} datasets; load now {os.getloadavg()[0]:.1f}, speed probe "
+              f"{speed_probe():.2f} s")
     return 0
+
+
+def speed_probe() -> float:
+    """Seconds for a fixed pure-Python loop (10^7 additions): how fast this shared
+    machine runs at the moment, which its load average does not show (a virtual
+    machine's host may be busy); printed at the start and the end, to compare runs."""
+    t, s = time.perf_counter(), 0
+    for i in range(10**7):
+        s += i
+    return time.perf_counter() - t
 
 
 if __name__ == "__main__":
