@@ -235,7 +235,7 @@ def test_population_past_the_exp_range_each_set_alone_and_overflow_is_inf_error(
 def test_plans_are_remembered_only_for_stretches_that_cannot_change():
     """The stretch plan (logarithms, derived powers) is kept by the arrays' identity only
     for read-only arrays; a writeable array changed in place is planned again."""
-    from vhfit.hyperelastic import _ogden
+    from vhfit.hyperelastic import _fixed, _ogden
 
     x = np.linspace(0.5, 2.0, 7)
     lam = [x, x**-0.5, x**-0.5]
@@ -250,10 +250,10 @@ def test_plans_are_remembered_only_for_stretches_that_cannot_change():
     fixed = [v.copy() for v in lam]
     for v in fixed:
         v.flags.writeable = False
-    _ogden._PLANS.clear()
+    _fixed._MEMO.clear()
     _ogden.ogden_sums(*fixed, mu, al)
-    assert tuple(map(id, fixed)) in _ogden._PLANS
+    assert ("ogden plan", *map(id, fixed)) in _fixed._MEMO
     view = np.asarray(lam[0])[::1]  # a read-only view of writeable data is not fixed
     view.flags.writeable = False
     _ogden.ogden_sums(view, fixed[1], fixed[2], mu, al)
-    assert len(_ogden._PLANS) == 1
+    assert len(_fixed._MEMO) == 1

@@ -16,6 +16,8 @@ import threading
 
 import numpy as np
 
+from vhfit.hyperelastic._fixed import remembered
+
 # how a stretch's power follows (rules of stretch_plan, as kernel codes)
 EXP, SAME0, SAME1, ONE, RSQRT, INV, INCOMPRESSIBLE = range(7)
 
@@ -120,30 +122,16 @@ def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
             out[2, p, s] = a2
 
 
-#: Plans of read-only stretch arrays (a batch's samples, the stability grid), by the
-#: arrays' identities: the same arrays come back for every population.
-_PLANS: dict = {}
-
-
 def _plan(lam: list) -> tuple:
     """:func:`stretch_plan` of ``lam`` (rules, ln λk), its largest |ln λ|, and the kernel's
     arguments (ln λk stacked, the rules' codes); remembered for arrays that cannot change
-    (read-only, owning their data or views of read-only data)."""
-    fixed = all(not v.flags.writeable and (v.base is None or not v.base.flags.writeable)
-                for v in lam)
-    key = tuple(id(v) for v in lam)
-    if fixed:
-        hit = _PLANS.get(key)
-        if hit is not None and all(a is b for a, b in zip(hit[0], lam)):
-            return hit[1]
-    rules, logs = stretch_plan(*lam)
-    plan = (rules, max(float(np.max(np.abs(v), initial=0.0)) for v in logs), np.stack(logs),
-            np.array(rules, dtype=np.int64))
-    if fixed:
-        if len(_PLANS) >= 64:
-            _PLANS.clear()
-        _PLANS[key] = (tuple(lam), plan)  # holds the arrays: their ids stay theirs
-    return plan
+    (a batch's samples, the stability grid: :mod:`._fixed`)."""
+    def plan():
+        rules, logs = stretch_plan(*lam)
+        return (rules, max(float(np.max(np.abs(v), initial=0.0)) for v in logs),
+                np.stack(logs), np.array(rules, dtype=np.int64))
+
+    return remembered("ogden plan", tuple(lam), plan)
 
 
 _COMPILED: list = []

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 
 from vhfit._derivatives import central, invariant_gradient, outside_domain, stretch_gradient
+from vhfit.hyperelastic._fixed import remembered
 
 __all__ = ["Hyperelastic", "register", "get", "available", "unregister", "invariants"]
 
@@ -18,25 +19,16 @@ _INVARIANT_ARGS = ("I1", "I2")
 _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", "λ2", "λ3"))
 
 
-_LATERAL: dict = {}
-
-
 def _lateral(lam: np.ndarray) -> np.ndarray:
-    """λ^(−1/2), the lateral stretches of uniaxial tension; the same read-only array for
-    the same read-only ``lam`` (a batch's samples, evaluated for every population), so
-    that what a law derives from its stretches can be remembered by identity."""
-    fixed = not lam.flags.writeable and (lam.base is None or not lam.base.flags.writeable)
-    if fixed:
-        hit = _LATERAL.get(id(lam))
-        if hit is not None and hit[0] is lam:
-            return hit[1]
-    l2 = lam**-0.5
-    if fixed:
+    """λ^(−1/2), the lateral stretches of uniaxial tension; for a ``lam`` that cannot
+    change (a batch's samples) the same read-only array every time (:mod:`._fixed`), so
+    that what a law derives from its stretches is remembered too."""
+    def lateral():
+        l2 = lam**-0.5
         l2.flags.writeable = False
-        if len(_LATERAL) >= 64:
-            _LATERAL.clear()
-        _LATERAL[id(lam)] = (lam, l2)
-    return l2
+        return l2
+
+    return remembered("lateral", (lam,), lateral)
 
 
 def invariants(stretch) -> tuple[np.ndarray, np.ndarray]:
