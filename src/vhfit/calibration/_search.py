@@ -155,41 +155,41 @@ def search_problem(prob, curves):
     return out
 
 
-#: Tolerances (xtol, ftol, gtol) of the polish on every point of a long record after
-#: its search on fewer points: the error is settled to ~1e-10 relative long before the
-#: iterations reach rounding (a real record's last ~half of them, at the cost of the
-#: whole record each).
+#: Tolerances (xtol, ftol, gtol) of the polish on every point after a search on the
+#: coarser problem (:func:`search_problem`): the error is settled to ~1e-10 relative long
+#: before the iterations reach rounding (a real record's last ~half of them, at the cost
+#: of the whole record each).
 FINAL_TOL = 1e-10
 
 
-#: Tolerances of the polishes of the search's own members on the fewer points of a long
-#: record (the one that ends a gathered search, the other basins'): the polish on every
-#: point follows from where they end, so settling them further only repeats its work.
+#: Tolerances of the polishes of the search's own members on the coarser problem (the
+#: one that ends a gathered search, the other basins'): the polish on every point follows
+#: from where they end, so settling them further only repeats its work.
 COARSE_TOL = 1e-8
 
 
 def gathered_polish(space, z, max_nfev: int = VARPRO_NFEV):
     """:func:`varpro_polish` of a search's member: to rounding on the problem's own
-    points (its result is the fit), to :data:`COARSE_TOL` on fewer points of a long record
+    points (its result is the fit), to :data:`COARSE_TOL` on the coarser problem
     (:func:`search_problem`; the polish on every point follows)."""
     return varpro_polish(space, z, max_nfev,
                          tol=COARSE_TOL if space.prob.coarse else ROUNDING_TOL)
 
 
-def final_polish(space, found: Search, x: np.ndarray, err: float, fewer: bool = True):
+def final_polish(space, found: Search, x: np.ndarray, err: float):
     """The polish after a search that did not end by a polish on ``space``'s own points:
     ``(x, err, evaluations)``, never a higher error than ``err`` at ``x``.
 
-    A search that ended on a gathered population (:class:`_EarlyFinish`; on fewer points
-    of a long record, ``fewer``, or resumed from its final checkpoint) continues in the
-    space's coordinates on every point (:func:`varpro_polish` from ``found.z``; to
-    :data:`FINAL_TOL` after a search on fewer points, else to rounding as the search's own
-    polish, so that a resumed search ends where it did); any other, the all-parameter
-    polish, from its polish on fewer points if that is lower on every point.
+    A search on the coarser problem (:func:`search_problem`) that ended on a gathered
+    population (:class:`_EarlyFinish`) continues in the space's coordinates on every
+    point (:func:`varpro_polish` from ``found.z``, to :data:`FINAL_TOL`; a gathered
+    search on the space's own points has its polish, ``found.polished``, as its result,
+    a resumed one too); any other, the all-parameter polish, from its polish on the
+    search's problem if that is lower on every point.
     """
     prob = space.prob
     if found.stop == _EarlyFinish.GATHERED:
-        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL if fewer else ROUNDING_TOL)
+        _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL)
         return (x1, e1, n) if e1 < err else (x, err, n)
     if found.polished is not None:  # polished on the search's points: start from it
         xp = found.polished[0]
@@ -300,9 +300,9 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     ``settings.polish`` a polish follows the search, which may then stop as soon as a
     polish of its best member reaches the target (:class:`_EarlyFinish`). ``x0``, a
     search vector inside the bounds, replaces the first member of the first population.
-    ``full``: the :class:`Problem` on every point when ``space`` compares fewer
-    (:func:`search_problem`), where a polish that reaches the coarse problem's floor
-    checks the target.
+    ``full``: the :class:`Problem` on every point at the calibration's accuracy when
+    ``space`` compares the coarser one (:func:`search_problem`), where a polish that
+    reaches the coarser problem's floor checks the target.
     """
     s = settings
     seed, workers, popsize = s.seed, s.workers, s.popsize
@@ -478,7 +478,7 @@ class _EarlyFinish:
 
     def __init__(self, space, target: float, tol: float = 1e-6, full=None):
         self.space, self.target = space, float(target)
-        self.full = full  # the problem on every point, when the search's has fewer
+        self.full = full  # the calibration's own problem, when the search's is coarser
         self.levels = sorted((float(v) for v in space.finish_levels(target)
                               if v > self.target), reverse=True)
         # below the lowest level the search's own points no longer tell the bottom
@@ -498,7 +498,7 @@ class _EarlyFinish:
             x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
             self.nfev += n
             if self.full is not None and self.target < err <= self.floor:
-                # fewer points and a coarser model have an error floor of their own
+                # a coarser model (and fewer points) have an error floor of their own
                 # (~1e-3 % on exact data): whether the target is in reach is a question
                 # for every point at the calibration's accuracy
                 x, err, n = polish_fit(self.full, x, self.MAX_NFEV)

@@ -53,7 +53,7 @@ class Problem:
         self.stability_range = stability_range
         self.adm = None if stability_range is None else Admissible(self.hm, stability_range)
         self.user_bounds = frozenset(user_bounds)  # names whose bounds the user gave
-        self.coarse = False  # fewer points, coarser model: a long record's search
+        self.coarse = False  # a search's coarser model (and fewer points of long records)
 
     def admissible(self, X: np.ndarray) -> np.ndarray:
         """Whether the law of each parameter set X (P, n_params) is admissible."""

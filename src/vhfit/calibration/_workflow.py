@@ -290,13 +290,11 @@ def calibrate(
     by_spectrum = _spectrum.applies(curves, s) and n_prony != 0
     if by_spectrum:  # sweeps and relaxation tests alone: the per-decade spectrum
         cal = _by_spectrum(curves, s, None if isinstance(n_prony, str) else int(n_prony), t0)
-    elif isinstance(n_prony, str):
-        with one_blas_thread():  # small solves: BLAS threads only wait for cores
-            cal = _order_scan(curves, s, t0)
     else:
-        with one_blas_thread():
-            cal = _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
-                               max_time=s.max_time, t0=t0)
+        with one_blas_thread():  # small solves: BLAS threads only wait for cores
+            cal = (_order_scan(curves, s, t0) if isinstance(n_prony, str) else
+                   _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
+                                max_time=s.max_time, t0=t0))
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
         warnings.warn(m, CalibrationWarning, stacklevel=2)
     for m in ref.notes:  # the shift law's fit (a degenerate WLF and the law chosen)
@@ -525,7 +523,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     """The global search over the method's space, then the polish: (found, x, err, nfev)."""
     space = SPACES[settings.method](prob)
     short = search_problem(prob, curves) if settings.method == "separable" else prob
-    searched = space if short is prob else SPACES[settings.method](short)  # long: fewer points
+    searched = space if short is prob else SPACES[settings.method](short)  # coarser
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
     # (not over a start population of the caller's own, e.g. a first fit's)
     x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
@@ -535,8 +533,8 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err) and found.polished is not None:
-        # the solve on every point can fail where the search's own polish (on fewer
-        # points) did not: keep that polish's constants, the final polish starts there
+        # the solve on every point can fail where the search's own polish (on its coarser
+        # problem) did not: keep that polish's constants, the final polish starts there
         xp = np.asarray(found.polished[0], dtype=np.float64)
         ep = float(prob.errors(xp[None, :])[0])
         if np.isfinite(ep):
@@ -551,7 +549,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
     elif settings.polish and found.stop != "interrupted":
-        x, err, n_pol = final_polish(space, found, x, err, fewer=searched is not space)
+        x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
     return found, x, err, nfev
 
