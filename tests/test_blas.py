@@ -37,15 +37,22 @@ def test_one_blas_thread_inside_the_block_and_the_setting_back_after(two_threads
     assert [get() for get, _ in two_threads] == [2] * len(two_threads)
 
 
-def test_the_spectrum_route_runs_with_one_blas_thread(two_threads, monkeypatch):
+def threads_seen(monkeypatch, module, name: str, libs) -> list:
+    """Replace ``module.name`` by a spy that records every library's BLAS threads at each
+    call (then calls the real one); returns the list it fills."""
     seen = []
-    real = _spectrum._spectrum_fit
+    real = getattr(module, name)
 
     def spy(*a, **kw):
-        seen.append([get() for get, _ in two_threads])
+        seen.append([get() for get, _ in libs])
         return real(*a, **kw)
 
-    monkeypatch.setattr(_spectrum, "_spectrum_fit", spy)
+    monkeypatch.setattr(module, name, spy)
+    return seen
+
+
+def test_the_spectrum_route_runs_with_one_blas_thread(two_threads, monkeypatch):
+    seen = threads_seen(monkeypatch, _spectrum, "_spectrum_fit", two_threads)
     t = np.logspace(-2, 2, 20)
     item = vhfit.Relaxation(time=t, modulus=1.0 + np.exp(-t))
     with warnings.catch_warnings():
@@ -59,14 +66,7 @@ def test_the_spectrum_route_runs_with_one_blas_thread(two_threads, monkeypatch):
 def test_the_global_search_runs_with_one_blas_thread(two_threads, monkeypatch, n_prony):
     from vhfit.calibration import _workflow
 
-    seen = []
-    real = _workflow.run_search
-
-    def spy(*a, **kw):
-        seen.append([get() for get, _ in two_threads])
-        return real(*a, **kw)
-
-    monkeypatch.setattr(_workflow, "run_search", spy)
+    seen = threads_seen(monkeypatch, _workflow, "run_search", two_threads)
     m = vhfit.ViscoHyperelastic("mooney_rivlin", 1)
     eps = np.linspace(-0.05, -0.4, 12)
     truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=0.01)
