@@ -155,8 +155,11 @@ def test_a_first_fit_merged_into_fewer_like_terms_seeds_the_law_asked_for():
                               wall_time=0.0, stop_reason="converged")
     kw = dict(hyperelastic="ogden2", formulation="lsdyna", n_prony=1, seed=0)
     z0 = start_options(first, curves, **kw)["de_options"]["init"][0]
-    # (mu2's share of the moduli, alpha1, alpha2, log10 tau1)
-    np.testing.assert_allclose(z0, [0.0, 3.0, 3.0, np.log10(0.02)], rtol=1e-12, atol=0)
+    # (the direction of (mu1, mu2) as its place on the admissible arc, alpha1, alpha2,
+    # log10 tau1): with equal exponents the law is one term, admissible for mu1 + mu2 > 0,
+    # so the arc is θ in (-π/4, 3π/4) and mu2 = 0 (θ = 0) a quarter of the way along it
+    np.testing.assert_allclose(z0[1:], [3.0, 3.0, np.log10(0.02)], rtol=1e-12, atol=0)
+    assert z0[0] == pytest.approx(0.25, abs=1e-5)
     assert start_options(first, curves, **dict(kw, hyperelastic="yeoh")) == {}
 
 

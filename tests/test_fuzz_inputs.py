@@ -1320,7 +1320,7 @@ def checkpoint_base(tmp_path_factory) -> dict:
         mp.setattr(_workflow, "run_search", spy)
         curves, kw, ck, base = _resume_setup(tmp)
     space, s = seen["space"], seen["settings"]
-    key = _checkpoint.fit_key(space.prob, space.method, s.seed, s.popsize, s.effective_tol,
+    key = _checkpoint.fit_key(space.prob, space.layout, s.seed, s.popsize, s.effective_tol,
                               s.target, s.de_options)
     crits, _ = _search.stop_criteria(s.effective_tol, s.target, s.stall, None)
     solver = _search.new_solver(space, s, _search._Objective(space), None, crits)

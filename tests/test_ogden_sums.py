@@ -108,6 +108,18 @@ def test_invalid_constants_give_nan_not_a_number_from_a_derived_power():
     assert all(np.isnan(g).all() for g in got)
 
 
+def test_a_term_without_modulus_adds_nothing_even_where_its_power_overflows():
+    # the admissible set's rows are laws of one term each (the other μ = 0): 0 · ∞ must
+    # not make them NaN. One term μ = 1, α = 2: λk ∂W/∂λk = 2 μ/α λk² = λk²
+    from vhfit.hyperelastic._ogden import ogden_sums
+
+    l1, l2, l3 = modes.principal_stretches("uniaxial", np.array([2.0, 3.0]))
+    col = lambda v: np.array([[v]])  # noqa: E731 (one parameter set, as a column)
+    got = ogden_sums(l1, l2, l3, [col(0.0), col(1.0)], [col(900.0), col(2.0)])
+    for g, lam in zip(got, (l1, l2, l3)):
+        np.testing.assert_allclose(g[0], lam**2, rtol=1e-14)
+
+
 def test_scalar_constants_and_one_stretch_keep_their_shapes():
     nh_like = hyp.get("ogden2")  # μ1 = 0.5, α1 = 2, μ2 = 0: neo-Hooke with C10 = 0.25
     s = nh_like.stress([2.0], [0.5, 2.0, 0.0, 1.0])

@@ -12,8 +12,9 @@ invariant under a positive scale of them. Here they are checked on a grid of str
 * :meth:`Admissible.rows` — the grid's inequalities G c ≥ 0 on the linear constants c;
 * :func:`lsi` — least squares under such inequalities (Lawson and Hanson's LSI by
   their LDP and NNLS), the exact solve of the linear constants without Prony terms;
-* :func:`angle_range` — the arc of admissible directions of a law with two linear
-  constants and no nonlinear ones, searched as one angle.
+* :func:`arcs` — the arc of admissible directions of a law with two linear constants,
+  for its nonlinear ones (:func:`angle_range`: a law without any), searched as one
+  angle.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from vhfit.modes import get_deformation, principal_stretches
 from vhfit.stability import modes_checked, principal_difference
 
 __all__ = ["Admissible", "data_stability_range", "admissible", "lsi",
-           "angle_range", "STABILITY_MARGIN", "GRID_POINTS"]
+           "angle_range", "arcs", "STABILITY_MARGIN", "GRID_POINTS"]
 
 #: The default stretch range reaches this factor beyond the data's smallest and largest
 #: principal stretch (and at least 1/MIN_STRETCH_RANGE..MIN_STRETCH_RANGE).
@@ -134,7 +135,8 @@ class Admissible:
         U[:, :, self.amp] = 0.0
         U[:, np.arange(m), self.amp] = 1.0
         with np.errstate(all="ignore"):
-            T = self.tangents(U)  # (P, m, 3n)
+            # as one population of P m laws: the laws' population kernels take 2-D sets
+            T = self.tangents(U.reshape(P * m, -1)).reshape(P, m, -1)  # (P, m, 3n)
             Z = U[:, :1].copy()
             Z[:, :, self.amp] = 0.0
             mu = (np.asarray(self.hm.initial_shear_modulus(U), dtype=np.float64).reshape(P, m)
@@ -197,27 +199,40 @@ def lsi(A: np.ndarray, y: np.ndarray, G: np.ndarray, h: np.ndarray
     return c, float(np.linalg.norm(res))
 
 
-def angle_range(adm: Admissible, nonneg, nonpos=(False, False)) -> tuple[float, float]:
-    """The arc [θ_lo, θ_hi] of directions (cos θ, sin θ) of two linear constants that are
-    admissible on the grid (a law without nonlinear constants), within the half-plane
-    μ0 > 0; ``nonneg`` (``nonpos``) says which of the two must be ≥ 0 (≤ 0) as well.
+def arcs(adm: Admissible, X: np.ndarray, nonneg=(False, False), nonpos=(False, False)
+         ) -> tuple[np.ndarray, np.ndarray]:
+    """The arcs [θ_lo, θ_hi] (P each) of directions (cos θ, sin θ) of two linear
+    constants that are admissible on the grid, for the nonlinear constants of each law
+    of X (P, n_h; its linear constants are ignored), within the half-plane μ0 > 0;
+    ``nonneg`` (``nonpos``) says which of the two must be ≥ 0 (≤ 0) as well.
 
     Every inequality g · (cos θ, sin θ) ≥ 0 is an arc of length π; their intersection is
-    one arc (empty: (nan, nan)).
+    one arc, measured from the direction of the μ0 row (the same for every law: μ0 is
+    linear in the linear constants alone), kept :data:`ANGLE_MARGIN` inside its ends (a
+    direction on an end has a zero tangent somewhere). Empty: NaN at both ends.
     """
-    X = np.array([adm.hm.example], dtype=np.float64)  # nonlinear constants: any valid
-    G = adm.rows(X)[0]  # (3n + 1, 2), the μ0 row last
-    theta0 = math.atan2(G[-1, 1], G[-1, 0])
-    G = np.vstack([G] + [np.eye(2)[k][None, :] for k in range(2) if nonneg[k]]
-                  + [-np.eye(2)[k][None, :] for k in range(2) if nonpos[k]])
-    G = G[np.linalg.norm(G, axis=1) > 0]
-    lo, hi = -math.pi / 2, math.pi / 2
-    for g in G:
-        c = math.atan2(g[1], g[0]) - theta0
+    X = np.atleast_2d(np.asarray(X, dtype=np.float64))
+    G = adm.rows(X)  # (P, 3n + 1, 2), the μ0 row last
+    theta0 = math.atan2(G[0, -1, 1], G[0, -1, 0])
+    signs = ([np.eye(2)[k] for k in range(2) if nonneg[k]]
+             + [-np.eye(2)[k] for k in range(2) if nonpos[k]])
+    if signs:
+        G = np.concatenate([G, np.broadcast_to(np.array(signs), (len(X), len(signs), 2))],
+                           axis=1)
+    with np.errstate(invalid="ignore"):
+        c = np.arctan2(G[..., 1], G[..., 0]) - theta0
         c = (c + math.pi) % (2 * math.pi) - math.pi
-        lo, hi = max(lo, c - math.pi / 2), min(hi, c + math.pi / 2)
-    # strictly inside: a direction on the arc's ends has a zero tangent somewhere
-    lo, hi = lo + ANGLE_MARGIN, hi - ANGLE_MARGIN
-    if not lo < hi:
-        return math.nan, math.nan
+        # rows where the law is undefined (NaN) or vanishing bound nothing
+        bind = np.isfinite(c) & (np.hypot(G[..., 0], G[..., 1]) > 0)
+        lo = np.max(np.where(bind, c - math.pi / 2, -math.pi / 2), axis=1) + ANGLE_MARGIN
+        hi = np.min(np.where(bind, c + math.pi / 2, math.pi / 2), axis=1) - ANGLE_MARGIN
+    empty = ~(lo < hi)
+    lo[empty], hi[empty] = np.nan, np.nan
     return theta0 + lo, theta0 + hi
+
+
+def angle_range(adm: Admissible, nonneg, nonpos=(False, False)) -> tuple[float, float]:
+    """The arc [θ_lo, θ_hi] of admissible directions (:func:`arcs`) of a law without
+    nonlinear constants (empty: (nan, nan))."""
+    lo, hi = arcs(adm, np.array([adm.hm.example], dtype=np.float64), nonneg, nonpos)
+    return float(lo[0]), float(hi[0])

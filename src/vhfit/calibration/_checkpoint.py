@@ -20,8 +20,9 @@ __all__ = ["fit_key", "save", "load", "resume", "damaged", "FORMAT"]
 FORMAT = "vhfit-checkpoint-2"
 
 
-def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
-    """A digest of everything that makes two fits the same search."""
+def fit_key(prob, layout, seed, popsize, tol, target, de_options) -> str:
+    """A digest of everything that makes two fits the same search (``layout``: what its
+    search vectors mean, the space's ``layout``)."""
     h = hashlib.sha256()
     for a in (prob.y, prob.scale, prob.batch.sample_stretch, prob.batch.step, prob.tau_b):
         h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
@@ -37,7 +38,7 @@ def fit_key(prob, method, seed, popsize, tol, target, de_options) -> str:
                       hist.out_direction):
                 if a is not None:
                     h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
-    h.update(repr((prob.model.hyperelastic.name, prob.model.n_prony, method, seed, popsize,
+    h.update(repr((prob.model.hyperelastic.name, prob.model.n_prony, layout, seed, popsize,
                    tol, target, sorted((de_options or {}).items()),
                    sorted(prob.bounds.items()))).encode())
     if form != "hereditary":  # (hereditary keys stay as they were)

@@ -315,7 +315,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             "updating='immediate' evaluates one trial at a time and cannot use workers: "
             "use workers=1 or deferred updating"
         )
-    key = _checkpoint.fit_key(space.prob, space.method, seed, popsize, tol, target, de_options)
+    key = _checkpoint.fit_key(space.prob, space.layout, seed, popsize, tol, target, de_options)
     ckpt = None if checkpoint is None else str(checkpoint)
     left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
     crits, reasons = stop_criteria(tol, target, s.stall, left)
@@ -351,6 +351,11 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
             if stop == _EarlyFinish.GATHERED and polished is None:
                 # resumed after it had ended: its polish again, to end where it did
                 z, x, e, n = gathered_polish(space, z)
+                polished = (x, e)
+                objective.nfev += n
+            elif (stop == _EarlyFinish.TARGET and polished is None
+                  and track.finish is not None):
+                x, e, n = track.finish.level_polish(z)  # (the same: resumed after it)
                 polished = (x, e)
                 objective.nfev += n
             if stop == _EarlyFinish.GATHERED and space.several_basins():
@@ -475,6 +480,7 @@ class _EarlyFinish:
     # 10-25 % sooner in the same minima (the other basins' scouts follow either way)
     COLLAPSE = 1e-3
     GATHERED = "converged: population gathered, ended by a polish of the best member"
+    TARGET = "target reached by a polish of the best member"
 
     def __init__(self, space, target: float, tol: float = 1e-6, full=None):
         self.space, self.target = space, float(target)
@@ -495,17 +501,11 @@ class _EarlyFinish:
         if self.levels and best <= self.levels[0]:
             while self.levels and best <= self.levels[0]:
                 self.levels.pop(0)  # one polish covers every level the error has passed
-            x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+            x, err, n = self.level_polish(z)
             self.nfev += n
-            if self.full is not None and self.target < err <= self.floor:
-                # a coarser model (and fewer points) have an error floor of their own
-                # (~1e-3 % on exact data): whether the target is in reach is a question
-                # for every point at the calibration's accuracy
-                x, err, n = polish_fit(self.full, x, self.MAX_NFEV)
-                self.nfev += n
             self.result = (x, err)
             self.done = bool(err <= self.ACCEPT * self.target)
-            self.reason = "target reached by a polish of the best member"
+            self.reason = self.TARGET
             return self.done
         if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
             self.collapse = False  # once: a polish that did not help is not repeated
@@ -517,3 +517,14 @@ class _EarlyFinish:
             self.reason = self.GATHERED
             return self.done
         return False
+
+    def level_polish(self, z: np.ndarray) -> tuple[np.ndarray, float, int]:
+        """The polish of the best member ``z`` at a level: ``(x, error, evaluations)``."""
+        x, err, n = polish_fit(self.space.prob, self.space.to_params(z), self.MAX_NFEV)
+        if self.full is not None and self.target < err <= self.floor:
+            # a coarser model (and fewer points) have an error floor of their own
+            # (~1e-3 % on exact data): whether the target is in reach is a question
+            # for every point at the calibration's accuracy
+            x, err, n2 = polish_fit(self.full, x, self.MAX_NFEV)
+            n += n2
+        return x, err, n

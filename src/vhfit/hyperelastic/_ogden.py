@@ -67,7 +67,8 @@ def stretch_plan(l1, l2, l3) -> tuple[list[int], list[np.ndarray]]:
 
 
 def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
-    """out[k, p, s] = Σ_t (2 μ[p, t]/α[p, t]) λk[s]^α[p, t] for the stretches with a row.
+    """out[k, p, s] = Σ_t (2 μ[p, t]/α[p, t]) λk[s]^α[p, t] for the stretches with a row
+    (a term with μ = 0 adds nothing, whatever its power).
 
     A term whose |α| max|ln λ| reaches SAFE_EXPONENT (or whose α is NaN) takes every
     power by its own exp: the choice is the term's own, so that a parameter set's sums
@@ -81,6 +82,8 @@ def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
             a1 = 0.0
             a2 = 0.0
             for t in range(T):
+                if mu[p, t] == 0.0:
+                    continue  # no share (the admissible set's rows are one term each)
                 al = alpha[p, t]
                 c = 2.0 * mu[p, t] / al
                 r1 = rules[1]
