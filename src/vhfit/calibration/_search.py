@@ -251,7 +251,8 @@ def other_basins(space, z, polished, first):
     order = [i for i in np.argsort(E)[:OTHER_BASINS] if np.isfinite(E[i])]
     n, scouts = len(first), []
     # short polishes: which basin is lower
-    for z1, _, e1, k in varpro_polish_many(space, first[order], OTHER_NFEV, tol=1e-8):
+    for z1, _, e1, k in varpro_polish_many(space, first[order], OTHER_NFEV, tol=1e-8,
+                                           on_arc=True):
         n += k
         scouts.append((e1, z1))
     if scouts:

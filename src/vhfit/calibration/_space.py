@@ -18,6 +18,8 @@ their differential evolution (``popsize``, ``maxiter``, ``de_options``):
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from vhfit.calibration._admissible import Admissible, admissible, angle_range, arcs, lsi
@@ -143,6 +145,7 @@ class SeparableSpace:
         # coordinate is the place on the arc of its own shape (see decode)
         self.on_arc = self.angle and bool(self.other) and prob.adm is not None
         self.layout = "separable, on the arc of each shape" if self.on_arc else self.method
+        self._angles = None  # (the view of angles(), made once)
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
 
     def _arc(self) -> tuple[float, float]:
@@ -265,6 +268,35 @@ class SeparableSpace:
         lo, hi = self.arc_of(hyper)
         theta = lo + np.clip(place, 0.0, 1.0) * (hi - lo)
         return np.column_stack([np.cos(theta), np.sin(theta)])
+
+    def angles(self):
+        """The same space with the direction searched as the angle θ itself on the
+        half-plane μ0 > 0, inadmissible shapes rejected (the polishes' coordinates: on a
+        place, the arc's ends move with every exponent, and a polish along a valley where
+        one term's modulus vanishes crawls); itself when it has no arc of its own."""
+        if not self.on_arc:
+            return self
+        if self._angles is None:
+            twin = copy.copy(self)
+            twin.on_arc, twin.layout, twin._angles = False, self.method, None
+            self._angles = twin
+        return self._angles
+
+    def to_angles(self, Z: np.ndarray) -> np.ndarray:
+        """Search vectors Z (P, d) in the coordinates of :meth:`angles`."""
+        Z = np.array(np.atleast_2d(Z), dtype=np.float64)
+        if self.on_arc:
+            hyper, _ = self.decode(Z)
+            Z[:, 0] = np.arctan2(hyper[:, self.amp[1]], hyper[:, self.amp[0]])
+        return Z
+
+    def from_angles(self, Z: np.ndarray) -> np.ndarray:
+        """Search vectors of :meth:`angles` (P, d) in this space's coordinates."""
+        Z = np.array(np.atleast_2d(Z), dtype=np.float64)
+        if self.on_arc:
+            hyper, _ = self.angles().decode(Z)
+            Z[:, 0] = [self.place_of(t, h) for t, h in zip(Z[:, 0], hyper)]
+        return Z
 
     def place_of(self, theta: float, hyper: np.ndarray) -> float:
         """The search coordinate of direction θ for the nonlinear constants of the law

@@ -24,7 +24,7 @@ VARPRO_NFEV = 200
 
 
 def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
-                  tol: float = ROUNDING_TOL, residuals=None):
+                  tol: float = ROUNDING_TOL, residuals=None, on_arc: bool = False):
     """Bounded least squares over the search vector of ``space`` from ``z0``.
 
     Parameters
@@ -65,6 +65,10 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
     """
     from scipy.optimize import least_squares  # ~0.3 s to import: not at start
 
+    view = space.angles()
+    if view is not space and not on_arc:  # in angles, the result in space's coordinates
+        z, x, e, n = varpro_polish(view, space.to_angles(z0)[0], max_nfev, tol, residuals)
+        return space.from_angles(z)[0], x, e, n
     prob = space.prob
     b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
     lo, hi = b[:, 0], b[:, 1]
@@ -159,7 +163,7 @@ class _Aborted(Exception):
 
 
 def varpro_polish_many(space, Z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
-                       tol: float = ROUNDING_TOL) -> list:
+                       tol: float = ROUNDING_TOL, on_arc: bool = False) -> list:
     """``[varpro_polish(space, z, max_nfev, tol) for z in Z0]``, the same results, with the
     residuals of all the polishes evaluated as one batch per step (a polish's
     evaluations are rows of their own: the batch does not change them).
@@ -170,7 +174,11 @@ def varpro_polish_many(space, Z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
     """
     Z0 = np.atleast_2d(np.asarray(Z0, dtype=np.float64))
     if len(Z0) < 2:
-        return [varpro_polish(space, z, max_nfev, tol) for z in Z0]
+        return [varpro_polish(space, z, max_nfev, tol, on_arc=on_arc) for z in Z0]
+    view = space.angles()
+    if view is not space and not on_arc:  # (as varpro_polish: in angles)
+        out = varpro_polish_many(view, space.to_angles(Z0), max_nfev, tol)
+        return [(space.from_angles(z)[0], x, e, n) for z, x, e, n in out]
     batches = _Batches(space, len(Z0))
     out: list = [None] * len(Z0)
 
@@ -178,7 +186,8 @@ def varpro_polish_many(space, Z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
         with batches.cv:
             try:
                 out[i] = varpro_polish(space, Z0[i], max_nfev, tol,
-                                       residuals=lambda Z: batches.request(i, Z))
+                                       residuals=lambda Z: batches.request(i, Z),
+                                       on_arc=on_arc)
             except BaseException as exc:  # noqa: BLE001 - handed to the caller
                 out[i] = exc
             finally:
