@@ -159,7 +159,7 @@ def _search_vector(space, x: np.ndarray) -> np.ndarray:
     if space.angle:  # the direction of the two linear constants, turned onto the arc
         th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
         th += 2 * math.pi * round((mid - th) / (2 * math.pi))
-        z.append(space.place_of(th, x[:nh]) if space.on_arc else th)
+        z.append(float(space.places(th, x[:nh])[0]) if space.on_arc else th)
     elif len(space.amp) > 1 and not space.exact:
         z += amp
     z += [x[k] for k in space.other]

@@ -295,16 +295,17 @@ class SeparableSpace:
         Z = np.array(np.atleast_2d(Z), dtype=np.float64)
         if self.on_arc:
             hyper, _ = self.angles().decode(Z)
-            Z[:, 0] = [self.place_of(t, h) for t, h in zip(Z[:, 0], hyper)]
+            Z[:, 0] = self.places(Z[:, 0], hyper)
         return Z
 
-    def place_of(self, theta: float, hyper: np.ndarray) -> float:
-        """The search coordinate of direction θ for the nonlinear constants of the law
-        ``hyper`` (n_h,): its place on their arc (clipped to it)."""
-        lo, hi = self.arc_of(hyper[None, :])
-        if not lo[0] < hi[0]:
-            return 0.5
-        return float(np.clip((theta - lo[0]) / (hi[0] - lo[0]), 0.0, 1.0))
+    def places(self, theta: np.ndarray, hyper: np.ndarray) -> np.ndarray:
+        """The search coordinates of directions θ (P,) for the nonlinear constants of laws
+        ``hyper`` (P, n_h): their places on the arcs (clipped to them; 0.5 where a law
+        has no admissible direction)."""
+        lo, hi = self.arc_of(np.atleast_2d(hyper))
+        with np.errstate(invalid="ignore"):
+            place = np.clip((np.asarray(theta, dtype=np.float64) - lo) / (hi - lo), 0.0, 1.0)
+        return np.where(lo < hi, place, 0.5)
 
     def solve_linear(self, hyper, tau, residuals: bool = False):
         """NNLS for (E∞, G_i) of every individual; returns amplitudes (P, 1+N), errors (P,)
@@ -533,6 +534,10 @@ class FullSpace:
 
     method = "full"
     layout = method  # what a search vector means (a checkpoint's key)
+
+    def angles(self):
+        """The polishes' view of the space: the space itself (see SeparableSpace)."""
+        return self
     popsize = 60
     maxiter = 100_000
     # the paper's DE: rand/1/bin, F = 0.8, CR = 0.7, NP = 60; each generation is

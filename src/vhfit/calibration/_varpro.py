@@ -40,6 +40,10 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
     residuals : callable, optional
         Search vectors (k, d) -> their weighted residuals (k, n_points); default
         ``space.fit_of(Z)[1]`` (:func:`varpro_polish_many` batches them).
+    on_arc : bool
+        For a space whose direction is a place on the admissible arc (Ogden-2 with Prony
+        terms): polish the places themselves. By default such a space is polished in
+        angles (``space.angles()``), the result converted back (docs/theory.md §11).
 
     Returns
     -------
@@ -67,8 +71,9 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
 
     view = space.angles()
     if view is not space and not on_arc:  # in angles, the result in space's coordinates
-        z, x, e, n = varpro_polish(view, space.to_angles(z0)[0], max_nfev, tol, residuals)
-        return space.from_angles(z)[0], x, e, n
+        za = space.to_angles(z0)[0]
+        z, x, e, n = varpro_polish(view, za, max_nfev, tol, residuals)
+        return _back(space, z0, za, z), x, e, n
     prob = space.prob
     b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
     lo, hi = b[:, 0], b[:, 1]
@@ -114,6 +119,12 @@ def varpro_polish(space, z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
             and bool(prob.admissible(x1[None, :])[0])):
         return z1, x1, e1, count[0]
     return z0, x0, e0, count[0]
+
+
+def _back(space, z0: np.ndarray, za: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The end ``z`` of a polish made in angles from ``za`` (``z0`` in ``space``'s own
+    coordinates) as a search vector of ``space``: ``z0`` itself where it did not move."""
+    return np.asarray(z0, dtype=np.float64) if np.array_equal(z, za) else space.from_angles(z)[0]
 
 
 class _Batches:
@@ -177,8 +188,9 @@ def varpro_polish_many(space, Z0: np.ndarray, max_nfev: int = VARPRO_NFEV,
         return [varpro_polish(space, z, max_nfev, tol, on_arc=on_arc) for z in Z0]
     view = space.angles()
     if view is not space and not on_arc:  # (as varpro_polish: in angles)
-        out = varpro_polish_many(view, space.to_angles(Z0), max_nfev, tol)
-        return [(space.from_angles(z)[0], x, e, n) for z, x, e, n in out]
+        A = space.to_angles(Z0)
+        out = varpro_polish_many(view, A, max_nfev, tol)
+        return [(_back(space, z0, za, z), x, e, n) for z0, za, (z, x, e, n) in zip(Z0, A, out)]
     batches = _Batches(space, len(Z0))
     out: list = [None] * len(Z0)
 
