@@ -1,8 +1,9 @@
 """What is fitted (model, targets, weighted residuals) and the two ways to search it.
 
 Both search spaces follow one protocol — ``bounds()``, ``errors(Z)`` for a batch of
-search vectors, ``to_params(z)`` for the full parameter vector — plus the defaults of
-their differential evolution (``popsize``, ``maxiter``, ``de_options``):
+search vectors, ``to_params(z)`` for the full parameter vector, ``layout`` (what a search
+vector means) and ``angles()`` (the coordinates the polishes work in) — plus the defaults
+of their differential evolution (``popsize``, ``maxiter``, ``de_options``):
 
 * :class:`SeparableSpace`: for fixed relaxation times and a fixed shape of the
   hyperelastic law the stress of the corrected Eq. 19 is linear in the long-term
@@ -95,9 +96,11 @@ class SeparableSpace:
     linear in them) and the rest (α, λm, Jm, ...), which are always searched.
 
     * With Prony terms, DE searches the shape of the linear constants — a direction
-      (cos θ, sin θ) of two on their admissible arc, or the constants themselves (a
-      redundant scale, signed where the law allows) when there are more — and log10 τ;
-      NNLS solves (E∞, G_i) for every individual; inadmissible shapes get +inf.
+      (cos θ, sin θ) of two on their admissible arc (with nonlinear constants, as Ogden-2:
+      the place on the arc of the member's own ones, :meth:`directions`), or the
+      constants themselves (a redundant scale, signed where the law allows) when there
+      are more — and log10 τ; NNLS solves (E∞, G_i) for every individual; inadmissible
+      shapes get +inf.
     * Without Prony terms the long-term stress is linear in the linear constants
       themselves: least squares under the Drucker inequalities (and the lower limits
       the law or the user set) solves all of them exactly for every individual, and DE
