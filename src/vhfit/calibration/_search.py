@@ -224,9 +224,10 @@ class _Objective:
 #: The lowest members of the first population that are polished after a search that
 #: ended on a gathered population (briefly, side by side; the lowest of them to the end
 #: if it beats the search's result). On the Ogden-2 recovery of
-#: benchmarks/bench_admissible.py (μ2 < 0), searched on 50 points a curve: 12 reach the
-#: material on seeds 0-5 of 0-6 (the search alone on 1 and 3), 8 on 5 of them, 16 as 12
-#: at a third more time on the VHB 4910 records.
+#: benchmarks/bench_admissible.py (μ2 < 0), searched on 50 points a curve: before the
+#: admissible arc of each shape (docs/theory.md §11), 12 reached the material on seeds
+#: 0-5 of 0-6, 8 on 5 of them, 16 as 12 at a third more time on the VHB 4910 records;
+#: on the arc (50 samples a curve) 12 reach it on all of seeds 0-7, 8 on 7 (not seed 5).
 OTHER_BASINS = 12
 #: Least-squares steps of each of those polishes (their Jacobian rows not counted)
 #: before the lowest goes on to the end (on the same recovery, searched on 100 points:

@@ -225,12 +225,12 @@ class SeparableSpace:
         P = Z.shape[0]
         hyper = np.zeros((P, self.prob.hm.n_params))
         j = 0
-        if self.angle and not self.on_arc:
+        if self.on_arc:
+            j = 1  # the direction follows from the nonlinear constants, below
+        elif self.angle:
             hyper[:, self.amp[0]] = np.cos(Z[:, 0])
             hyper[:, self.amp[1]] = np.sin(Z[:, 0])
             j = 1
-        elif self.on_arc:
-            j = 1  # the direction follows from the nonlinear constants, below
         elif len(self.amp) > 1 and not self.exact:
             hyper[:, self.amp] = Z[:, : len(self.amp)]
             j = len(self.amp)
@@ -250,10 +250,9 @@ class SeparableSpace:
         (:func:`vhfit.calibration._admissible.arcs`), within the searched half-plane."""
         # a polish's Jacobian rows share the nonlinear constants but for one: each
         # distinct set once
-        shapes, back = np.unique(hyper[:, self.other], axis=0, return_inverse=True)
-        if len(shapes) < len(hyper):
-            first = np.zeros(len(shapes), dtype=np.intp)
-            first[back.reshape(-1)[::-1]] = np.arange(len(hyper))[::-1]
+        _, first, back = np.unique(hyper[:, self.other], axis=0, return_index=True,
+                                   return_inverse=True)
+        if len(first) < len(hyper):
             lo, hi = arcs(self.prob.adm, hyper[first], self.nonneg, self.nonpos)
             lo, hi = lo[back.reshape(-1)], hi[back.reshape(-1)]
         else:
