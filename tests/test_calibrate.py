@@ -273,43 +273,6 @@ def test_auto_order_picks_the_generating_number_of_terms():
     assert cal.model.n_prony == 2
 
 
-@pytest.mark.parametrize("errors, fitted, chosen", [
-    ((10.0, 5.0, 4.9, 1.0, 0.5), 3, 2),   # N = 3 gains 2 %: no N = 4, 5
-    ((10.0, 5.0, 4.0, 3.9, 1.0), 4, 3),   # N = 3 gains 20 %, N = 4 2.5 %
-    ((10.0, 9.8, 1.0, 0.5, 0.4), 2, 1),   # N = 2 gains 2 %: the scan ends at once
-    ((10.0, 5.0, 2.0, 1.0, 0.5), 5, 5),   # every term pays: up to max_prony
-])
-def test_the_order_scan_ends_when_a_term_gains_less_than_order_tol(
-        monkeypatch, errors, fitted, chosen):
-    """The scan's rule on given errors per N (each N's calibration replaced): a term that
-    lowers the best error by less than order_tol ends it; the smallest N within
-    order_tol of the best fitted is kept."""
-    from dataclasses import dataclass, field
-
-    from vhfit.calibration import _workflow
-
-    @dataclass(frozen=True)
-    class Fit:
-        rmsape: float
-        n_prony: int
-        stop_reason: str = "converged"
-        headlines: list = field(default_factory=list)
-        warnings: list = field(default_factory=list)
-        options: dict = field(default_factory=dict)
-        order_scan: list = field(default_factory=list)
-        wall_time: float = 0.0
-
-    monkeypatch.setattr(_workflow, "_calibrate_n",
-                        lambda curves, s, n, **kw: Fit(errors[n - 1], n))
-    settings = type("S", (), dict(max_time=None, order_tol=0.05, max_prony=5,
-                                  checkpoint=None))()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CalibrationWarning)  # N = max_prony kept
-        cal = _workflow._order_scan([], settings, 0.0)
-    assert [r["rmsape"] for r in cal.order_scan] == list(errors[:fitted])
-    assert cal.options["n_prony_chosen"] == chosen
-
-
 def test_g_inf_floor_is_respected_and_reported():
     # all stiffness in a very slow branch: the unconstrained best has g_inf -> 0
     truth = dict(C10=1e-7, C01=0.0, G1=1.0, tau1=5.0)

@@ -602,6 +602,22 @@ def test_progress_prints_plain_periodic_lines_otherwise():
     assert len(lines) == 2
 
 
+def test_progress_shows_two_n_fitted_side_by_side():
+    """An order scan on two processes reports N = 2 and N = 3 in turn: the line shows
+    both, in the order of N; once one stops reporting, the other alone."""
+    s = _Stream(False)
+    p = cli.Progress(s, every=0.0, scan=True)
+    for g in (1, 2):
+        p({"generation": g, "best": 9.0, "mean": 9.5, "elapsed": 0.1, "n_prony": 3})
+        p({"generation": g + 10, "best": 5.0, "mean": 6.0, "elapsed": 0.2, "n_prony": 2})
+    lines = s.getvalue().splitlines()
+    assert lines[-1] == ("N=2  generation    12  best 5 %  |  N=3  generation     2  best 9 %"
+                         "  elapsed 0.2 s")
+    p.others[2] = (time.perf_counter() - 2 * p.RECENT, p.others[2][1])  # N = 2 ended
+    p({"generation": 3, "best": 8.0, "mean": 8.5, "elapsed": 0.3, "n_prony": 3})
+    assert s.getvalue().splitlines()[-1].startswith("N=3  generation     3  best 8 %  mean")
+
+
 def test_parse_helpers():
     assert parse_params("C10=0.1, C01=2e-3") == {"C10": 0.1, "C01": 0.002}
     assert count_prony({"C10": 1, "G1": 1, "tau1": 1, "G2": 2, "tau2": 2}) == 2

@@ -505,3 +505,72 @@ def test_the_dask_example_runs_on_a_local_cluster(tmp_path):
                           text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "identical constants in this process and on the Dask cluster: True" in proc.stdout
+
+
+# ------------------------------------------------------- one call in a forked child
+fork_only = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork: Linux")
+
+
+@fork_only
+def test_forked_call_raises_what_the_child_raised():
+    from vhfit._pools import ForkedCall
+
+    def bad(callback):
+        raise ValueError("no curves")
+
+    with pytest.raises(ValueError, match="no curves"):
+        ForkedCall(bad).result()
+
+
+@fork_only
+@pytest.mark.parametrize("how", ["dies", "unpicklable"])
+def test_forked_call_says_when_the_child_gives_no_answer(how):
+    from vhfit._pools import ChildLost, ForkedCall
+
+    def fn(callback):
+        if how == "dies":
+            os._exit(5)
+        return lambda: 1  # a lambda does not pickle
+
+    with pytest.raises(ChildLost, match="exit code 5" if how == "dies" else "pickled"):
+        ForkedCall(fn).result()
+
+
+@fork_only
+def test_forked_call_relays_messages_stops_and_warnings():
+    """The child's messages reach a callback here; the callback's True reaches the
+    child's relay as a stop; its warnings are raised here."""
+    from vhfit._pools import ForkedCall
+
+    def count(callback):
+        k = 0
+        while not callback({"k": k}):  # until the stop comes
+            k += 1
+        warnings.warn(f"stopped at {k}", UserWarning, stacklevel=2)
+        return k
+
+    seen = []
+    with pytest.warns(UserWarning, match="stopped at"):
+        k = ForkedCall(count, forward=True).result(lambda d: seen.append(d["k"]) or d["k"] == 2)
+    # the stop asked at message 2 is read at a later relay call (the child does not
+    # wait for answers); every message before the result arrives, in order
+    assert k >= 3 and seen == list(range(k + 1))
+
+
+@fork_only
+def test_forked_call_interrupt_reaches_the_child_at_its_next_relay():
+    from vhfit._pools import INTERRUPT, ForkedCall
+
+    started = multiprocessing.get_context("fork").Event()
+
+    def loop(callback):
+        started.set()
+        while True:
+            callback(None)
+
+    call = ForkedCall(loop)
+    assert started.wait(60)
+    call.stop(INTERRUPT)
+    with pytest.raises(KeyboardInterrupt):
+        call.result()
+    assert not call.process.is_alive()

@@ -29,7 +29,9 @@ uniaxial kernel above is kept as it is, so that uniaxial results do not change b
 
 from __future__ import annotations
 
+import contextlib
 import threading
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -229,8 +231,32 @@ PARALLEL_MIN_WORK = 100_000  # rows x terms x steps of one call
 PARALLEL_MIN_JOBS_WORK = 8  # ... with at least this many (row, curve) jobs to share
 
 
+_SERIAL = threading.Event()  # set: every kernel serial, see serial()
+
+
+@contextlib.contextmanager
+def serial() -> Iterator[None]:
+    """Every kernel call inside runs serially (the threaded kernels are not even loaded).
+
+    For work that already runs side by side in processes (an order scan's N): threads
+    would only oversubscribe the cores, and a process whose numba thread pool never
+    started can still fork. Kernels are independent per (parameter set, curve), so the
+    results are the same to the bit.
+    """
+    was = _SERIAL.is_set()
+    _SERIAL.set()
+    try:
+        yield
+    finally:
+        if not was:
+            _SERIAL.clear()
+
+
 def use_threads(rows: int, terms: int, steps: int, curves: int) -> bool:
-    """Whether a kernel call is large enough for numba's threads (see above)."""
+    """Whether a kernel call is large enough for numba's threads (see above); never
+    inside :func:`serial`."""
+    if _SERIAL.is_set():
+        return False
     jobs = rows * curves
     return jobs >= PARALLEL_MIN_JOBS or (
         rows * terms * steps >= PARALLEL_MIN_WORK and jobs >= PARALLEL_MIN_JOBS_WORK)

@@ -22,13 +22,14 @@ import multiprocessing
 import os
 import sys
 import threading
+import warnings
 from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
 
-__all__ = ["START_METHODS", "cap_numba_threads", "check_start_method", "fork_is_safe",
-           "get_context", "process_pool", "worker_map"]
+__all__ = ["START_METHODS", "ChildLost", "ForkedCall", "cap_numba_threads",
+           "check_start_method", "fork_is_safe", "get_context", "process_pool", "worker_map"]
 
 #: Start methods accepted by :func:`get_context`; "auto" picks one of the others.
 START_METHODS = ("auto", "fork", "forkserver", "spawn")
@@ -258,3 +259,168 @@ def worker_map(workers: Any, mp_context: Any = "auto") -> Iterator[tuple[Callabl
         raise ValueError(
             f"workers = {workers!r}: give an int (processes) or a map-like callable"
         )
+
+
+# ============================================================ one call in a forked child
+class ChildLost(RuntimeError):
+    """A :class:`ForkedCall`'s child ended without an answer (killed, or its result could
+    not be pickled): the caller runs the call itself."""
+
+
+#: The value of a :class:`ForkedCall`'s stop flag: go on, stop as a callback returning
+#: True does, stop as Ctrl-C does.
+GO, STOP, INTERRUPT = 0, 1, 2
+
+
+class ForkedCall:
+    """``fn(*args, callback=relay, **kwargs)`` run in a forked child process.
+
+    The child starts at once with everything this process has (imported modules,
+    compiled kernels, the arguments themselves: nothing is pickled on the way in). It
+    ignores SIGINT and SIGTERM: this process relays them through :meth:`stop`, which the
+    child's ``relay`` callback reads at each call (a generation boundary of a search),
+    so an interrupted child ends as cleanly as an interrupted search here. ``relay``
+    returns True after ``stop(STOP)``, raises KeyboardInterrupt after
+    ``stop(INTERRUPT)``, forwards its argument to this process when ``forward`` is set
+    (:meth:`poll` hands it to a callback here), and exits the child if this process has
+    died. Warnings the child raises are raised here again when :meth:`result` is read.
+
+    Fork only where :func:`fork_is_safe`; the caller checks.
+
+    Parameters
+    ----------
+    fn : callable
+        Called as ``fn(*args, callback=relay, **kwargs)`` in the child.
+    forward : bool
+        Send each ``relay`` argument to this process (for a user's callback).
+
+    Examples
+    --------
+    >>> def twice(x, callback):
+    ...     callback({"step": 1})
+    ...     return 2 * x
+    >>> call = ForkedCall(twice, 21, forward=True)
+    >>> seen = []
+    >>> call.result(seen.append), seen
+    (42, [{'step': 1}])
+    """
+
+    def __init__(self, fn: Callable, /, *args: Any, forward: bool = False, **kwargs: Any):
+        ctx = multiprocessing.get_context("fork")
+        self._conn, child_end = ctx.Pipe()
+        self._flag = ctx.RawValue("i", GO)
+        self._done: tuple | None = None
+        self.process = ctx.Process(target=_forked_main, daemon=True, args=(
+            child_end, self._flag, os.getpid(), forward, fn, args, kwargs))
+        self.process.start()
+        child_end.close()
+
+    def stop(self, how: int = INTERRUPT) -> None:
+        """Ask the child to stop at its next ``relay`` call (``STOP`` or ``INTERRUPT``)."""
+        self._flag.value = max(self._flag.value, how)
+
+    def poll(self, callback: Callable | None = None, timeout: float = 0.0) -> bool:
+        """Hand every message that has arrived to ``callback``; True once the answer is in.
+
+        The callback's own stop requests reach the child: True asks it to stop,
+        KeyboardInterrupt asks it to stop as interrupted and is raised again here.
+        """
+        while self._done is None and self._conn.poll(timeout):
+            timeout = 0.0
+            try:
+                kind, *body = self._conn.recv()
+            except (EOFError, OSError):
+                self._done = self._lost()
+                break
+            if kind != "message":
+                self._done = (kind, *body)
+                break
+            if callback is not None:
+                try:
+                    if callback(body[0]):
+                        self.stop(STOP)
+                except BaseException:
+                    self.stop(INTERRUPT)
+                    raise
+        return self._done is not None
+
+    def result(self, callback: Callable | None = None) -> Any:
+        """Wait for the child's answer, relaying its messages to ``callback`` meanwhile.
+
+        A KeyboardInterrupt here (Ctrl-C, or raised by ``callback``) asks the child to
+        stop as interrupted and goes on waiting for its answer: the child's own search
+        returns an interrupted result, as it would here.
+
+        Returns
+        -------
+        The child's return value.
+
+        Raises
+        ------
+        ChildLost
+            The child died or its answer could not be pickled.
+        Exception
+            Whatever ``fn`` raised in the child.
+        """
+        while True:
+            try:
+                if self.poll(callback, timeout=0.05):
+                    break
+                if not self.process.is_alive() and not self._conn.poll(0):
+                    self._done = self._lost()
+                    break
+            except KeyboardInterrupt:
+                self.stop(INTERRUPT)
+        self.process.join()
+        self._conn.close()
+        kind, *body = self._done
+        if kind == "lost":
+            raise ChildLost(body[0])
+        if kind == "raised":
+            raise body[0]
+        value, caught = body
+        for message, category in caught:
+            warnings.warn(message, category, stacklevel=2)
+        return value
+
+    def _lost(self) -> tuple:
+        self.process.join(5.0)  # the pipe closes as the child exits
+        return ("lost", f"the child process ended (exit code {self.process.exitcode}) "
+                        "without an answer")
+
+    def cancel(self) -> None:
+        """End the child now, whatever it is doing; its answer is not wanted."""
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join()
+        self._conn.close()
+
+
+def _forked_main(conn, flag, parent: int, forward: bool, fn: Callable, args: tuple,
+                 kwargs: dict) -> None:
+    """The child of a :class:`ForkedCall`: run, answer once, close."""
+    import signal
+
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_IGN)  # the parent relays them through the flag
+
+    def relay(message: Any) -> bool:
+        if os.getppid() != parent:  # the parent is gone: nobody wants the answer
+            os._exit(1)
+        if forward:
+            conn.send(("message", message))
+        if flag.value == INTERRUPT:
+            raise KeyboardInterrupt
+        return flag.value == STOP
+
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            value = fn(*args, callback=relay, **kwargs)
+        answer = ("value", value, [(str(w.message), w.category) for w in caught])
+    except (Exception, KeyboardInterrupt) as exc:  # the parent raises it again
+        answer = ("raised", exc)
+    try:
+        conn.send(answer)
+    except Exception:  # noqa: BLE001 - unpicklable: the parent runs the call itself
+        conn.send(("lost", "the child's answer could not be pickled"))
+    conn.close()

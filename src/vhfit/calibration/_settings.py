@@ -295,6 +295,9 @@ def check_arguments(a: dict) -> None:
     _pairs(a)
     _shift(a)
     _int(a, "max_prony", 1)
+    if a["scan_workers"] not in ("auto", 1, 2) or isinstance(a["scan_workers"], bool):
+        _fail("scan_workers", a["scan_workers"], "give 'auto', 1 (one N after the other) "
+              "or 2 (two N side by side)")
     _int(a, "popsize", 5, optional=True)
     _int(a, "maxiter", 1, optional=True)
     _real(a, "tol", 0.0)
@@ -342,6 +345,7 @@ class CalibrationSettings:
     method: str = "separable"
     seed: Any = None
     workers: int | Callable = 1
+    scan_workers: int | str = "auto"
     popsize: int | None = None
     maxiter: int | None = None
     tol: float = DEFAULT_TOL

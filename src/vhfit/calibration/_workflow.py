@@ -23,6 +23,7 @@ from vhfit.calibration._bounds import (
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
+from vhfit.calibration._scan import order_scan
 from vhfit.calibration._search import (
     CalibrationError,
     final_polish,
@@ -84,6 +85,7 @@ def calibrate(
     method: str = "separable",
     seed=None,
     workers=1,
+    scan_workers: int | str = "auto",
     popsize: int | None = None,
     maxiter: int | None = None,
     tol: float = DEFAULT_TOL,
@@ -157,6 +159,13 @@ def calibrate(
         Seeds the global search; same seed, same result.
     workers : int or map-like callable
         Passed to the DE (only the full method evaluates in parallel this way).
+    scan_workers : {"auto", 1, 2}
+        Processes the order scan (``n_prony="auto"``) fits its N on: 2 side by side (a
+        forked child fits N = 3 while this process fits N = 1 and 2; the same result to
+        the bit, in about 60 % of the time), 1 one after the other. "auto" (default): 2
+        where at least two CPUs are usable and this process may fork (Linux, no other
+        Python thread, numba's thread pool not started; else 1). The result's
+        ``options["scan_processes"]`` says which ran.
     popsize : int, optional
         Population size, exactly (default 64 separable, initialised by a Sobol
         sequence, and 60 full, the paper's, by Latin hypercube).
@@ -259,8 +268,9 @@ def calibrate(
     curves = _as_curves(curves)
     settings = CalibrationSettings(  # every argument checked here, before any computation
         hyperelastic, n_prony, tau_strategy=tau_strategy, bounds=bounds, objective=objective,
-        method=method, seed=seed, workers=workers, popsize=popsize, maxiter=maxiter, tol=tol,
-        target=target, stall=stall, polish=polish, g_inf_min=g_inf_min, max_time=max_time,
+        method=method, seed=seed, workers=workers, scan_workers=scan_workers,
+        popsize=popsize, maxiter=maxiter, tol=tol, target=target, stall=stall,
+        polish=polish, g_inf_min=g_inf_min, max_time=max_time,
         max_prony=max_prony, order_tol=order_tol, prune_tol=prune_tol,
         decades_below=decades_below, decades_above=decades_above,
         stability_range=stability_range, uncertainty=uncertainty, callback=callback,
@@ -292,7 +302,7 @@ def calibrate(
         cal = _by_spectrum(curves, s, None if isinstance(n_prony, str) else int(n_prony), t0)
     else:
         with one_blas_thread():  # small solves: BLAS threads only wait for cores
-            cal = (_order_scan(curves, s, t0) if isinstance(n_prony, str) else
+            cal = (order_scan(curves, s, t0, _calibrate_n) if isinstance(n_prony, str) else
                    _calibrate_n(curves, s, int(n_prony), checkpoint=s.checkpoint,
                                 max_time=s.max_time, t0=t0))
     for m in rate_msgs:  # the data ask for more rate sensitivity than the model has
@@ -396,47 +406,6 @@ def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
                                f"grid's, over N = 1..{len(scan)} (one relaxation time per "
                                "decade of the data, one beyond each end); tau refined at "
                                "that N"},
-        wall_time=time.perf_counter() - t0)
-
-
-def _order_scan(curves, settings: CalibrationSettings, t0: float) -> Calibration:
-    """N = 1, 2, ... each a calibration, while a term lowers the best error by order_tol
-    (relative) or more, up to max_prony; the smallest N within order_tol of the best.
-
-    A term that gains less than order_tol ends the scan: a further one is not worth its
-    constants by the same rule that chooses N, and each N costs a global search."""
-    max_time, order_tol, results = settings.max_time, settings.order_tol, []
-    for n in range(1, settings.max_prony + 1):
-        if n > 2 and results[-1].rmsape > min(r.rmsape for r in results[:-1]) * (1 - order_tol):
-            break
-        left = None if max_time is None else max(0.0, max_time - (time.perf_counter() - t0))
-        if left is not None and left <= 0:
-            break
-        ckpt = settings.checkpoint
-        if ckpt is not None:  # one checkpoint per N of the scan
-            ckpt = f"{ckpt}.N{n}"
-        results.append(_calibrate_n(curves, settings, n, checkpoint=ckpt, max_time=left,
-                                    t0=time.perf_counter()))
-        if results[-1].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
-            break
-    best = min(r.rmsape for r in results)
-    chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
-    heads = []
-    if results.index(chosen) + 1 == len(results) == settings.max_prony:
-        heads.append(_spectrum.cap_message(
-            len(results), f"N = 1..{len(results)}, max_prony / --max-prony",
-            "raise max_prony (--max-prony) to try more"))
-        warnings.warn(heads[0], CalibrationWarning, stacklevel=3)
-    return replace(
-        chosen, headlines=heads + list(chosen.headlines), warnings=heads + list(chosen.warnings),
-        order_scan=[{"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
-                    for n, r in enumerate(results)],
-        options={**chosen.options, "n_prony": "auto",
-                 "n_prony_chosen": results.index(chosen) + 1,
-                 "order_rule": f"N = 1, 2, ... while a term lowers the best RMSAPE by "
-                               f"{order_tol:.0%} or more (max_prony = {settings.max_prony}); "
-                               f"the smallest N whose RMSAPE is within {order_tol:.0%} of the "
-                               f"best over N = 1..{len(results)}"},
         wall_time=time.perf_counter() - t0)
 
 

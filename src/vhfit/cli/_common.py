@@ -120,8 +120,12 @@ class Progress:
     scan : bool
         The fit scans the number of Prony terms: N is shown, from the callback's
         ``n_prony`` if it has one, else counted (a restart of the generation count
-        means the next N, starting from ``first_n``; None hides N).
+        means the next N, starting from ``first_n``; None hides N). A scan that fits
+        two N side by side shows both on the line (each N that reported in the last
+        ``RECENT`` seconds).
     """
+
+    RECENT = 0.5
 
     def __init__(self, stream: TextIO, *, quiet: bool = False, every: float = 2.0,
                  scan: bool = False, first_n: int | None = 1):
@@ -135,9 +139,19 @@ class Progress:
         self.last_print = -math.inf
         self.width = 0
         self.last: dict | None = None
+        self.others: dict = {}  # N -> (time, report) of the N fitted beside
 
     def _text(self, d: dict) -> str:
         n = d.get("n_prony", self.n)
+        now: dict = {}
+        if self.scan and n is not None:
+            now = {k: o for k, (t, o) in self.others.items()
+                   if t >= time.perf_counter() - self.RECENT}
+            now[n] = d
+        if len(now) > 1:
+            return "  |  ".join(
+                f"N={k}  generation {o['generation']:>5}  best {o['best']:.4g} %"
+                for k, o in sorted(now.items())) + f"  elapsed {d['elapsed']:.1f} s"
         pre = f"N={n}  " if self.scan and n is not None else ""
         return (
             f"{pre}generation {d['generation']:>5}  best {d['best']:.4g} %  "
@@ -145,7 +159,9 @@ class Progress:
         )
 
     def __call__(self, d: dict) -> None:
-        if d["generation"] < self.last_gen and self.n is not None:
+        if "n_prony" in d:
+            self.others[d["n_prony"]] = (time.perf_counter(), d)
+        elif d["generation"] < self.last_gen and self.n is not None:
             self.n += 1
         self.last_gen = d["generation"]
         self.last = d

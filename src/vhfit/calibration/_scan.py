@@ -1,0 +1,210 @@
+"""The order scan of ``n_prony="auto"``: N = 1, 2, ... Prony terms, each a calibration,
+and the rule that picks N — run on two processes side by side where that is safe.
+
+Which N the rule reaches depends only on the errors of the smaller N, never on the time
+or the process a fit ran in, and each N's fit is the same computation wherever it runs:
+the scan's result is the same to the bit side by side and one after the other (only a
+``max_time`` that cuts fits short can tell them apart).
+
+*Side by side.* The rule reaches N = 3 unless N = 2 gains less than order_tol (on
+every shared real record it does), and N = 3 is the longest of the first three fits, so
+a forked child fits N = 3 while this process fits N = 1 then N = 2; beyond, this
+process fits N while the child fits N + 1. A child's fit the rule does not reach is
+thrown away. Both processes run numba's serial kernels (the threaded
+ones would only share the same two cores). A user's callback sees the child's
+generations too (relayed when this process is between its own); Ctrl-C, or a callback
+asking to stop, reaches the child at its next generation boundary, so its checkpoint
+is as consistent as this process's. A child that dies or cannot send its result back
+leaves its N to this process.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import replace
+
+from vhfit import _kernels
+from vhfit._pools import INTERRUPT, ChildLost, ForkedCall, fork_is_safe
+from vhfit.calibration import _spectrum
+from vhfit.calibration._result import Calibration, CalibrationWarning
+from vhfit.calibration._settings import CalibrationSettings
+
+__all__ = ["order_scan", "side_by_side"]
+
+#: The child's first N: the longest of N = 1, 2, 3, which this process fits meanwhile.
+FIRST_CHILD = 3
+
+
+def usable_cpus() -> int:
+    """CPUs this process may run on (its affinity where the platform tells it)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # not Linux
+        return os.cpu_count() or 1
+
+
+def side_by_side(settings: CalibrationSettings) -> bool:
+    """Whether this scan runs on two processes: ``scan_workers`` 2, or "auto" with two
+    usable CPUs; never where a fork is unsafe (:func:`vhfit._pools.fork_is_safe`), inside
+    a daemonic pool worker (it may not have children), with ``max_prony`` 1, or when the
+    population is already evaluated by worker processes."""
+    import multiprocessing
+
+    w = settings.scan_workers
+    if w == 1 or (w == "auto" and usable_cpus() < 2) or settings.max_prony < 2:
+        return False
+    if settings.workers != 1 or multiprocessing.current_process().daemon:
+        return False
+    return fork_is_safe()
+
+
+def _needed(n: int, results: dict, order_tol: float) -> bool:
+    """Whether the rule goes on to N = n, from the errors of N < n (all known)."""
+    if n <= 2:
+        return True
+    last = results[n - 1].rmsape
+    return last <= min(results[k].rmsape for k in range(1, n - 1)) * (1 - order_tol)
+
+
+def order_scan(curves, settings: CalibrationSettings, t0: float,
+               calibrate_n: Callable) -> Calibration:
+    """N = 1, 2, ... each a calibration (``calibrate_n``), while a term lowers the best
+    error by order_tol (relative) or more, up to max_prony; the smallest N within
+    order_tol of the best.
+
+    A term that gains less than order_tol ends the scan: a further one is not worth its
+    constants by the same rule that chooses N, and each N costs a global search. Two
+    processes where :func:`side_by_side` allows (see the module).
+    """
+    s = settings
+    fit = _Fits(curves, s, t0, calibrate_n)
+    results: dict[int, Calibration] = {}
+    with contextlib.ExitStack() as stack:
+        if side_by_side(s):
+            stack.enter_context(_kernels.serial())
+            stack.push(fit.cancel)
+            fit.start(min(FIRST_CHILD, s.max_prony))
+        for n in range(1, s.max_prony + 1):
+            if not _needed(n, results, s.order_tol) or fit.time_left() == 0.0:
+                break
+            if fit.child_n == n:
+                results[n] = fit.collect()
+            else:
+                if fit.side and fit.child_n is None and n + 1 <= s.max_prony:
+                    fit.start(n + 1)  # ahead of the rule: thrown away if it stops at n
+                results[n] = fit.here(n)
+            if results[n].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
+                fit.interrupt()
+                break
+    scan = [results[n] for n in sorted(results)]
+    return _choose(scan, s, t0, fit.side)
+
+
+class _Fits:
+    """The scan's fits: here, or in the one forked child at a time."""
+
+    def __init__(self, curves, settings: CalibrationSettings, t0: float, calibrate_n):
+        self.curves, self.s, self.t0, self.calibrate_n = curves, settings, t0, calibrate_n
+        self.side = False
+        self.child_n: int | None = None
+        self.child: ForkedCall | None = None
+
+    def time_left(self) -> float | None:
+        if self.s.max_time is None:
+            return None
+        return max(0.0, self.s.max_time - (time.perf_counter() - self.t0))
+
+    def _checkpoint(self, n: int):
+        ckpt = self.s.checkpoint
+        return None if ckpt is None else f"{ckpt}.N{n}"  # one checkpoint per N of the scan
+
+    def _run(self, n: int, callback=None) -> Calibration:
+        s = self.s if callback is None else replace(self.s, callback=callback)
+        cal = self.calibrate_n(self.curves, s, n, checkpoint=self._checkpoint(n),
+                               max_time=self.time_left(), t0=time.perf_counter())
+        return replace(cal, settings=self.s)  # the caller's, not a relaying callback's
+
+    def _in_child(self, n: int, callback) -> Calibration:
+        # the settings stay behind: the user's callables need not pickle
+        return replace(self._run(n, callback), settings=None)
+
+    def start(self, n: int) -> None:
+        """Fork the child that fits N = n."""
+        self.side, self.child_n = True, n
+        self.child = ForkedCall(self._in_child, n, forward=self.s.callback is not None)
+
+    def here(self, n: int) -> Calibration:
+        """Fit N = n in this process; the child's messages reach the user's callback
+        between this process's generations."""
+        user, child = self.s.callback, self.child
+        if user is None or child is None:
+            return self._run(n)
+
+        def callback(d):
+            child.poll(user)
+            return user(d)
+
+        return self._run(n, callback)
+
+    def collect(self) -> Calibration:
+        """The child's fit, once it is done; its N fitted here if the child was lost."""
+        n, child = self.child_n, self.child
+        self.child_n = self.child = None
+        try:
+            return replace(child.result(self.s.callback), settings=self.s)
+        except ChildLost as exc:
+            warnings.warn(f"the order scan's N = {n} is fitted again in this process "
+                          f"({exc})", CalibrationWarning, stacklevel=4)
+            return self._run(n)
+
+    def interrupt(self) -> None:
+        """Ctrl-C: the child stops at its next generation boundary (its checkpoint
+        consistent, for a resume), and its fit is not used."""
+        if self.child is not None:
+            self.child.stop(INTERRUPT)
+            with contextlib.suppress(Exception):
+                self.child.result()
+            self.child_n = self.child = None
+
+    def cancel(self, exc_type=None, *_) -> None:
+        """The scan ends with the child still fitting: end it. If the rule stopped before
+        the child's N, remove its checkpoint too (an N the rule never reached has none);
+        if an exception ends the scan, keep it (a resume continues it)."""
+        if self.child is not None:
+            self.child.cancel()
+            ckpt = self._checkpoint(self.child_n)
+            if ckpt is not None and exc_type is None:
+                for path in (ckpt, f"{ckpt}.widened"):
+                    with contextlib.suppress(FileNotFoundError):
+                        os.remove(path)
+            self.child_n = self.child = None
+
+
+def _choose(results: list[Calibration], s: CalibrationSettings, t0: float,
+            side: bool) -> Calibration:
+    """The smallest N within order_tol of the best, with the scan's record."""
+    order_tol = s.order_tol
+    best = min(r.rmsape for r in results)
+    chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
+    heads = []
+    if results.index(chosen) + 1 == len(results) == s.max_prony:
+        heads.append(_spectrum.cap_message(
+            len(results), f"N = 1..{len(results)}, max_prony / --max-prony",
+            "raise max_prony (--max-prony) to try more"))
+        warnings.warn(heads[0], CalibrationWarning, stacklevel=4)
+    return replace(
+        chosen, headlines=heads + list(chosen.headlines), warnings=heads + list(chosen.warnings),
+        order_scan=[{"n_prony": n + 1, "rmsape": r.rmsape, "effective_n": r.n_prony}
+                    for n, r in enumerate(results)],
+        options={**chosen.options, "n_prony": "auto",
+                 "n_prony_chosen": results.index(chosen) + 1,
+                 "scan_processes": 2 if side else 1,
+                 "order_rule": f"N = 1, 2, ... while a term lowers the best RMSAPE by "
+                               f"{order_tol:.0%} or more (max_prony = {s.max_prony}); "
+                               f"the smallest N whose RMSAPE is within {order_tol:.0%} of the "
+                               f"best over N = 1..{len(results)}"},
+        wall_time=time.perf_counter() - t0)

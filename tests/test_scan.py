@@ -1,0 +1,182 @@
+"""The order scan (``n_prony="auto"``): its rule, and its two processes side by side
+giving the result of one process to the bit."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import warnings
+from dataclasses import dataclass, field
+
+import pytest
+
+from vhfit.calibration import CalibrationSettings, CalibrationWarning, _scan
+
+
+@dataclass(frozen=True)
+class Fit:
+    """What the scan reads of one N's calibration (module level: it pickles)."""
+
+    rmsape: float
+    n_prony: int
+    stop_reason: str = "converged"
+    headlines: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    options: dict = field(default_factory=dict)
+    order_scan: list = field(default_factory=list)
+    wall_time: float = 0.0
+    settings: object = None
+    pid: int = 0
+
+
+def _scan_of(errors, monkeypatch, workers, *, die_in_child=False):
+    parent = os.getpid()
+
+    def calibrate_n(curves, s, n, **kw):
+        if die_in_child and os.getpid() != parent:
+            os._exit(3)  # a child killed mid-fit
+        return Fit(errors[n - 1], n, pid=os.getpid())
+
+    # the rule's fits run no numba kernel: forking is safe whatever this process ran
+    monkeypatch.setattr(_scan, "fork_is_safe", lambda: True)
+    monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
+    settings = CalibrationSettings(n_prony="auto", max_prony=5, order_tol=0.05,
+                                   scan_workers=workers)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cal = _scan.order_scan([], settings, 0.0, calibrate_n)
+    return cal, [str(w.message) for w in caught if w.category is CalibrationWarning]
+
+
+@pytest.mark.parametrize("errors, fitted, chosen", [
+    ((10.0, 5.0, 4.9, 1.0, 0.5), 3, 2),   # N = 3 gains 2 %: no N = 4, 5
+    ((10.0, 5.0, 4.0, 3.9, 1.0), 4, 3),   # N = 3 gains 20 %, N = 4 2.5 %
+    ((10.0, 9.8, 1.0, 0.5, 0.4), 2, 1),   # N = 2 gains 2 %: the scan ends at once
+    ((10.0, 5.0, 2.0, 1.0, 0.5), 5, 5),   # every term pays: up to max_prony
+])
+@pytest.mark.parametrize("workers", [1, 2])
+def test_the_order_scan_ends_when_a_term_gains_less_than_order_tol(
+        monkeypatch, errors, fitted, chosen, workers):
+    """The scan's rule on given errors per N (each N's calibration replaced): a term that
+    lowers the best error by less than order_tol ends it; the smallest N within
+    order_tol of the best fitted is kept — the same N on two processes, whose fits the
+    rule does not reach (N = 3 begun beside N = 1) are thrown away."""
+    cal, _ = _scan_of(errors, monkeypatch, workers)
+    assert [r["rmsape"] for r in cal.order_scan] == list(errors[:fitted])
+    assert cal.options["n_prony_chosen"] == chosen
+    assert cal.options["scan_processes"] == workers
+
+
+def test_two_processes_fit_in_both(monkeypatch):
+    """Side by side, N = 3 (and N = 5 beside N = 4) are fitted in the child."""
+    calls = []
+    real = _scan._Fits._run
+
+    def spy(self, n, callback=None):
+        cal = real(self, n, callback)
+        calls.append(n)  # in this process only: the child's list is its own copy
+        return cal
+
+    monkeypatch.setattr(_scan._Fits, "_run", spy)
+    cal, _ = _scan_of((10.0, 5.0, 2.0, 1.0, 0.5), monkeypatch, 2)
+    assert calls == [1, 2, 4]
+    assert [r["rmsape"] for r in cal.order_scan] == [10.0, 5.0, 2.0, 1.0, 0.5]
+
+
+def test_a_child_that_dies_leaves_its_n_to_this_process(monkeypatch):
+    """A child killed mid-fit: its N is fitted here, the scan's result unchanged, and a
+    warning says so."""
+    errors = (10.0, 5.0, 4.0, 3.9, 1.0)
+    cal, msgs = _scan_of(errors, monkeypatch, 2, die_in_child=True)
+    assert [r["rmsape"] for r in cal.order_scan] == list(errors[:4])
+    assert cal.options["n_prony_chosen"] == 3
+    assert any("N = 3 is fitted again in this process" in m for m in msgs)
+
+
+def test_scan_workers_is_checked():
+    with pytest.raises(ValueError, match=r"^scan_workers = 3: give 'auto', 1"):
+        CalibrationSettings(scan_workers=3)
+    with pytest.raises(ValueError, match="scan_workers = True"):
+        CalibrationSettings(scan_workers=True)
+
+
+# A fresh interpreter: forking is safe there (this one may have started numba's threads).
+_SCRIPT = textwrap.dedent("""
+    import json, os, sys, warnings
+    import numpy as np
+    import vhfit
+    from vhfit.calibration import CalibrationWarning
+    warnings.simplefilter("ignore", CalibrationWarning)
+    m = vhfit.ViscoHyperelastic("mooney_rivlin", 2)
+    truth = dict(C10=0.2, C01=0.1, G1=1.0, tau1=1e-3, G2=2.0, tau2=1e-1)
+    eps = np.linspace(-0.02, -0.4, 12)
+    curves = [vhfit.Curve(strain=eps, strain_rate=r, stress=m.stress(
+                  truth, strain=eps, strain_rate=r, measure="engineering")
+                  * (1 + 0.01 * np.sin(7 * eps * r)))
+              for r in (-0.5, -20.0, -900.0)]
+    case = sys.argv[1]
+    out = {}
+    if case == "same":
+        for w in (2, 1):
+            seen = []
+            cal = vhfit.calibrate(curves, n_prony="auto", max_prony=3, seed=1,
+                                  scan_workers=w, callback=lambda d: seen.append(d["n_prony"]))
+            out[w] = dict(x=cal.x.tolist(), rmsape=cal.rmsape, scan=cal.order_scan,
+                          processes=cal.options["scan_processes"],
+                          stop=cal.stop_reason, seen=sorted(set(seen)),
+                          callback=cal.settings.callback is not None)
+    else:  # Ctrl-C, as a callback raising it, on the child's first generation
+        ck = sys.argv[2]
+        def cut(d):
+            if d["n_prony"] == 3:
+                raise KeyboardInterrupt
+        kw = dict(n_prony="auto", max_prony=3, seed=1, checkpoint=ck, checkpoint_every=0)
+        cal = vhfit.calibrate(curves, callback=cut, **kw)
+        import multiprocessing
+        out["cut"] = dict(stop=cal.stop_reason, scan=len(cal.order_scan),
+                          processes=cal.options["scan_processes"],
+                          children=len(multiprocessing.active_children()),
+                          files=sorted(os.listdir(os.path.dirname(ck))))
+        resumed = vhfit.calibrate(curves, resume=True, **kw)
+        fresh = vhfit.calibrate(curves, n_prony="auto", max_prony=3, seed=1, scan_workers=1)
+        out["resumed"] = [resumed.x.tolist(), resumed.rmsape, resumed.stop_reason]
+        out["fresh"] = [fresh.x.tolist(), fresh.rmsape, fresh.stop_reason]
+    print(json.dumps(out))
+""")
+
+
+def _run(*args) -> dict:
+    r = subprocess.run([sys.executable, "-c", _SCRIPT, *args], capture_output=True,
+                       text=True, timeout=600)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork: Linux only")
+def test_side_by_side_is_the_same_scan_to_the_bit():
+    """A real scan (noisy data, N = 1..3) on two processes and on one: the same
+    constants, errors and N to the last bit, and the user's callback sees the child's
+    generations (N = 3) as well as this process's."""
+    out = _run("same")
+    two, one = out["2"], out["1"]
+    assert (two["processes"], one["processes"]) == (2, 1)
+    for key in ("x", "rmsape", "scan", "stop"):
+        assert two[key] == one[key], key
+    assert two["seen"] == one["seen"] == [1, 2, 3]
+    assert two["callback"] and one["callback"]  # the result keeps the caller's settings
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork: Linux only")
+def test_ctrl_c_reaches_the_child_and_a_resume_ends_where_a_whole_run_does(tmp_path):
+    """Ctrl-C (a callback raising KeyboardInterrupt) while the child fits N = 3: the
+    scan ends interrupted, the child has ended, and resuming the checkpoints reaches the
+    constants of an uninterrupted scan to the bit."""
+    out = _run("cut", str(tmp_path / "ck"))
+    cut = out["cut"]
+    assert cut["stop"] == "interrupted" and cut["processes"] == 2
+    assert cut["children"] == 0
+    assert any(f.startswith("ck.N") for f in cut["files"])  # something to resume
+    assert out["resumed"][:2] == out["fresh"][:2]
