@@ -32,7 +32,8 @@ TOP = "vhfit"
 #: the module or a package containing it. A module may import its own layer and those
 #: below it, never one above.
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("infrastructure", ("vhfit._io", "vhfit._pools", "vhfit._version", "vhfit._blas")),
+    ("infrastructure", ("vhfit._io", "vhfit._pools", "vhfit._version", "vhfit._blas",
+                        "vhfit._nnls")),
     ("physics", ("vhfit.hyperelastic", "vhfit.viscoelastic", "vhfit.history", "vhfit.model",
                  "vhfit._batch", "vhfit.modes", "vhfit._plans", "vhfit.formulations",
                  "vhfit._linear", "vhfit._kernels", "vhfit.stability", "vhfit._derivatives",

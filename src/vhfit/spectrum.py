@@ -135,7 +135,7 @@ def rms_relative_error(domain: str, x, targets, E_inf: float, G, tau) -> float:
 
 
 def _nnls(Aw, b):
-    from scipy.optimize import nnls
+    from vhfit._nnls import nnls
 
     coef, rnorm = nnls(Aw, b, maxiter=50 * Aw.shape[1])
     return coef, float(rnorm / math.sqrt(b.size))

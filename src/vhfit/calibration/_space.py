@@ -23,6 +23,7 @@ import copy
 
 import numpy as np
 
+from vhfit._nnls import nnls
 from vhfit.calibration._admissible import Admissible, admissible, angle_range, arcs, lsi
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
@@ -330,8 +331,6 @@ class SeparableSpace:
                     R[keep] = out[2]
             return (amps, err, R) if residuals else (amps, err)
         base, H = prob.batch.shape_columns(hyper, tau)
-        from scipy.optimize import nnls  # scipy.optimize costs ~0.3 s to import: not at start
-
         ys = prob.y * prob.scale
         kappa = prob.g_inf_min / (1.0 - prob.g_inf_min) if prob.g_inf_min > 0 else 0.0
         # every individual's matrix [σ_h/E∞, h_1..h_N] × scale in one array, built once

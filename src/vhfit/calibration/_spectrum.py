@@ -153,7 +153,7 @@ class _Moduli:
 
     def solve(self, A: np.ndarray) -> tuple[np.ndarray, float]:
         """(E∞, G_i) ≥ 0 with E∞ ≥ κ ΣG (the g∞ floor), and the residual norm."""
-        from scipy.optimize import nnls
+        from vhfit._nnls import nnls
 
         a, rn = nnls(A, self.ys, maxiter=50 * A.shape[1])
         if self.kappa > 0 and a[0] < self.kappa * a[1:].sum():
@@ -269,7 +269,7 @@ def _fast_prune(A: np.ndarray, b: np.ndarray, n: int) -> np.ndarray | None:
     and the others' moduli follow by the same closed form (the inverse Gram matrix
     updated, not re-factored); only when one of them would turn negative are they
     re-solved by NNLS. None when fewer than ``n`` columns carry a modulus."""
-    from scipy.optimize import nnls
+    from vhfit._nnls import nnls
 
     keep = np.arange(A.shape[1] - 1)
     c = None
