@@ -474,8 +474,11 @@ def main(argv=None) -> int:
                    budget, verbose=a.verbose)
         rows.append(dict(name=ds.name, law=ds.law, n=n, e=cal.rmsape, t=t_fit, cpu=cpu,
                          reps=len(walls), **s))
+        procs = cal.options.get("scan_processes")
         print(f"  vhfit {cal.rmsape:.6g} % (N = {n}; wall {t_fit:.2f} s, cpu {cpu:.2f} s, "
-              f"median of {len(walls)}; Drucker-stable over {s['range'][0]:.3g}.."
+              f"median of {len(walls)}"
+              f"{f'; order scan on {procs} process(es)' if procs else ''}; "
+              f"Drucker-stable over {s['range'][0]:.3g}.."
               f"{s['range'][1]:.3g}: {'yes' if s['vhfit_stable'] else 'NO'})\n"
               f"  best {s['best']:.6g} % (hits {s['hits']}/{s['starts']}, half "
               f"{s['half']:.6f}); best stable {s['stable']:.6g} % (hits {s['shits']}/"

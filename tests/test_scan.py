@@ -41,7 +41,7 @@ def _scan_of(errors, monkeypatch, workers, *, die_in_child=False):
         return Fit(errors[n - 1], n, pid=os.getpid())
 
     # the rule's fits run no numba kernel: forking is safe whatever this process ran
-    monkeypatch.setattr(_scan, "fork_is_safe", lambda: True)
+    monkeypatch.setattr(_scan, "fork_is_safe", lambda serial_child=False: True)
     monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
     settings = CalibrationSettings(n_prony="auto", max_prony=5, order_tol=0.05,
                                    scan_workers=workers)
@@ -105,7 +105,7 @@ def test_scan_workers_is_checked():
 
 # A fresh interpreter: forking is safe there (this one may have started numba's threads).
 _SCRIPT = textwrap.dedent("""
-    import json, os, sys, warnings
+    import json, os, sys, time, warnings
     import numpy as np
     import vhfit
     from vhfit.calibration import CalibrationWarning
@@ -134,12 +134,25 @@ _SCRIPT = textwrap.dedent("""
             if d["n_prony"] == 3:
                 raise KeyboardInterrupt
         kw = dict(n_prony="auto", max_prony=3, seed=1, checkpoint=ck, checkpoint_every=0)
+        from vhfit.calibration import _scan
+        in_child = _scan._Fits._in_child
+
+        def waiting(self, n, callback):  # the child waits at its first generation
+            def hold(d):                 # until the interrupt comes: an event, not a time
+                while True:
+                    callback(d)          # raises KeyboardInterrupt once it is asked to
+                    time.sleep(0.005)
+            return in_child(self, n, hold)
+
+        _scan._Fits._in_child = waiting
         cal = vhfit.calibrate(curves, callback=cut, **kw)
+        _scan._Fits._in_child = in_child
         import multiprocessing
+        with open(ck + ".N3") as f:  # the child's checkpoint: done is null if cut
+            done3 = json.load(f)["done"]
         out["cut"] = dict(stop=cal.stop_reason, scan=len(cal.order_scan),
                           processes=cal.options["scan_processes"],
-                          children=len(multiprocessing.active_children()),
-                          files=sorted(os.listdir(os.path.dirname(ck))))
+                          children=len(multiprocessing.active_children()), done3=done3)
         resumed = vhfit.calibrate(curves, resume=True, **kw)
         fresh = vhfit.calibrate(curves, n_prony="auto", max_prony=3, seed=1, scan_workers=1)
         out["resumed"] = [resumed.x.tolist(), resumed.rmsape, resumed.stop_reason]
@@ -171,12 +184,18 @@ def test_side_by_side_is_the_same_scan_to_the_bit():
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="fork: Linux only")
 def test_ctrl_c_reaches_the_child_and_a_resume_ends_where_a_whole_run_does(tmp_path):
-    """Ctrl-C (a callback raising KeyboardInterrupt) while the child fits N = 3: the
-    scan ends interrupted, the child has ended, and resuming the checkpoints reaches the
-    constants of an uninterrupted scan to the bit."""
+    """Ctrl-C (a callback raising KeyboardInterrupt) on the child's first report of
+    N = 3 (the child held there until the interrupt reaches it): the child stops at that
+    generation boundary and leaves its checkpoint unfinished, it has ended when the scan
+    returns, and resuming the checkpoints reaches the constants of an uninterrupted
+    scan to the bit.
+
+    The report reaches this process while it fits N = 1 or 2 (that fit is then cut too
+    and ends the scan) or once it waits for the child (the scan then has N = 1..3 and
+    its chosen N's stop reason): either is an interrupted scan, as in one process."""
     out = _run("cut", str(tmp_path / "ck"))
     cut = out["cut"]
-    assert cut["stop"] == "interrupted" and cut["processes"] == 2
-    assert cut["children"] == 0
-    assert any(f.startswith("ck.N") for f in cut["files"])  # something to resume
+    assert cut["processes"] == 2 and cut["children"] == 0
+    assert cut["done3"] is None  # the child was cut before it ended
+    assert cut["scan"] == 3 or cut["stop"] == "interrupted"
     assert out["resumed"][:2] == out["fresh"][:2]

@@ -39,8 +39,15 @@ START_METHODS = ("auto", "fork", "forkserver", "spawn")
 PRELOAD = "vhfit._preload"
 
 
-def fork_is_safe() -> bool:
+def fork_is_safe(serial_child: bool = False) -> bool:
     """True in a single-threaded Linux process whose numba thread pool never started.
+
+    Parameters
+    ----------
+    serial_child : bool
+        The child will run numba's serial kernels only (:func:`vhfit._kernels.serial`
+        set before the fork): then a started thread pool does not matter — GNU
+        OpenMP fails only in a child that uses it.
 
     Examples
     --------
@@ -49,6 +56,8 @@ def fork_is_safe() -> bool:
     """
     if not sys.platform.startswith("linux") or threading.active_count() > 1:
         return False
+    if serial_child:
+        return True
     try:
         from numba.np.ufunc import parallel as nb_parallel
     except ImportError:  # pragma: no cover - numba is a dependency

@@ -49,9 +49,11 @@ def usable_cpus() -> int:
 
 def side_by_side(settings: CalibrationSettings) -> bool:
     """Whether this scan runs on two processes: ``scan_workers`` 2, or "auto" with two
-    usable CPUs; never where a fork is unsafe (:func:`vhfit._pools.fork_is_safe`), inside
-    a daemonic pool worker (it may not have children), with ``max_prony`` 1, or when the
-    population is already evaluated by worker processes."""
+    usable CPUs; never where a fork is unsafe (:func:`vhfit._pools.fork_is_safe`: not
+    Linux, or another Python thread), inside a daemonic pool worker (it may not have
+    children), with ``max_prony`` 1, or when the population is already evaluated by
+    worker processes. Both processes run numba's serial kernels, so a thread pool
+    started by an earlier fit of this process does not stop it."""
     import multiprocessing
 
     w = settings.scan_workers
@@ -59,7 +61,7 @@ def side_by_side(settings: CalibrationSettings) -> bool:
         return False
     if settings.workers != 1 or multiprocessing.current_process().daemon:
         return False
-    return fork_is_safe()
+    return fork_is_safe(serial_child=True)  # both sides run serial kernels
 
 
 def _needed(n: int, results: dict, order_tol: float) -> bool:

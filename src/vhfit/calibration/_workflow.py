@@ -164,8 +164,8 @@ def calibrate(
         forked child fits N = 3 while this process fits N = 1 and 2; the same result to
         the bit, in about 60 % of the time), 1 one after the other. "auto" (default): 2
         where at least two CPUs are usable and this process may fork (Linux, no other
-        Python thread, numba's thread pool not started; else 1). The result's
-        ``options["scan_processes"]`` says which ran.
+        Python thread; else 1). The result's ``options["scan_processes"]`` says which
+        ran.
     popsize : int, optional
         Population size, exactly (default 64 separable, initialised by a Sobol
         sequence, and 60 full, the paper's, by Latin hypercube).
