@@ -464,6 +464,10 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                    help="floor on g_inf (FE solvers reject 0; default 1e-6)")
     p.add_argument("--workers", type=_positive(int, "--workers"), default=1,
                    help="parallel processes for the full method (default 1)")
+    p.add_argument("--scan-workers", choices=("auto", "1", "2"), default="auto",
+                   help="processes for --prony auto's N: 2 side by side (a second process "
+                        "fits N = 3 while the first fits N = 1 and 2; the same result), 1 "
+                        "one after the other; auto (default): 2 where two CPUs are usable")
     p.add_argument("--no-polish", action="store_true",
                    help="skip the final least-squares polish")
     p.add_argument("--checkpoint-every", type=_positive(float, "--checkpoint-every"),

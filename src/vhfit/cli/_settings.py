@@ -62,6 +62,7 @@ def fit_settings(args, *, model: str, strategy: str, checkpoint: str | None = No
     return CalibrationSettings(
         model, args.prony, tau_strategy=strategy, method=args.method, seed=args.seed,
         workers=args.workers, popsize=args.popsize, maxiter=args.maxiter, target=args.target,
+        scan_workers="auto" if args.scan_workers == "auto" else int(args.scan_workers),
         polish=not args.no_polish, g_inf_min=args.g_inf_min, max_time=args.max_time,
         checkpoint=checkpoint, checkpoint_every=args.checkpoint_every, resume=args.resume,
         **kw)
