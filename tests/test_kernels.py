@@ -282,3 +282,18 @@ def test_overstress_columns_is_the_repeated_unit_modulus_call_to_the_bit():
     got = overstress_columns(s_hat, b.sample_stretch, b.step, b.sample_off, b.step_off, tau,
                              DERIV, parallel)
     assert got.shape == ref.shape and np.array_equal(got, ref)
+
+
+def test_serial_keeps_every_kernel_call_off_the_threads():
+    """Inside serial() (an order scan's two processes) no call takes the threaded kernel,
+    however large; nested blocks end with the outermost; outside, large calls do."""
+    from vhfit import _kernels
+
+    big = (_kernels.PARALLEL_MIN_JOBS, 4, 1000, 1)
+    assert _kernels.use_threads(*big)
+    with _kernels.serial():
+        assert not _kernels.use_threads(*big)
+        with _kernels.serial():
+            assert not _kernels.use_threads(*big)
+        assert not _kernels.use_threads(*big)  # still inside the outer block
+    assert _kernels.use_threads(*big)

@@ -56,6 +56,7 @@ def test_a_core_is_used_only_if_it_answers_as_scipy_does():
 
     assert not _nnls.answers_alike(wrong, scipy_nnls)
     assert not _nnls.answers_alike(failing, scipy_nnls)
+    assert _nnls._lookup(wrong) is False and _nnls._lookup(failing) is False
     import scipy.optimize._nnls as private
 
     core = getattr(private, "_nnls", None)  # SciPy 1.15-1.17 have it; a later one may not

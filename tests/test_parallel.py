@@ -543,11 +543,13 @@ def test_forked_call_relays_messages_stops_and_warnings():
     from vhfit._pools import ForkedCall
 
     def count(callback):
-        k = 0
-        while not callback({"k": k}):  # until the stop comes
-            k += 1
-        warnings.warn(f"stopped at {k}", UserWarning, stacklevel=2)
-        return k
+        # until the stop comes: the pipe holds a few thousand messages, so the child
+        # cannot run far ahead of the callback that asks it to stop
+        for k in range(200_000):
+            if callback({"k": k}):
+                warnings.warn(f"stopped at {k}", UserWarning, stacklevel=2)
+                return k
+        return -1
 
     seen = []
     with pytest.warns(UserWarning, match="stopped at"):
@@ -571,6 +573,7 @@ def test_forked_call_interrupt_reaches_the_child_at_its_next_relay():
     call = ForkedCall(loop)
     assert started.wait(60)
     call.stop(INTERRUPT)
+    call.process.join(60)  # the child's exit is the event waited for
+    assert call.process.exitcode is not None, "the interrupt never reached the child"
     with pytest.raises(KeyboardInterrupt):
         call.result()
-    assert not call.process.is_alive()

@@ -48,6 +48,7 @@ def _scan_of(errors, monkeypatch, workers, *, die_in_child=False):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         cal = _scan.order_scan([], settings, 0.0, calibrate_n)
+    assert cal.settings is settings  # the caller's, whichever process fitted the chosen N
     return cal, [str(w.message) for w in caught if w.category is CalibrationWarning]
 
 
@@ -139,9 +140,10 @@ _SCRIPT = textwrap.dedent("""
 
         def waiting(self, n, callback):  # the child waits at its first generation
             def hold(d):                 # until the interrupt comes: an event, not a time
-                while True:
+                for _ in range(12000):   # (a minute at most: never a hang)
                     callback(d)          # raises KeyboardInterrupt once it is asked to
                     time.sleep(0.005)
+                raise SystemExit("the interrupt never reached the child")
             return in_child(self, n, hold)
 
         _scan._Fits._in_child = waiting

@@ -33,14 +33,16 @@ def answers_alike(core, public) -> bool:
         return False
 
 
-def _lookup():
-    """SciPy's compiled NNLS core, if it answers like :func:`scipy.optimize.nnls`."""
+def _lookup(core=None):
+    """SciPy's compiled NNLS core (or ``core``), if it answers like
+    :func:`scipy.optimize.nnls`; else False."""
     from scipy.optimize import nnls as public
 
-    try:
-        from scipy.optimize._nnls import _nnls as core  # private: checked below
-    except ImportError:
-        return False
+    if core is None:
+        try:
+            from scipy.optimize._nnls import _nnls as core  # private: checked below
+        except ImportError:
+            return False
     return core if answers_alike(core, public) else False
 
 
