@@ -188,6 +188,8 @@ def case_cli_fit(tmp: Path):
         for k in ("timestamp", "versions", "wall_time", "settings"):
             entry.pop(k, None)
         entry.get("history", {}).pop("time", None)
+    # --scan-workers came after the recording too (an option of how, not what, is fitted)
+    res.get("cli_options", {}).pop("scan_workers", None)
     res = json.loads(_mask(json.dumps(res), tmp))
     cards = {p.name: _mask(p.read_text(), tmp) for p in sorted(out.iterdir())
              if p.suffix in (".inp", ".k", ".mac", ".txt", ".csv") or p.name.endswith(".json")
