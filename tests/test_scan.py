@@ -97,6 +97,29 @@ def test_a_child_that_dies_leaves_its_n_to_this_process(monkeypatch):
     assert any("N = 3 is fitted again in this process" in m for m in msgs)
 
 
+def test_an_interrupt_ends_the_child_even_where_it_raises(monkeypatch):
+    """Ctrl-C cuts N = 1 here while the child fits N = 3 and answers the interrupt with
+    KeyboardInterrupt itself (a fit cut before its search had a result): the scan
+    returns N = 1's interrupted fit, and no child is left."""
+    import multiprocessing
+
+    parent = os.getpid()
+
+    def calibrate_n(curves, s, n, **kw):
+        if os.getpid() != parent:
+            while True:  # the child's relay raises KeyboardInterrupt once asked to stop
+                s.callback({"n_prony": n})
+        return Fit(10.0, n, stop_reason="interrupted")
+
+    monkeypatch.setattr(_scan, "fork_is_safe", lambda serial_child=False: True)
+    monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
+    settings = CalibrationSettings(n_prony="auto", max_prony=5, scan_workers=2)
+    cal = _scan.order_scan([], settings, 0.0, calibrate_n)
+    assert cal.stop_reason == "interrupted" and len(cal.order_scan) == 1
+    assert cal.options["scan_processes"] == 2
+    assert not multiprocessing.active_children()
+
+
 def test_scan_workers_is_checked():
     with pytest.raises(ValueError, match=r"^scan_workers = 3: give 'auto', 1"):
         CalibrationSettings(scan_workers=3)

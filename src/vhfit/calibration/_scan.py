@@ -155,20 +155,25 @@ class _Fits:
     def collect(self) -> Calibration:
         """The child's fit, once it is done; its N fitted here if the child was lost."""
         n, child = self.child_n, self.child
-        self.child_n = self.child = None
         try:
-            return replace(child.result(self.s.callback), settings=self.s)
+            cal = child.result(self.s.callback)
         except ChildLost as exc:
+            self.child_n = self.child = None
             warnings.warn(f"the order scan's N = {n} is fitted again in this process "
                           f"({exc})", CalibrationWarning, stacklevel=4)
             return self._run(n)
+        # (any other exception leaves the child to cancel(), which ends it)
+        self.child_n = self.child = None
+        return replace(cal, settings=self.s)
 
     def interrupt(self) -> None:
         """Ctrl-C: the child stops at its next generation boundary (its checkpoint
         consistent, for a resume), and its fit is not used."""
         if self.child is not None:
             self.child.stop(INTERRUPT)
-            with contextlib.suppress(Exception):
+            # its answer is not used: an interrupted fit, or the KeyboardInterrupt of a
+            # fit cut before its search had a result
+            with contextlib.suppress(Exception, KeyboardInterrupt):
                 self.child.result()
             self.child_n = self.child = None
 
