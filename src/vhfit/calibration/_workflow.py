@@ -163,10 +163,9 @@ def calibrate(
         Processes the order scan (``n_prony="auto"``) fits its N on: 2 side by side (a
         forked child fits N = 3 while this process fits N = 1 and 2; the same result to
         the bit, in 55–70 % of the wall time on long records), 1 one after the other.
-        "auto" (default): 2
-        where at least two CPUs are usable and this process may fork (Linux, no other
-        Python thread; else 1). The result's ``options["scan_processes"]`` says which
-        ran.
+        "auto" (default): 2 where at least two CPUs are usable and this process may
+        fork (Linux, no other Python thread; else 1). The result's
+        ``options["scan_processes"]`` says which ran.
     popsize : int, optional
         Population size, exactly (default 64 separable, initialised by a Sobol
         sequence, and 60 full, the paper's, by Latin hypercube).
