@@ -27,9 +27,11 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures
+import contextlib
 import fnmatch
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -81,12 +83,21 @@ def run_tests(src: Path, tests: tuple[str, ...], timeout: float, extra: tuple[st
     env = dict(os.environ, PYTHONPATH=str(src))
     env.pop("PYTEST_ADDOPTS", None)
     cmd = PYTEST + list(extra) + list(tests)
-    try:
-        p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True,
-                           timeout=timeout)
-    except subprocess.TimeoutExpired:
-        return None, "timeout"
-    lines = (p.stdout + p.stderr).strip().splitlines()
+    # its own session: a timed-out run is ended with every process it started (a test's
+    # forked children among them), not pytest alone
+    with subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, start_new_session=True) as p:
+        try:
+            out, _ = p.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            with contextlib.suppress(ProcessLookupError):
+                if hasattr(os, "killpg"):
+                    os.killpg(p.pid, signal.SIGKILL)
+                else:  # no process groups here: pytest alone
+                    p.kill()
+            p.communicate()
+            return None, "timeout"
+    lines = out.strip().splitlines()
     return p.returncode, "\n".join(lines[-15:])
 
 
