@@ -6,9 +6,10 @@ problems (a few hundred rows, 2–6 columns) per N on a long record — and
 than its compiled core spends solving. :func:`nnls` hands arrays that are already
 float64, C-ordered and finite straight to that core (``scipy.optimize._nnls._nnls``,
 the same Lawson–Hanson routine with the same default iteration cap): the same numbers
-to the bit, at about a fifth of the cost. Where this SciPy has no such core, or it
-does not answer like the public function on a first check, the public function is
-used.
+to the bit, at about a fifth of the cost. A first check learns how the core says it
+reached its cap (its ``info``: −1 in SciPy 1.15, 3 in 1.17) and that it answers like the
+public function; where this SciPy has no such core, or the check fails, the public
+function is used.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import numpy as np
 
 __all__ = ["nnls"]
 
-_core = None  # None: not looked up yet; False: use the public function
+_core = None  # None: not looked up yet; False: use the public function; else (core, cap)
 
 
 def answers_alike(core, public) -> bool:
@@ -28,13 +29,32 @@ def answers_alike(core, public) -> bool:
     try:
         x, rnorm, info = core(A, b, 6)
         x_pub, r_pub = public(A, b)
-        return info != 3 and np.array_equal(x, x_pub) and float(rnorm) == float(r_pub)
+        return np.array_equal(x, x_pub) and float(rnorm) == float(r_pub)
     except Exception:  # noqa: BLE001 - any surprise: the public function
         return False
 
 
+def cap_code(core, public):
+    """The ``info`` by which ``core`` says it reached its iteration cap (SciPy 1.15: −1,
+    1.17: 3): the one it returns where ``public`` raises for the cap. None if that cannot
+    be told (the public function then answers every call)."""
+    A, b = np.eye(8), np.ones(8)  # NNLS adds one variable an iteration: 8 are needed
+    try:
+        public(A, b, maxiter=1)
+    except RuntimeError:
+        try:
+            info = int(core(A, b, 1)[2])
+        except Exception:  # noqa: BLE001
+            return None
+        x, _, ok = core(A, b, 16)
+        return info if int(ok) != info else None
+    except Exception:  # noqa: BLE001
+        return None
+    return None
+
+
 def _lookup(core=None):
-    """SciPy's compiled NNLS core (or ``core``), if it answers like
+    """(SciPy's compiled NNLS core, or ``core``; its cap code) if it answers like
     :func:`scipy.optimize.nnls`; else False."""
     from scipy.optimize import nnls as public
 
@@ -43,7 +63,8 @@ def _lookup(core=None):
             from scipy.optimize._nnls import _nnls as core  # private: checked below
         except ImportError:
             return False
-    return core if answers_alike(core, public) else False
+    cap = cap_code(core, public)
+    return (core, cap) if cap is not None and answers_alike(core, public) else False
 
 
 def nnls(A: np.ndarray, b: np.ndarray, maxiter: int | None = None) -> tuple[np.ndarray, float]:
@@ -87,7 +108,8 @@ def nnls(A: np.ndarray, b: np.ndarray, maxiter: int | None = None) -> tuple[np.n
         return public(A, b, maxiter=maxiter) if maxiter else public(A, b)
     if not (np.isfinite(A).all() and np.isfinite(b).all()):
         raise ValueError("array must not contain infs or NaNs")
-    x, rnorm, info = _core(A, b, maxiter or 3 * A.shape[1])
-    if info == 3:
+    core, cap = _core
+    x, rnorm, info = core(A, b, maxiter or 3 * A.shape[1])
+    if info == cap:
         raise RuntimeError("Maximum number of iterations reached.")
     return x, rnorm
