@@ -613,7 +613,7 @@ def test_progress_shows_two_n_fitted_side_by_side():
     lines = s.getvalue().splitlines()
     assert lines[-1] == ("N=2  generation    12  best 5 %  |  N=3  generation     2  best 9 %"
                          "  elapsed 0.2 s")
-    p.others[2] = (time.perf_counter() - 2 * p.RECENT, p.others[2][1])  # N = 2 ended
+    p.latest[2] = (time.perf_counter() - 2 * p.RECENT, p.latest[2][1])  # N = 2 ended
     p({"generation": 3, "best": 8.0, "mean": 8.5, "elapsed": 0.3, "n_prony": 3})
     assert s.getvalue().splitlines()[-1].startswith("N=3  generation     3  best 8 %  mean")
 

@@ -41,16 +41,16 @@ def cap_code(core, public):
     A, b = np.eye(8), np.ones(8)  # NNLS adds one variable an iteration: 8 are needed
     try:
         public(A, b, maxiter=1)
+        return None  # no cap reached where one must be: nothing to learn it from
     except RuntimeError:
-        try:
-            info = int(core(A, b, 1)[2])
-        except Exception:  # noqa: BLE001
-            return None
-        x, _, ok = core(A, b, 16)
-        return info if int(ok) != info else None
+        pass
     except Exception:  # noqa: BLE001
         return None
-    return None
+    try:
+        capped, done = int(core(A, b, 1)[2]), int(core(A, b, 16)[2])
+    except Exception:  # noqa: BLE001 - the core takes other arguments: the public one
+        return None
+    return capped if done != capped else None
 
 
 def _lookup(core=None):

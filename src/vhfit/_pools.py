@@ -29,7 +29,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["START_METHODS", "ChildLost", "ForkedCall", "cap_numba_threads",
-           "check_start_method", "fork_is_safe", "get_context", "process_pool", "worker_map"]
+           "check_start_method", "fork_is_safe", "get_context", "process_pool", "usable_cpus",
+           "worker_map"]
 
 #: Start methods accepted by :func:`get_context`; "auto" picks one of the others.
 START_METHODS = ("auto", "fork", "forkserver", "spawn")
@@ -37,6 +38,20 @@ START_METHODS = ("auto", "fork", "forkserver", "spawn")
 #: The module the fork server imports: importing it warms the server (multiprocessing
 #: runs no function there, it only imports the modules of its preload list).
 PRELOAD = "vhfit._preload"
+
+
+def usable_cpus() -> int:
+    """CPUs this process may run on (its affinity where the platform tells it).
+
+    Examples
+    --------
+    >>> usable_cpus() >= 1
+    True
+    """
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # not Linux
+        return os.cpu_count() or 1
 
 
 def fork_is_safe(serial_child: bool = False) -> bool:

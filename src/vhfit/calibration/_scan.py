@@ -28,7 +28,7 @@ from collections.abc import Callable
 from dataclasses import replace
 
 from vhfit import _kernels
-from vhfit._pools import INTERRUPT, ChildLost, ForkedCall, fork_is_safe
+from vhfit._pools import INTERRUPT, ChildLost, ForkedCall, fork_is_safe, usable_cpus
 from vhfit.calibration import _spectrum
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._settings import CalibrationSettings
@@ -37,14 +37,6 @@ __all__ = ["order_scan", "side_by_side"]
 
 #: The child's first N: the longest of N = 1, 2, 3, which this process fits meanwhile.
 FIRST_CHILD = 3
-
-
-def usable_cpus() -> int:
-    """CPUs this process may run on (its affinity where the platform tells it)."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):  # not Linux
-        return os.cpu_count() or 1
 
 
 def side_by_side(settings: CalibrationSettings) -> bool:

@@ -139,13 +139,13 @@ class Progress:
         self.last_print = -math.inf
         self.width = 0
         self.last: dict | None = None
-        self.others: dict = {}  # N -> (time, report) of the N fitted beside
+        self.latest: dict = {}  # N -> (time, report): each N's latest report
 
     def _text(self, d: dict) -> str:
         n = d.get("n_prony", self.n)
         now: dict = {}
         if self.scan and n is not None:
-            now = {k: o for k, (t, o) in self.others.items()
+            now = {k: o for k, (t, o) in self.latest.items()
                    if t >= time.perf_counter() - self.RECENT}
             now[n] = d
         if len(now) > 1:
@@ -160,7 +160,7 @@ class Progress:
 
     def __call__(self, d: dict) -> None:
         if "n_prony" in d:
-            self.others[d["n_prony"]] = (time.perf_counter(), d)
+            self.latest[d["n_prony"]] = (time.perf_counter(), d)
         elif d["generation"] < self.last_gen and self.n is not None:
             self.n += 1
         self.last_gen = d["generation"]
