@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from vhfit import _kernels
+from vhfit._deformation import refusal_for
 from vhfit._linear import LinearLoad, LinearPlan
 from vhfit._plans import EquilibriumPlan, GeneralPlan, on_uniaxial_kernel
 from vhfit.history import History
@@ -65,6 +66,10 @@ class Batch:
         if not items:
             raise ValueError("give at least one history or curve")
         hs = [_history_of(it) for it in items]
+        for h in hs:  # a test the law cannot deform in (J ≠ 1) has no stress to give
+            why = refusal_for(model.hyperelastic, h.deformation)
+            if why:
+                raise ValueError(why)
         if measure is None or isinstance(measure, str):
             measures = [measure if measure is not None else _measure_of(it) for it in items]
         else:

@@ -64,6 +64,14 @@ class Deformation:
         record's ``test_data``, :class:`vhfit.export.Solver`); None: none of them.
     strain_label, stress_label : str
         What ``strain`` and ``stress`` mean, for files and plots (units included).
+    refusal : str or None
+        A test that changes the volume (J ≠ 1, e.g. confined compression) and so cannot
+        be represented by an incompressible law: one line saying why and what would work,
+        the reason every such law refuses it (:func:`refusal_for`). None: an isochoric test.
+    mentions : tuple of str
+        Words or phrases (lower case) that name this test in free text — a ``#`` comment
+        line, a column header — where the test is easy to miss, e.g. ``"confined"``.
+        Matched as whole words and not after "not"/"non" (:func:`deformation_mentioned`).
     """
 
     name: str = ""
@@ -80,6 +88,8 @@ class Deformation:
     standard_test: str | None = None
     strain_label: str = "engineering strain λ1 − 1"
     stress_label: str = "stress in the loaded direction (MPa)"
+    refusal: str | None = None
+    mentions: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         return f"<deformation {self.name!r}: {self.description}>"
@@ -326,6 +336,55 @@ def deformation_named(text) -> str | None:
         if key == _key(name) or key in rec.aliases:
             return name
     return None
+
+
+def _mention_re(phrase: str) -> re.Pattern:
+    """A phrase as whole words (any separator between them), not after "not"/"non"."""
+    words = r"[\s_\-]+".join(map(re.escape, phrase.split()))
+    return re.compile(rf"(?<![a-z0-9])(?<!not )(?<!non )(?<!non-){words}(?![a-z0-9])")
+
+
+def deformation_mentioned(text) -> str | None:
+    """The registered test that free text (a comment line, a header) mentions, or None.
+
+    Only the words of a record's :attr:`Deformation.mentions` count: a test that a lab
+    describes in prose rather than names in a ``deformation`` column or line.
+
+    Examples
+    --------
+    >>> deformation_mentioned("# CONFINED compression of foam in a steel cup")
+    'confined_compression'
+    >>> deformation_mentioned("unconfined compression") is None
+    True
+    >>> deformation_mentioned("uniaxial compression, not confined") is None
+    True
+    """
+    if not isinstance(text, str):
+        return None
+    low = text.lower()
+    for name, rec in _REGISTRY.items():
+        if any(_mention_re(w).search(low) for w in rec.mentions):
+            return name
+    return None
+
+
+def refusal_for(law: Hyperelastic, deformation) -> str | None:
+    """Why ``law`` cannot represent the test ``deformation``, in one line, or None.
+
+    An incompressible law (every built-in one: :attr:`Hyperelastic.compressible` False)
+    cannot deform in a test that changes the volume; the record says why and what would
+    work.
+
+    Examples
+    --------
+    >>> from vhfit import hyperelastic
+    >>> refusal_for(hyperelastic.get("neo_hooke"), "confined_compression")[:46]
+    'an incompressible law cannot deform in confine'
+    >>> refusal_for(hyperelastic.get("neo_hooke"), "uniaxial") is None
+    True
+    """
+    test = get_deformation(deformation)
+    return None if law.compressible else test.refusal
 
 
 def check_deformation(deformation) -> str:

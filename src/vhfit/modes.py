@@ -12,6 +12,13 @@ model names it by its ``deformation`` string, and every other module asks the re
 * ``"simple_shear"`` F = I + γ e1⊗e2 (principal stretches λ, 1/λ, 1 with
   λ = γ/2 + sqrt(1 + γ²/4)); out of plane stress-free.
 
+Two tests that change the volume are registered too, so that a file or a curve can name
+them and every incompressible law refuses them in one line (:func:`refusal_for`) instead
+of fitting them as something else:
+
+* ``"confined_compression"`` λ1 = λ, λ2 = λ3 = 1 (uniaxial strain, J = λ)
+* ``"volumetric"``           λ1 = λ2 = λ3 = λ (hydrostatic, J = λ³)
+
 The long-term (hyperelastic) Kirchhoff stress of an incompressible isotropic law is
 known up to a pressure: τ_k = λ_k ∂W/∂λ_k in principal axes, or for W(I1, I2)
 τ = 2 (W1 + I1 W2) B − 2 W2 B². The measured true stress in a loaded direction a is
@@ -31,9 +38,11 @@ from vhfit._deformation import (  # the record and its registry, re-exported
     Deformation,
     check_deformation,
     check_direction,
+    deformation_mentioned,
     deformation_named,
     get_deformation,
     log_uniform,
+    refusal_for,
     register_deformation,
     registered_deformations,
     unregister_deformation,
@@ -50,7 +59,8 @@ from vhfit._kirchhoff import (
 from vhfit.hyperelastic import Hyperelastic
 
 __all__ = ["Deformation", "register_deformation", "get_deformation", "unregister_deformation",
-           "registered_deformations", "deformation_named", "DEFORMATIONS",
+           "registered_deformations", "deformation_named", "deformation_mentioned",
+           "refusal_for", "DEFORMATIONS",
            "principal_stretches", "kirchhoff_stress", "shear_kirchhoff_stress",
            "long_term_stress"]
 
@@ -191,8 +201,51 @@ class SimpleShear(Deformation):
         return x1 / 3.0, (2.0 / 3.0) * e22
 
 
-#: Names of the built-in tests (:func:`registered_deformations` adds the plug-ins').
+#: Names of the built-in tests a law is evaluated in (:func:`registered_deformations`
+#: adds the plug-ins', and the two below, which are registered only to be recognised
+#: and refused).
 DEFORMATIONS = registered_deformations()
+
+
+_WAIT = "or wait for a volumetric law"  # what vhfit lacks for these tests (none built in)
+
+
+@register_deformation("confined_compression",
+                      aliases=("confined", "uniaxial_strain", "oedometric", "oedometer",
+                               "laterally_confined"))
+class ConfinedCompression(Deformation):
+    """Confined compression (uniaxial strain): the lateral stretches held at 1, J = λ.
+
+    A specimen (a foam, a gel) in a rigid cup: an incompressible law cannot deform so at
+    all, so it is registered to be named and refused, never fitted as uniaxial.
+    """
+
+    description = "confined compression (uniaxial strain): λ, 1, 1 (J = λ)"
+    signed = True
+    refusal = ("an incompressible law cannot deform in confined compression (J = λ); fit "
+               f"the unconfined test, {_WAIT}")
+    # not "uniaxial strain": a header "uniaxial strain (%)" is a uniaxial test's strain
+    mentions = ("confined", "confining", "oedometer", "oedometric")
+
+    def stretches(self, x1, x2=None):
+        return x1, np.ones_like(x1), np.ones_like(x1)
+
+
+@register_deformation("volumetric", aliases=("hydrostatic", "bulk", "hydrostatic_pressure"))
+class Volumetric(Deformation):
+    """A volumetric (hydrostatic) test: λ1 = λ2 = λ3 = λ, J = λ³."""
+
+    description = "volumetric (hydrostatic): λ, λ, λ (J = λ³)"
+    signed = True
+    refusal = ("an incompressible law cannot deform in a volumetric test (J = λ³): its "
+               "volume is fixed; fit an unconfined test (uniaxial, planar, biaxial or "
+               f"shear), {_WAIT}")
+    # phrases that name the test, not words of any file ("volumetric strain not measured")
+    mentions = ("volumetric test", "volumetric compression", "hydrostatic test",
+                "hydrostatic compression", "hydrostatic pressure test")
+
+    def stretches(self, x1, x2=None):
+        return x1, x1, x1
 
 
 # ------------------------------------------------------------------- stresses

@@ -41,7 +41,9 @@ from vhfit.calibration._settings import (
 from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import TestItem, is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
+from vhfit.hyperelastic import get as get_law
 from vhfit.model import ViscoHyperelastic
+from vhfit.modes import refusal_for
 from vhfit.tts import shift_to_reference
 
 __all__ = ["calibrate", "CalibrationError"]
@@ -278,6 +280,7 @@ def calibrate(
         checkpoint_every=checkpoint_every, resume=resume, check_rates=check_rates,
         formulation=formulation, shift_factors=shift_factors, T_ref=T_ref)
     s = settings
+    refuse_unrepresentable(curves, s.hyperelastic)
     ref = shift_to_reference(curves, shift_factors=s.shift_factors, T_ref=s.T_ref)
     curves = ref.items  # tests at several temperatures: all at T_ref
     unidentified = viscous_evidence(curves)
@@ -325,6 +328,32 @@ def calibrate(
         warns.insert(0, msg)
         heads.insert(0, msg)
     return replace(cal, warnings=warns, headlines=heads, options=options, **_shift_of(ref))
+
+
+def refuse_unrepresentable(curves, hyperelastic) -> None:
+    """A CalibrationError naming the first test the law cannot represent at all.
+
+    A test that changes the volume (confined compression, J = λ; a volumetric test) is
+    refused by an incompressible law before any search, in one line that says why and
+    what would work (the test's record, :func:`vhfit.modes.refusal_for`): fitted as
+    uniaxial, it would give cards that look fine and are wrong.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> from vhfit.calibration._workflow import refuse_unrepresentable
+    >>> c = vhfit.Curve(strain=[-0.1, -0.2], stress=[-0.1, -0.3], strain_rate=-0.01,
+    ...                 deformation="confined", name="foam")
+    >>> refuse_unrepresentable([c], "neo_hooke")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    vhfit.calibration._search.CalibrationError: curve 'foam': an incompressible law ...
+    """
+    law = get_law(hyperelastic)
+    for c in curves:
+        why = refusal_for(law, c.deformation)
+        if why:
+            raise CalibrationError(f"curve {c.name!r}: {why} ({law.name} is incompressible)")
 
 
 def outside_bounds(bounds, params: dict) -> list[str]:

@@ -39,6 +39,7 @@ from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _Whe
 from vhfit.data._modes import _deformation_name, _implied_deformation, _is_shear, _known
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _Table
+from vhfit.modes import deformation_mentioned
 
 _META_KEYS = {
     "strain_rate": "rate", "rate": "rate", "nominal_strain_rate": "rate",
@@ -158,8 +159,19 @@ def _table_options(
     if deformation is None:
         deformation = known.get("deformation")
     _check_deformation_column(table, plan)
+    if deformation is None and plan.deformation is None:
+        deformation = _mentioned_deformation(table)
     return _Options(plan, meas or plan.measure or "engineering", mode, compression_positive,
                     weight, meta_rate, deformation, known, meta)
+
+
+def _mentioned_deformation(table: _Table) -> str | None:
+    """The test a table's comment lines or headers mention when nothing names it (e.g.
+    ``# CONFINED compression in a steel cup``): only the words of a record's
+    ``mentions``, so a test that no law here can represent is refused, never read as
+    the default uniaxial."""
+    return next(filter(None, map(deformation_mentioned, (*table.comments, *table.names))),
+                None)
 
 
 def _check_deformation_column(table: _Table, plan: _Plan) -> None:

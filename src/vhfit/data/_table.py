@@ -37,6 +37,7 @@ class _Table:
     delim: str | None = None
     fast: bool = False  # clean delimited numbers: np.loadtxt may read whole columns
     note: str = ""  # appended to column-recognition errors (e.g. about the encoding)
+    comments: tuple[str, ...] = ()  # the '#' lines above the header, '# key: value' ones too
     _cache: dict[int, np.ndarray] = field(default_factory=dict)
 
     def label(self, i: int) -> str:
@@ -247,8 +248,9 @@ def _read_table(
     nh = len(head)
     fast = (delim is not None and '"' not in text and "'" not in text
             and set(map(operator.methodcaller("count", delim), data)) == {nh - 1})
+    comments = tuple(s for s in map(str.strip, lines[:header_no]) if s.startswith("#"))
     table = _Table(head, None, _Labels(numbers, "line"), src, meta, lines=data,
-                   split_line=split, delim=delim, fast=fast, note=note)
+                   split_line=split, delim=delim, fast=fast, note=note, comments=comments)
     table.check_shape()
     return table
 

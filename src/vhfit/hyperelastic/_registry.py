@@ -78,6 +78,10 @@ class Hyperelastic:
         constant (Ogden: ``mu_p, alpha_p``); 0 otherwise. Two such terms whose other
         constants coincide act as one term with the sum of the first constants: a fit
         merges them into :attr:`fewer` (docs/theory.md).
+    compressible : bool
+        The law has a volumetric part and can deform at J ≠ 1. False for every built-in
+        law (they are incompressible): tests that change the volume, such as confined
+        compression, are refused for them (:func:`vhfit.modes.refusal_for`).
     """
 
     name: str
@@ -94,6 +98,7 @@ class Hyperelastic:
     linear_params: tuple[str, ...] = ()
     fewer: str | None = None
     term: int = 0
+    compressible: bool = False
 
     @property
     def n_params(self) -> int:
