@@ -160,3 +160,19 @@ def test_cli_fit_of_an_ordinary_commented_file_still_fits(tmp_path, capsys):
                      "-q", "--out", str(out)])
     capsys.readouterr()
     assert code == 0 and (out / "results.json").exists()
+
+
+@pytest.mark.parametrize("text, name", [
+    ("# Confined compression in a steel cup", "confined_compression"),
+    ("foam in a confining ring", "confined_compression"),
+    ("oedometer test", "confined_compression"),
+    ("confined_strain", "confined_compression"),  # a header: words joined by '_'
+    ("# hydrostatic pressure test", "volumetric"),
+    ("# unconfined compression", None),
+    ("# lubricated, non-confined", None),
+    ("# not confined", None),
+    ("# volumetric strain computed from the lateral gauge", None),
+    ("# uniaxial tension", None),  # the isochoric tests have no mentions: no change
+])
+def test_which_words_mention_a_test(text, name):
+    assert modes.deformation_mentioned(text) == name
