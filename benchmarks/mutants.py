@@ -2187,4 +2187,10 @@ MUTANTS: list[Mutant] = [
       "        return x1, x1**-0.5, x1**-0.5",
       "confined compression's kinematics are those of the uniaxial test (J = 1)",
       ("tests/test_confined.py",)),
+    M("i33c_compare_fits_anyway", "vhfit/comparison.py",
+      "    if len(refused) == len(names):\n        raise refused[0]\n",
+      "    if len(refused) > len(names):\n        raise refused[0]\n",
+      "compare (vhfit fit --model all) fits every law and reports a table of failures "
+      "(exit 1) instead of the one-line refusal (exit 2)",
+      ("tests/test_confined.py",)),
 ]

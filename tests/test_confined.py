@@ -176,3 +176,22 @@ def test_cli_fit_of_an_ordinary_commented_file_still_fits(tmp_path, capsys):
 ])
 def test_which_words_mention_a_test(text, name):
     assert modes.deformation_mentioned(text) == name
+
+
+def test_compare_refuses_a_test_no_law_can_represent():
+    curves = vhfit.read_csv(io.StringIO(COMMENT))
+    with pytest.raises(CalibrationError, match=WHY.replace("(", r"\(").replace(")", r"\)")):
+        vhfit.compare(curves, ["neo_hooke", "mooney_rivlin"], n_prony=0, workers=1)
+    # the check itself, as compare and calibrate ask it
+    vhfit.calibration.refuse_unrepresentable(vhfit.read_csv(io.StringIO(
+        COMMENT.replace("CONFINED", "UNCONFINED"))), "neo_hooke")  # passes: uniaxial
+
+
+def test_cli_model_all_refuses_with_exit_2_not_a_table_of_failures(tmp_path, capsys):
+    f = tmp_path / "foam.csv"
+    f.write_text(MODE_VALUE)
+    code = cli.main(["fit", str(f), "--model", "all", "--prony", "0", "--no-plot", "-q",
+                     "--out", str(tmp_path / "out")])
+    cap = capsys.readouterr()
+    assert code == 2
+    assert WHY in cap.err and "laws compared" not in cap.out

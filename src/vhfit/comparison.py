@@ -27,7 +27,12 @@ from typing import Any
 import numpy as np
 
 from vhfit import hyperelastic
-from vhfit.calibration import Calibration, CalibrationSettings
+from vhfit.calibration import (
+    Calibration,
+    CalibrationError,
+    CalibrationSettings,
+    refuse_unrepresentable,
+)
 from vhfit.export import export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
 from vhfit.export.check import check_cards
@@ -331,6 +336,9 @@ def compare(curves, laws: Any, *, n_prony: Any = None, solvers: Sequence[str] | 
     ------
     ValueError
         Before anything is fitted: an unknown law, a refused or bad keyword.
+    CalibrationError
+        Before anything is fitted: a test that none of the laws can represent (confined
+        compression for incompressible laws, :func:`vhfit.calibration.refuse_unrepresentable`).
 
     Examples
     --------
@@ -367,6 +375,14 @@ def compare(curves, laws: Any, *, n_prony: Any = None, solvers: Sequence[str] | 
     for law in names:  # every setting checked before anything is fitted
         CalibrationSettings(law, n_prony, **kwargs)
     curves = list(curves)
+    refused = []  # a test no law can represent (confined compression): one line, no table
+    for law in names:
+        try:
+            refuse_unrepresentable(curves, law)
+        except CalibrationError as exc:
+            refused.append(exc)
+    if len(refused) == len(names):
+        raise refused[0]
     # the laws with most constants (the slowest, as a rule) start first
     jobs = [dict(name=law, curves=curves, hyperelastic=law, n_prony=n_prony, **kwargs)
             for law in names]

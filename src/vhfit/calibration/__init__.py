@@ -35,10 +35,10 @@ from vhfit.calibration._settings import (
     bound_problem,
     bounds_terms,
 )
-from vhfit.calibration._workflow import CalibrationError, calibrate
+from vhfit.calibration._workflow import CalibrationError, calibrate, refuse_unrepresentable
 
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
            "bound_problem", "bounds_terms", "plan_formulations", "start_options", "grade",
-           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit"]
+           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit", "refuse_unrepresentable"]
