@@ -2193,4 +2193,9 @@ MUTANTS: list[Mutant] = [
       "compare (vhfit fit --model all) fits every law and reports a table of failures "
       "(exit 1) instead of the one-line refusal (exit 2)",
       ("tests/test_confined.py",)),
+    M("i33c_cli_refuses_late", "vhfit/cli/_fit.py",
+      "    refuse_unrepresentable(curves, settings.hyperelastic)  # before a line is printed\n",
+      "",
+      "vhfit fit prints its 'fitting ...' lines before the refusal (calibrate's own)",
+      ("tests/test_confined.py",)),
 ]

@@ -138,11 +138,12 @@ def test_cli_fit_refuses_with_exit_2_one_line_nothing_written(tmp_path, capsys):
     f = tmp_path / "foam_confined.csv"
     f.write_text(COMMENT)
     out = tmp_path / "out"
-    code = cli.main(["fit", str(f), "--prony", "0", "--no-plot", "-q", "--out", str(out)])
-    err = capsys.readouterr().err
+    code = cli.main(["fit", str(f), "--prony", "0", "--no-plot", "--out", str(out)])
+    cap = capsys.readouterr()
     assert code == 2
-    lines = [ln for ln in err.splitlines() if ln.startswith("vhfit: error:")]
-    assert len(lines) == 1 and WHY in lines[0] and "Traceback" not in err
+    lines = cap.err.strip().splitlines()  # refused before the fit's first line is printed
+    assert len(lines) == 1 and lines[0].startswith("vhfit: error: curve 'foam_confined': ")
+    assert WHY in lines[0] and not cap.out
     assert not (out / "results.json").exists()
     assert not out.exists() or not any(out.rglob("*"))  # no card, no summary
 

@@ -30,6 +30,7 @@ from vhfit.calibration import (
     CalibrationWarning,
     calibrate,
     default_n_prony,
+    refuse_unrepresentable,
     same_fit,
     start_options,
 )
@@ -350,6 +351,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         )
     settings = fit_settings(args, model=model, strategy=strategy,
                             checkpoint=str(out / CHECKPOINT), shift_law=shift_law)
+    refuse_unrepresentable(curves, settings.hyperelastic)  # before a line is printed
     if args.resume and not any(out.glob(CHECKPOINT + "*")):
         raise UsageError(
             f"--resume: no checkpoint in {out} (the fit ended, or never started there); "
