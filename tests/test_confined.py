@@ -36,11 +36,13 @@ COMMENT = ("# CONFINED compression: foam in a steel cup, lateral stretches held 
 MODE_VALUE = "mode,strain_rate,strain,stress_MPa\n" + _rows("Confined compression,-0.01,")
 DEFORMATION_VALUE = "deformation,strain_rate,strain,stress_MPa\n" + _rows("uniaxial strain,-0.01,")
 HEADER_WORD = "# strain_rate: -0.01\nconfined_strain,stress_MPa\n" + _rows()
+MODE_LINE = "# mode: confined compression\n# strain_rate: -0.01\nstrain,stress_MPa\n" + _rows()
 
 
-@pytest.mark.parametrize("text", [COMMENT, MODE_VALUE, DEFORMATION_VALUE, HEADER_WORD],
+@pytest.mark.parametrize("text", [COMMENT, MODE_VALUE, DEFORMATION_VALUE, HEADER_WORD,
+                                  MODE_LINE],
                          ids=["comment line", "mode value", "deformation value",
-                              "header word"])
+                              "header word", "mode line"])
 def test_the_reader_recognises_confined_compression(text):
     (c,) = vhfit.read_csv(io.StringIO(text))
     assert c.deformation == "confined_compression"
