@@ -113,10 +113,11 @@ def generator(name: str, *, rtol: float = 0.0, atol: float = 0.0, child: bool = 
 
 
 #: the demo's seeded search on one BLAS kernel and another follows another path: its
-#: generation and evaluation counts, stopping errors (at the target, ~1e-8 %) and
-#: printed parameters moved by up to 0.7 % between OpenBLAS's SkylakeX and Haswell
-#: kernels; 5 % keeps a margin for other kernels while a change of the search or of the
-#: model (other counts by more, other parameters, another error) still fails
+#: generation and evaluation counts, stopping errors (at the target, ~1e-8 %) and printed
+#: parameters moved by up to 0.7 % across OpenBLAS's SkylakeX, Haswell, Zen, Sandybridge
+#: and Prescott kernels (OPENBLAS_CORETYPE); 5 % keeps a margin for other kernels while a
+#: change of the search or of the model (other counts by more, other parameters, another
+#: error) still fails
 DEMO_RTOL = 0.05
 
 
@@ -200,8 +201,8 @@ def demo_table() -> str:
 
 
 # the card's constants (printed to 16 digits) of the demo's exact recovery: the search
-# stops at an error of ~5e-10 relative, which pins them to ~1e-9 (1.8e-9 between the
-# SkylakeX and Haswell kernels); 1e-6 leaves margin and fails a change of any constant
+# stops at an error of ~5e-10 relative, which pins them to ~1e-9 (at most 3e-9 across
+# the kernels above); 1e-6 leaves margin and fails a change of any constant
 @generator("demo-abaqus-card", rtol=1e-6)
 def demo_abaqus_card() -> str:
     """The material lines of the demo's Abaqus card (its comment header left out)."""
@@ -435,8 +436,8 @@ def paper_study_rate_warnings() -> str:
 
 
 # errors of the model against quadrature at round-off level (1e-14 to 1e-9 of the
-# stress; they change by 30 % between BLAS kernels) are all below 1e-8, far under the
-# model's rtol 1e-6 that the table demonstrates: an error above 1e-8 is a change
+# stress; they change by up to 53 % between BLAS kernels) are all below 1e-8, far under
+# the model's rtol 1e-6 that the table demonstrates: an error above 1e-8 is a change
 @generator("theory-verification-table", atol=1e-8, child=True)
 def theory_verification_table() -> str:
     """docs/make_theory_table.py's table: the model against quadrature (errors at
