@@ -31,26 +31,27 @@ Usage::
 
 Comparison rule (what makes a block stale)
 ------------------------------------------
-* Wall-clock times (``wall 1.61 s``, ``elapsed 0.6 s``) are never compared.
-* On the platform that wrote the blocks (same numpy, scipy, numba, Python, CPU: the
-  fingerprint of tests/golden/record.py, kept in ``scripts/doc_outputs.json``) the
-  code is deterministic, a seeded search included, so a block must match exactly.
-* On another platform floating-point results may differ in their last bits. There the
-  text (every word, symbol and line) must still match, whitespace runs aside; a number
-  matches when it differs from the shown one by at most one unit of the last digit
-  printed (of the coarser of the two), so a value that lands on the other side of a
-  rounding boundary passes and a change in any earlier digit fails. Some numbers,
-  though, depend on the platform beyond their last digit: a seeded search may follow
-  another path (other generation counts, other digits of constants the data do not pin
-  down), and an error at round-off level (1e-14) is round-off. In the blocks of such
-  generators (``platform=True``) numbers are therefore not compared off the recording
-  platform; the text still is, and the excerpts are chosen so that their words do not
-  depend on the search's path (the demo's exact recovery, not its LS-DYNA fit, whose
-  pruned terms and warnings may change with it).
+No block is compared to digits recorded on one platform: the same rule holds on every
+machine, for the check and for the update, whatever CPU, BLAS kernel or compiler target
+wrote the pages.
 
-The update mode always compares exactly, rewrites only the blocks that differ (an
-unchanged block keeps its recorded times, so reruns do not churn the files), and
-records the current fingerprint.
+* Wall-clock times (``wall 1.61 s``, ``elapsed 0.6 s``) are never compared.
+* A deterministic block (error messages, file heads, messages computed from a few
+  exact numbers: the default) must match exactly, every character, trailing blanks
+  aside.
+* A block whose numbers come from a seeded search or sit at round-off level depends on
+  the platform (another BLAS kernel changes the last bits, and a search then follows
+  another path: other generation and evaluation counts, other last digits of what it
+  finds). Its generator states the tolerance that computation guarantees (``rtol``,
+  ``atol``). There every word, symbol and line must still match (whitespace runs
+  aside), and a number matches when ``|shown - new| <= max(unit) + atol + rtol *
+  max(|shown|, |new|)``, where ``unit`` is one unit of the last digit printed (so a
+  value printed on the other side of a rounding boundary passes). The excerpts are
+  chosen so that their words do not depend on the search's path (the demo's exact
+  recovery, not its LS-DYNA fit, whose pruned terms and warnings may change with it).
+
+The update mode rewrites only the blocks that fail this rule (an unchanged block keeps
+its recorded digits and times, so reruns on any machine do not churn the files).
 """
 
 from __future__ import annotations
@@ -74,7 +75,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-FINGERPRINT_FILE = "scripts/doc_outputs.json"  # under the checkout
 UPDATE_COMMAND = "python scripts/update_doc_outputs.py"
 
 #: the pages scanned for generated blocks
@@ -95,18 +95,30 @@ NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?(?!
 @dataclass(frozen=True)
 class Generator:
     func: Callable[[], str]
-    platform: bool  # numbers reproducible on the recording platform only
+    rtol: float  # relative tolerance of its numbers (0 with atol 0: exact, deterministic)
+    atol: float  # absolute tolerance of its numbers (round-off level)
     child: bool  # its work runs in child processes (and no chdir): may run in a thread
 
 
 GENERATORS: dict[str, Generator] = {}
 
 
-def generator(name: str, *, platform: bool = False, child: bool = False):
+def generator(name: str, *, rtol: float = 0.0, atol: float = 0.0, child: bool = False):
+    """Register ``func`` as the generator ``name``; ``rtol``/``atol``: the tolerance its
+    numbers are compared with (see the comparison rule above), 0 for a deterministic one."""
     def deco(func):
-        GENERATORS[name] = Generator(functools.cache(func), platform, child)
+        GENERATORS[name] = Generator(functools.cache(func), rtol, atol, child)
         return func
     return deco
+
+
+#: the demo's seeded search on one BLAS kernel and another follows another path: its
+#: generation and evaluation counts, stopping errors (at the target, ~1e-8 %) and printed
+#: parameters moved by up to 0.7 % across OpenBLAS's SkylakeX, Haswell, Zen, Sandybridge
+#: and Prescott kernels (OPENBLAS_CORETYPE); 5 % keeps a margin for other kernels while a
+#: change of the search or of the model (other counts by more, other parameters, another
+#: error) still fails
+DEMO_RTOL = 0.05
 
 
 def _env() -> dict[str, str]:
@@ -151,7 +163,7 @@ def _section(lines: list[str], start: str, stop: str) -> list[str]:
     return lines[i:_find(lines, stop, i) + 1]
 
 
-@generator("demo-console", platform=True, child=True)
+@generator("demo-console", rtol=DEMO_RTOL, child=True)
 def demo_console() -> str:
     """What a terminal shows of ``vhfit demo`` (progress on stderr first), abridged."""
     out, err, _ = _demo()
@@ -175,20 +187,23 @@ def _progress(lines: list[str]) -> list[str]:
     return keep
 
 
-@generator("demo-headline", platform=True)
+@generator("demo-headline", rtol=DEMO_RTOL)
 def demo_headline() -> str:
     """The summary's first lines: what each solver will show."""
     out = _demo()[0].splitlines()
     return "\n".join(out[:out.index("") if "" in out else None])
 
 
-@generator("demo-table", platform=True)
+@generator("demo-table", rtol=DEMO_RTOL)
 def demo_table() -> str:
     """The first fit's table of the demo's summary."""
     return "\n".join(_section(_demo()[0].splitlines(), "vhfit calibration:", "stability:"))
 
 
-@generator("demo-abaqus-card", platform=True)
+# the card's constants (printed to 16 digits) of the demo's exact recovery: the search
+# stops at an error of ~5e-10 relative, which pins them to ~1e-9 (at most 3e-9 across
+# the kernels above); 1e-6 leaves margin and fails a change of any constant
+@generator("demo-abaqus-card", rtol=1e-6)
 def demo_abaqus_card() -> str:
     """The material lines of the demo's Abaqus card (its comment header left out)."""
     lines = _demo()[2]["abaqus.inp"].splitlines()
@@ -277,7 +292,7 @@ def cli_shift_errors() -> str:
                     ["fit", "dma.csv", "ramp30.csv", "--shift", "wlf:8.86"], files=COLD_HOT)
 
 
-@generator("cli-nothing-finite", platform=True)
+@generator("cli-nothing-finite", rtol=DEMO_RTOL)
 def cli_nothing_finite() -> str:
     """Gent on a neo-Hooke tension test to λ = 12, past every Jm of its search range."""
     import numpy as np
@@ -420,10 +435,13 @@ def paper_study_rate_warnings() -> str:
     return "\n".join(msgs) if msgs else "(no warning)"
 
 
-@generator("theory-verification-table", platform=True, child=True)
+# errors of the model against quadrature at round-off level (1e-14 to 1e-9 of the
+# stress; they change by up to 53 % between BLAS kernels) are all below 1e-8, far under
+# the model's rtol 1e-6 that the table demonstrates: an error above 1e-8 is a change
+@generator("theory-verification-table", atol=1e-8, child=True)
 def theory_verification_table() -> str:
     """docs/make_theory_table.py's table: the model against quadrature (errors at
-    round-off level, hence ``platform``)."""
+    round-off level, hence ``atol``)."""
     proc = subprocess.run([sys.executable, str(ROOT / "docs" / "make_theory_table.py")],
                           env=_env(), capture_output=True, text=True, timeout=600)
     if proc.returncode != 0:
@@ -478,10 +496,12 @@ def _unit(token: str) -> float:
     return 10.0 ** (int(exp or 0) - decimals)
 
 
-def same(shown: str, new: str, *, exact: bool, numbers: bool = True) -> bool:
-    """Whether a block still shows ``new`` (see the module docstring for the rule)."""
+def same(shown: str, new: str, *, rtol: float = 0.0, atol: float = 0.0) -> bool:
+    """Whether a block still shows ``new`` (see the module docstring for the rule):
+    exactly when ``rtol`` and ``atol`` are 0, else its words exactly and its numbers
+    within one unit of their last digit + ``atol`` + ``rtol`` relative."""
     a, b = _mask(shown), _mask(new)
-    if exact or a == b:
+    if a == b or (rtol == 0 and atol == 0):
         return a == b
     ta, tb = a.split(), b.split()
     if len(ta) != len(tb):
@@ -493,33 +513,11 @@ def same(shown: str, new: str, *, exact: bool, numbers: bool = True) -> bool:
         if nx != ny:  # the text around the numbers differs
             return False
         for u, v in zip(NUMBER.findall(x), NUMBER.findall(y)):
-            if numbers and abs(float(u) - float(v)) > max(_unit(u), _unit(v)) * (1 + 1e-9):
+            fu, fv = float(u), float(v)
+            allowed = max(_unit(u), _unit(v)) + atol + rtol * max(abs(fu), abs(fv))
+            if abs(fu - fv) > allowed * (1 + 1e-9):
                 return False
     return True
-
-
-def fingerprint() -> dict:
-    """What a floating-point result depends on besides the code (the same as
-    tests/golden/record.py's): library versions, Python, the CPU numba compiles for."""
-    import hashlib
-    import platform
-
-    import llvmlite.binding as llvm
-    import numba
-    import numpy
-    import scipy
-
-    features = hashlib.sha256(llvm.get_host_cpu_features().flatten().encode()).hexdigest()
-    return {"numpy": numpy.__version__, "scipy": scipy.__version__, "numba": numba.__version__,
-            "python": platform.python_version(), "machine": platform.machine(),
-            "cpu": llvm.get_host_cpu_name(), "cpu_features": features[:16]}
-
-
-def recorded_fingerprint(root: Path = ROOT) -> dict | None:
-    try:
-        return json.loads((root / FINGERPRINT_FILE).read_text(encoding="utf-8"))["fingerprint"]
-    except (OSError, ValueError, KeyError):
-        return None
 
 
 def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
@@ -529,7 +527,6 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
     Returns the number of stale blocks (check) or of rewritten blocks (update).
     """
     out = out or sys.stdout
-    exact = not check or recorded_fingerprint(root) == fingerprint()
     parsed = {page: find_blocks(root, page) for page in pages or PAGES}
     for page, (_, blocks) in parsed.items():
         for blk in blocks:
@@ -548,7 +545,7 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
             found += 1
             gen = GENERATORS[blk.name]
             new = gen.func()
-            if same(blk.text, new, exact=exact, numbers=exact or not gen.platform):
+            if same(blk.text, new, rtol=gen.rtol, atol=gen.atol):
                 continue
             stale.append(f"{page}:{blk.line} ({blk.name})")
             if not check:
@@ -568,8 +565,6 @@ def run(root: Path = ROOT, *, check: bool, pages: list[str] | None = None,
         else:
             print(f"{found} documentation output blocks match the code", file=out)
     else:
-        (root / FINGERPRINT_FILE).write_text(json.dumps({"fingerprint": fingerprint()}, indent=1,
-                                               sort_keys=True) + "\n", encoding="utf-8")
         print(f"{len(stale)} of {found} blocks rewritten"
               + (": " + "; ".join(stale) if stale else ""), file=out)
     return len(stale)
