@@ -134,7 +134,7 @@ DATASETS = [
     Dataset("vhb_hossain", "vhb4910_hossain2012_digitized", HOSSAIN, "ogden2",
             "digitized loading-unloading at 3 rates; the digitized points go back in time "
             "near the turning point, so the rows are sorted (read_csv sort=True; the "
-            "command line has no --sort flag yet)",
+            "command line's --sort)",
             read={"sort": True}, fit={"n_prony": "auto"}, flags="--sort"),
     Dataset("hnbr50", "hnbr50_miehe_goktepe2005", HNBR, "mooney_rivlin",
             "tension-compression cycles at 3 rates (Mooney-Rivlin, N automatic)",
