@@ -9,6 +9,7 @@ The docstring examples of docs/architecture.md run in tests/test_doctests.py.
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
 import io
 import re
@@ -274,3 +275,101 @@ def test_pages_with_interpreter_sessions_run_as_doctests():
     for page in udo.PAGES:
         if ">>> " in (ROOT / page).read_text(encoding="utf-8"):
             assert page.removeprefix("docs/") in test_doctests.DOC_PAGES, page
+
+
+# ------------------------------------------------------------ flags the pages name
+#: ``vhfit SUB ...`` up to the end of its code span or line (a line ending in ``\``
+#: goes on), and the ``--flags`` in it.
+COMMAND = re.compile(r"\bvhfit\s+(?P<sub>[a-z]+)\b(?P<rest>(?:[^`\n]|\\\n)*)")
+FLAG = re.compile(r"(?<![\w-])--[A-Za-z][\w-]*")
+#: What a sentence says when it claims a flag is missing.
+ABSENT = re.compile(r"\b(?:has|have|there is|there are) no\b|\bno `--|\bnot yet\b|"
+                    r"\bstill being added\b|\byet to\b|\bdoes(?: not|n't) exist\b|"
+                    r"\bno such (?:flag|option)\b|\bnot (?:a )?(?:command-line )?flags?\b|"
+                    r"\bonly (?:from|in) (?:the )?Python\b", re.IGNORECASE)
+NEAR = 80
+
+
+def _flags_of_commands() -> dict[str, set[str]]:
+    """Each ``vhfit`` sub-command's option strings, from the parser the CLI builds."""
+    from vhfit.cli._parser import build_parser
+
+    parser = build_parser()
+    top = set(parser._option_string_actions)
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {name: top | set(p._option_string_actions) for name, p in subs.choices.items()}
+
+
+def _wrong_flags(root: Path, pages: list[str], commands: dict[str, set[str]]) -> list[str]:
+    """``page:line: vhfit SUB --flag`` for each flag (or sub-command) a page writes that
+    the parser does not have."""
+    bad = []
+    for page in pages:
+        text = (root / page).read_text(encoding="utf-8")
+        for m in COMMAND.finditer(text):
+            line = text.count("\n", 0, m.start()) + 1
+            if m["sub"] not in commands:
+                if FLAG.search(m["rest"]):  # 'vhfit fits ...' is prose; with flags, a command
+                    bad.append(f"{page}:{line}: vhfit {m['sub']} (no such command)")
+                continue
+            bad += [f"{page}:{line}: vhfit {m['sub']} {f}" for f in FLAG.findall(m["rest"])
+                    if f not in commands[m["sub"]]]
+    return bad
+
+
+def _absence_claims(root: Path, pages: list[str], commands: dict[str, set[str]]) -> list[str]:
+    """``page:line: --flag`` (the flag's line) where a sentence says that a flag the
+    parser has is missing."""
+    every = set().union(*commands.values())
+    bad = []
+    for page in pages:
+        text = (root / page).read_text(encoding="utf-8")
+        # sentences: up to '. ', a blank line or a table row's end
+        for m in re.finditer(r"[^\n.|]*(?:\.(?!\s)[^\n.|]*|\n(?!\s*\n)[^\n.|]*)*", text):
+            sentence = m[0]
+            claims = [c.span() for c in ABSENT.finditer(sentence)]
+            # a flag of the sentence within NEAR characters of a claim (a long sentence
+            # may speak of a flag and, further on, of something else not being there)
+            bad += [f"{page}:{text.count(chr(10), 0, m.start() + f.start()) + 1}: {f[0]}"
+                    for f in FLAG.finditer(sentence) if f[0] in every and any(
+                        max(a - f.end(), f.start() - b) <= NEAR for a, b in claims)]
+    return bad
+
+
+def test_the_pages_name_only_flags_the_commands_have():
+    commands = _flags_of_commands()
+    assert not _wrong_flags(ROOT, udo.PAGES, commands), (
+        "the pages write flags that 'vhfit' does not have (see docs/cli.md for the list)")
+    assert not _absence_claims(ROOT, udo.PAGES, commands), (
+        "the pages say that flags 'vhfit' has are missing")
+
+
+def test_the_flag_check_sees_a_wrong_flag_and_a_false_absence(tmp_path):
+    root = _copy(tmp_path)
+    commands = _flags_of_commands()
+    _alter(root / "docs" / "real-data.md", "--model ogden --select region=cortex",
+           "--model ogden --choose region=cortex")
+    _alter(root / "README.md", "vhfit demo", "vhfit demo --fast")
+    _alter(root / "docs" / "cli.md", "vhfit models", "vhfit modles --json")
+    assert _wrong_flags(root, udo.PAGES, commands) == [
+        f"{page}:{line}: {what}" for page, line, what in (
+            ("README.md", _line(root / "README.md", "vhfit demo --fast"), "vhfit demo --fast"),
+            ("docs/cli.md", _line(root / "docs" / "cli.md", "vhfit modles"),
+             "vhfit modles (no such command)"),
+            ("docs/real-data.md", _line(root / "docs" / "real-data.md", "--choose"),
+             "vhfit fit --choose"))]
+    # the sentence this check was written for, and a flag that exists said to be missing
+    page = root / "docs" / "real-data.md"
+    page.write_text(page.read_text(encoding="utf-8") + "\nThe command line has no\n`--sort` "
+                    "yet. `--select` and `--columns` are command-line flags still being "
+                    "added. `--nonesuch` is not a flag.\n", encoding="utf-8")
+    n = page.read_text(encoding="utf-8").count("\n")
+    assert _absence_claims(root, udo.PAGES, commands) == [
+        f"docs/real-data.md:{n}: --sort", f"docs/real-data.md:{n}: --select",
+        f"docs/real-data.md:{n}: --columns"]
+
+
+def _line(path: Path, text: str) -> int:
+    """1-based line of the first ``text`` in ``path``."""
+    body = path.read_text(encoding="utf-8")
+    return body.count("\n", 0, body.index(text)) + 1
