@@ -369,6 +369,43 @@ def test_the_flag_check_sees_a_wrong_flag_and_a_false_absence(tmp_path):
         f"docs/real-data.md:{n}: --columns"]
 
 
+#: ``python benchmarks/NAME.py ...`` (or scripts/) up to the end of its code span or line.
+SCRIPT = re.compile(r"\bpython\s+(?P<script>(?:benchmarks|scripts)/[\w/]+\.py)\b"
+                    r"(?P<rest>(?:[^`\n]|\\\n)*)")
+
+
+def _wrong_script_flags(root: Path, pages: list[str]) -> list[str]:
+    """``page:line: SCRIPT --flag`` for each flag a page gives a script of this checkout
+    that the script does not define (its source has no ``"--flag"``), or a missing script."""
+    bad = []
+    for page in pages:
+        text = (root / page).read_text(encoding="utf-8")
+        for m in SCRIPT.finditer(text):
+            line = text.count("\n", 0, m.start()) + 1
+            src = ROOT / m["script"]
+            if not src.is_file():
+                bad.append(f"{page}:{line}: {m['script']} (no such script)")
+                continue
+            code = src.read_text(encoding="utf-8")
+            bad += [f"{page}:{line}: {m['script']} {f}" for f in FLAG.findall(m["rest"])
+                    if f'"{f}"' not in code and f"'{f}'" not in code]
+    return bad
+
+
+def test_the_pages_give_scripts_only_flags_they_have(tmp_path):
+    assert not _wrong_script_flags(ROOT, udo.PAGES)
+    root = _copy(tmp_path)
+    _alter(root / "README.md", "python benchmarks/mutation.py --jobs 2",
+           "python benchmarks/mutation.py --workers 2")
+    _alter(root / "docs" / "real-data.md", "python benchmarks/bench_real.py --data DIR",
+           "python benchmarks/bench_reel.py --data DIR")
+    line = _line(root / "README.md", "mutation.py --workers")
+    assert _wrong_script_flags(root, udo.PAGES) == [
+        f"README.md:{line}: benchmarks/mutation.py --workers",
+        f"docs/real-data.md:{_line(root / 'docs' / 'real-data.md', 'bench_reel')}: "
+        "benchmarks/bench_reel.py (no such script)"]
+
+
 def _line(path: Path, text: str) -> int:
     """1-based line of the first ``text`` in ``path``."""
     body = path.read_text(encoding="utf-8")
