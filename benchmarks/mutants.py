@@ -2139,4 +2139,10 @@ MUTANTS: list[Mutant] = [
       "    if info == -999:\n        raise RuntimeError",
       "NNLS that hit its iteration cap returns an unfinished solution silently",
       ("tests/test_nnls.py",)),
+    M("nest_term_units_ignored", "vhfit/calibration/_space.py",
+      "            hyper[:, self.amp] = Z[:, : len(self.amp)] * self.unit\n",
+      "            hyper[:, self.amp] = Z[:, : len(self.amp)] * self._range\n",
+      "shapes of 3+ linear constants drawn in the constants' own search ranges "
+      "(Yeoh loses to neo-Hooke on data with a small-strain point)",
+      ("tests/test_nesting.py",)),
 ]
