@@ -2140,8 +2140,9 @@ MUTANTS: list[Mutant] = [
       "NNLS that hit its iteration cap returns an unfinished solution silently",
       ("tests/test_nnls.py",)),
     M("nest_term_units_ignored", "vhfit/calibration/_space.py",
-      "            hyper[:, self.amp] = Z[:, : len(self.amp)] * self.unit\n",
-      "            hyper[:, self.amp] = Z[:, : len(self.amp)] * self._range\n",
+      "        self.unit = self._term_units() if self.redundant else None\n",
+      "        self.unit = (np.array([max(map(abs, prob.bounds[hm.param_names[k]]))\n"
+      "                               for k in self.amp]) if self.redundant else None)\n",
       "shapes of 3+ linear constants drawn in the constants' own search ranges "
       "(Yeoh loses to neo-Hooke on data with a small-strain point)",
       ("tests/test_nesting.py",)),

@@ -152,9 +152,6 @@ class SeparableSpace:
         # shapes need 1e-5 of C10's scale)
         self.redundant = not self.exact and len(self.amp) > 2
         self.unit = self._term_units() if self.redundant else None
-        # (the size of each constant's own search range: what shapes were drawn in before)
-        self._range = (np.array([max(abs(float(v)) for v in prob.bounds[hm.param_names[k]])
-                                 for k in self.amp]) if self.redundant else None)
         # with nonlinear constants the admissible arc moves with them: the search's
         # coordinate is the place on the arc of its own shape (see decode)
         self.on_arc = self.angle and bool(self.other) and prob.adm is not None
