@@ -2198,4 +2198,11 @@ MUTANTS: list[Mutant] = [
       "",
       "vhfit fit prints its 'fitting ...' lines before the refusal (calibrate's own)",
       ("tests/test_confined.py",)),
+    M("nest_term_units_ignored", "vhfit/calibration/_space.py",
+      "        self.unit = self._term_units() if self.redundant else None\n",
+      "        self.unit = (np.array([max(map(abs, prob.bounds[hm.param_names[k]]))\n"
+      "                               for k in self.amp]) if self.redundant else None)\n",
+      "shapes of 3+ linear constants drawn in the constants' own search ranges "
+      "(Yeoh loses to neo-Hooke on data with a small-strain point)",
+      ("tests/test_nesting.py",)),
 ]

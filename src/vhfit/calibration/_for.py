@@ -160,8 +160,8 @@ def _search_vector(space, x: np.ndarray) -> np.ndarray:
         th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
         th += 2 * math.pi * round((mid - th) / (2 * math.pi))
         z.append(float(space.places(th, x[:nh])[0]) if space.on_arc else th)
-    elif len(space.amp) > 1 and not space.exact:
-        z += amp
+    elif space.redundant:
+        z += list(space.shape_coords(np.asarray(amp)))
     z += [x[k] for k in space.other]
     z += [logtau[i] for i in space.free_tau]
     return np.asarray(z, dtype=np.float64)

@@ -145,10 +145,18 @@ class SeparableSpace:
         self.angle = not self.exact and len(self.amp) == 2
         if self.angle:
             self.theta = self._arc()
+        # more than two linear constants with Prony terms: each searched coordinate is its
+        # constant in units of :meth:`_term_units`, so that every term spans a comparable
+        # share of the box (the constants' own search ranges are set by the smallest
+        # strains, where (I1 − 3)^k vanishes: Yeoh's C30 would span ±1e6 where good
+        # shapes need 1e-5 of C10's scale)
+        self.redundant = not self.exact and len(self.amp) > 2
+        self.unit = self._term_units() if self.redundant else None
         # with nonlinear constants the admissible arc moves with them: the search's
         # coordinate is the place on the arc of its own shape (see decode)
         self.on_arc = self.angle and bool(self.other) and prob.adm is not None
-        self.layout = "separable, on the arc of each shape" if self.on_arc else self.method
+        self.layout = ("separable, on the arc of each shape" if self.on_arc else
+                       "separable, shapes in term units" if self.redundant else self.method)
         self._angles = None  # (the view of angles(), made once)
         self.free_tau = [i for i, (lo, hi) in enumerate(prob.tau_b) if lo < hi]
 
@@ -168,6 +176,35 @@ class SeparableSpace:
                 f"{prob.stability_range}: give a narrower stability_range"
             )
         return lo, hi
+
+    def _term_units(self) -> np.ndarray:
+        """Per linear constant, the value at which its term alone has the weighted norm of
+        the targets (the law's other constants at their example values): the long-term
+        stress of each unit constant, σ(B + e_k) − σ(B) with B all linear constants at 1
+        (as in :meth:`solve_constants`), over the objective's points. A term that cannot
+        be evaluated there keeps the size of its search range."""
+        prob, hm, amp = self.prob, self.prob.hm, self.amp
+        m, nh = len(amp), hm.n_params
+        X = np.zeros((m + 1, prob.model.n_params))
+        X[:, :nh] = np.asarray(hm.example, dtype=np.float64)
+        X[:, amp] = 1.0
+        X[np.arange(1, m + 1), amp] += 1.0
+        X[:, nh + 1::2] = 10.0 ** np.mean(prob.tau_b, axis=1)  # G_i = 0: τ is idle
+        with np.errstate(all="ignore"):
+            S = prob.batch(X)
+            size = np.linalg.norm((S[1:] - S[:1]) * prob.scale, axis=1)
+        target = float(np.linalg.norm(prob.y * prob.scale))
+        rng = np.array([max(abs(float(v)) for v in prob.bounds[hm.param_names[k]])
+                        for k in amp])
+        ok = np.isfinite(size) & (size > 0) & (target > 0)
+        return np.where(ok, target / np.where(ok, size, 1.0), np.where(rng > 0, rng, 1.0))
+
+    def shape_coords(self, constants: np.ndarray) -> np.ndarray:
+        """Search coordinates of the shape of linear constants ``constants`` (m,) (the
+        redundant-scale layout): in term units, scaled into the unit box."""
+        z = np.asarray(constants, dtype=np.float64) / self.unit
+        top = float(np.max(np.abs(z))) if z.size else 0.0
+        return z / top if top > 0 and np.isfinite(top) else z
 
     #: with a polish after it, the search of a law with several linear constants and a
     #: nonlinear shape polishes its best member when its error first falls below each of
@@ -213,10 +250,9 @@ class SeparableSpace:
             b.append((-self.ARC_BAND, 1.0 + self.ARC_BAND))
         elif self.angle:
             b.append(self.theta)
-        elif len(self.amp) > 1 and not self.exact:
-            for k, nn in zip(self.amp, self.nonneg):
-                lo, hi = pb[hm.param_names[k]]
-                b.append((max(lo, 0.0) if nn else lo, hi))
+        elif self.redundant:  # in term units; the scale is redundant (NNLS sets it)
+            b += [(0.0 if nn else -1.0, 0.0 if npos else 1.0)
+                  for nn, npos in zip(self.nonneg, self.nonpos)]
         b += [pb[hm.param_names[k]] for k in self.other]
         b += [tuple(self.prob.tau_b[i]) for i in self.free_tau]
         return b
@@ -232,8 +268,8 @@ class SeparableSpace:
             hyper[:, self.amp[0]] = np.cos(Z[:, 0])
             hyper[:, self.amp[1]] = np.sin(Z[:, 0])
             j = 1
-        elif len(self.amp) > 1 and not self.exact:
-            hyper[:, self.amp] = Z[:, : len(self.amp)]
+        elif self.redundant:
+            hyper[:, self.amp] = Z[:, : len(self.amp)] * self.unit
             j = len(self.amp)
         else:
             hyper[:, self.amp] = 1.0
