@@ -2139,4 +2139,16 @@ MUTANTS: list[Mutant] = [
       "    if info == -999:\n        raise RuntimeError",
       "NNLS that hit its iteration cap returns an unfinished solution silently",
       ("tests/test_nnls.py",)),
+    M("s34_optimize_eager", "vhfit/optimize/__init__.py",
+      "from vhfit.optimize._history import DEHistory\n",
+      "from vhfit.optimize._de import differential_evolution  # noqa: F401\n"
+      "from vhfit.optimize._history import DEHistory\n",
+      "reading the τ strategies loads the search's scipy.optimize again (vhfit models slow)",
+      ("tests/test_fit_imports.py",)),
+    M("s34_parser_eager_fit", "vhfit/cli/_parser.py",
+      "from vhfit.cli._common import DEMO_PRONY, UsageError\n",
+      "from vhfit.cli._common import DEMO_PRONY, UsageError\n"
+      "from vhfit.cli._fit import cmd_fit  # noqa: F401\n",
+      "the parser imports the fit command's module (vhfit --help pays for the fit code)",
+      ("tests/test_fit_imports.py",)),
 ]
