@@ -2151,4 +2151,9 @@ MUTANTS: list[Mutant] = [
       "from vhfit.cli._fit import cmd_fit  # noqa: F401\n",
       "the parser imports the fit command's module (vhfit --help pays for the fit code)",
       ("tests/test_fit_imports.py",)),
+    M("s34_zero_mean_unnamed", "vhfit/objective.py",
+      "            raise ValueError(f\"curve {items[exc.index].name!r} {exc.what}\") from None\n",
+      "            raise\n",
+      "the all-zero-stress refusal says 'curve 1' instead of naming the file's curve",
+      ("tests/test_cli.py::test_fit_refusals_name_the_file_and_the_cli_flag",)),
 ]

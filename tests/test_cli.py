@@ -338,6 +338,25 @@ def test_fit_bad_flags_in_process(argv, needle, noisy, tmp_path, monkeypatch, ca
     assert len(err) == 1 and err[0].startswith("vhfit: error: ") and needle in err[0], err
 
 
+def test_fit_refusals_name_the_file_and_the_cli_flag(tmp_path, monkeypatch, capsys):
+    """All-zero stress and Prony terms without rates: the file and the flag as typed."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "ok.csv").write_text("strain,stress\n0,0\n0.1,0.1\n0.2,0.25\n0.3,0.4\n")
+    (tmp_path / "flat.csv").write_text("strain,stress\n0,0\n0.1,0\n0.2,0\n0.3,0\n")
+    for argv, needles in (
+            (["ok.csv", "flat.csv"], ["'flat'", "leave its file out"]),
+            (["ok.csv", "--prony", "1"], ["--prony 0"])):
+        assert cli.main(["fit", *argv, "--model", "neo_hooke", "--out", "o", "--force",
+                         "--no-plot", "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("vhfit: error: "), err
+        for n in needles:
+            assert n in err[0], (n, err[0])
+        # the only Python keyword left is marked as such
+        assert "n_prony=0 (command line" in err[0] or "n_prony=" not in err[0]
+        assert "from Python, use objective=" in err[0] or "objective=" not in err[0]
+
+
 def test_fit_trims_each_file_by_its_own_window(noisy, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     # one window per file, in file order; ':' leaves a file whole
