@@ -295,6 +295,10 @@ def test_simulate_from_parameters_and_history(tmp_path, capsys):
     (["simulate", "--model", "mooney_rivlin", "--param", "C10=abc", "--rate", "-1"],
      "not a number"),
     (["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"], "unknown model"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1", "--rate", "-1"],
+     "missing C01 (give --param C01=VALUE)"),
+    (["simulate", "--model", "neo_hooke", "--param", "C10=0.1,D1=3", "--rate", "-1"],
+     "D1 is not among them (drop --param D1)"),
 ])
 def test_simulate_bad_input(argv, needle, capsys):
     assert cli.main(argv) == 2
