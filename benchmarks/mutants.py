@@ -2205,4 +2205,21 @@ MUTANTS: list[Mutant] = [
       "shapes of 3+ linear constants drawn in the constants' own search ranges "
       "(Yeoh loses to neo-Hooke on data with a small-strain point)",
       ("tests/test_nesting.py",)),
+    M("s34_optimize_eager", "vhfit/optimize/__init__.py",
+      "from vhfit.optimize._history import DEHistory\n",
+      "from vhfit.optimize._de import differential_evolution  # noqa: F401\n"
+      "from vhfit.optimize._history import DEHistory\n",
+      "reading the τ strategies loads the search's scipy.optimize again (vhfit models slow)",
+      ("tests/test_fit_imports.py",)),
+    M("s34_parser_eager_fit", "vhfit/cli/_parser.py",
+      "from vhfit.cli._common import DEMO_PRONY, UsageError\n",
+      "from vhfit.cli._common import DEMO_PRONY, UsageError\n"
+      "from vhfit.cli._fit import cmd_fit  # noqa: F401\n",
+      "the parser imports the fit command's module (vhfit --help pays for the fit code)",
+      ("tests/test_fit_imports.py",)),
+    M("s34_zero_mean_unnamed", "vhfit/objective.py",
+      "            raise ValueError(f\"curve {items[exc.index].name!r} {exc.what}\") from None\n",
+      "            raise\n",
+      "the all-zero-stress refusal says 'curve 1' instead of naming the file's curve",
+      ("tests/test_cli.py::test_fit_refusals_name_the_file_and_the_cli_flag",)),
 ]

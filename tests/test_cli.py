@@ -295,6 +295,10 @@ def test_simulate_from_parameters_and_history(tmp_path, capsys):
     (["simulate", "--model", "mooney_rivlin", "--param", "C10=abc", "--rate", "-1"],
      "not a number"),
     (["simulate", "--model", "nosuchmodel", "--param", "a=1", "--rate", "-1"], "unknown model"),
+    (["simulate", "--model", "mooney_rivlin", "--param", "C10=0.1", "--rate", "-1"],
+     "missing C01 (give --param C01=VALUE)"),
+    (["simulate", "--model", "neo_hooke", "--param", "C10=0.1,D1=3", "--rate", "-1"],
+     "D1 is not among them (drop --param D1)"),
 ])
 def test_simulate_bad_input(argv, needle, capsys):
     assert cli.main(argv) == 2
@@ -336,6 +340,25 @@ def test_fit_bad_flags_in_process(argv, needle, noisy, tmp_path, monkeypatch, ca
     assert cli.main([a.format(f=noisy[0]) for a in argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("vhfit: error: ") and needle in err[0], err
+
+
+def test_fit_refusals_name_the_file_and_the_cli_flag(tmp_path, monkeypatch, capsys):
+    """All-zero stress and Prony terms without rates: the file and the flag as typed."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "ok.csv").write_text("strain,stress\n0,0\n0.1,0.1\n0.2,0.25\n0.3,0.4\n")
+    (tmp_path / "flat.csv").write_text("strain,stress\n0,0\n0.1,0\n0.2,0\n0.3,0\n")
+    for argv, needles in (
+            (["ok.csv", "flat.csv"], ["'flat'", "leave its file out"]),
+            (["ok.csv", "--prony", "1"], ["--prony 0"])):
+        assert cli.main(["fit", *argv, "--model", "neo_hooke", "--out", "o", "--force",
+                         "--no-plot", "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("vhfit: error: "), err
+        for n in needles:
+            assert n in err[0], (n, err[0])
+        # the only Python keyword left is marked as such
+        assert "n_prony=0 (command line" in err[0] or "n_prony=" not in err[0]
+        assert "from Python, use objective=" in err[0] or "objective=" not in err[0]
 
 
 def test_fit_trims_each_file_by_its_own_window(noisy, tmp_path, monkeypatch, capsys):
@@ -655,7 +678,7 @@ def test_build_parser_reads_the_fit_command():
         ["fit", "a.csv", "b.csv", "--prony", "3", "--model", "ogden2", "--seed", "7"])
     assert args.command == "fit" and args.curves == ["a.csv", "b.csv"]
     assert args.prony == 3 and args.model == "ogden2" and args.seed == 7
-    assert args.func is vhfit.cli._fit.cmd_fit
+    assert args.func.__name__ == "cmd_fit"  # resolved to vhfit.cli._fit.cmd_fit when it runs
     export = cli.build_parser().parse_args(["export", "r.json", "--to", "lsdyna"])
     assert (export.command, export.to) == ("export", "lsdyna")
     with pytest.raises((SystemExit, cli.UsageError)):

@@ -68,3 +68,32 @@ def test_a_fit_of_sweeps_alone_imports_no_numba_scipy_stats_or_matplotlib(tmp_pa
     # exact data: the route gives back the three terms (an independent check of the fit)
     taus = sorted(res["params"][f"tau{i}"] for i in (1, 2, 3))
     np.testing.assert_allclose(taus, [1e-2, 1.0, 1e2], rtol=1e-4)
+
+
+QUICK = r"""
+import contextlib, io, json, sys
+from vhfit import cli
+out = io.StringIO()
+with contextlib.redirect_stdout(out):
+    try:
+        code = cli.main(sys.argv[1:2])
+    except SystemExit as exc:  # argparse's --version / --help
+        code = exc.code
+heavy = ("numba", "scipy", "matplotlib", "vhfit.calibration", "vhfit.optimize._de")
+print(json.dumps({"code": code, "text": out.getvalue(),
+                  "loaded": [m for m in heavy if m in sys.modules]}))
+"""
+
+
+def test_version_help_and_models_load_no_numba_scipy_matplotlib_or_fit_code():
+    """The quick commands import on demand: none of the fit's packages in a fresh process."""
+    for argv in ("--version", "--help", "models"):
+        proc = subprocess.run([sys.executable, "-c", QUICK, argv], capture_output=True,
+                              text=True, env=dict(os.environ), timeout=300)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        child = json.loads(proc.stdout.strip().splitlines()[-1])
+        assert child["code"] in (0, None), (argv, child)
+        assert child["loaded"] == [], (argv, child["loaded"])
+        assert child["text"].strip(), argv  # it printed something
+    # the models listing still names the τ strategies, read without the search's scipy
+    assert "tau strategies" in child["text"] and "semifree" in child["text"]

@@ -9,31 +9,58 @@ The public API::
     cal = vhfit.calibrate(curves, hyperelastic="mooney_rivlin", n_prony=2, seed=0)
 """
 
-from vhfit import export, formulations, hyperelastic, report, spectrum, tts, viscoelastic
 from vhfit._version import __version__
-from vhfit.calibration import (
-    Calibration,
-    CalibrationError,
-    CalibrationSettings,
-    CalibrationWarning,
-    calibrate,
-    calibrate_for,
-)
-from vhfit.comparison import Comparison, compare
-from vhfit.data import Curve, DataError, DataWarning, FrequencySweep, Relaxation, read_csv
-from vhfit.history import History
-from vhfit.model import Batch, ViscoHyperelastic
-from vhfit.objective import Objective, per_curve_rmsape, rmsape
-from vhfit.parallel import Job, JobResult, calibrate_many
+
+# Names load on first use (PEP 562), so that ``vhfit --version``, ``--help`` and
+# ``models`` do not pay for numpy, scipy and numba: each public name -> its module.
+_LAZY = {
+    "Calibration": "vhfit.calibration",
+    "CalibrationError": "vhfit.calibration",
+    "CalibrationSettings": "vhfit.calibration",
+    "CalibrationWarning": "vhfit.calibration",
+    "calibrate": "vhfit.calibration",
+    "calibrate_for": "vhfit.calibration",
+    "Comparison": "vhfit.comparison",
+    "compare": "vhfit.comparison",
+    "Curve": "vhfit.data",
+    "DataError": "vhfit.data",
+    "DataWarning": "vhfit.data",
+    "FrequencySweep": "vhfit.data",
+    "Relaxation": "vhfit.data",
+    "read_csv": "vhfit.data",
+    "History": "vhfit.history",
+    "Batch": "vhfit.model",
+    "ViscoHyperelastic": "vhfit.model",
+    "Objective": "vhfit.objective",
+    "per_curve_rmsape": "vhfit.objective",
+    "rmsape": "vhfit.objective",
+    "Job": "vhfit.parallel",
+    "JobResult": "vhfit.parallel",
+    "calibrate_many": "vhfit.parallel",
+}
 
 
 def __getattr__(name: str):
-    # the optimizer pulls in scipy.optimize (~0.3 s): load it when first used
-    if name == "optimize":
-        import importlib
+    import importlib
 
-        return importlib.import_module("vhfit.optimize")
-    raise AttributeError(f"module 'vhfit' has no attribute {name!r}")
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+    elif not name.startswith("__"):
+        try:  # a submodule (vhfit.export, vhfit.optimize, ...): imported when first asked
+            value = importlib.import_module(f"vhfit.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"vhfit.{name}":
+                raise
+            raise AttributeError(f"module 'vhfit' has no attribute {name!r}") from None
+    else:
+        raise AttributeError(f"module 'vhfit' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
 
 __all__ = [
     "Batch",

@@ -107,11 +107,18 @@ def _scale_rmsape(target: np.ndarray, curve: np.ndarray, weights: np.ndarray) ->
     bad = ~(mean > 0) | ~np.isfinite(mean)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(
-            f"curve {i} has a mean |stress| of {mean[i]:g} at its objective points: RMSAPE "
-            "(Eq. 20) divides by it; drop that curve or use objective='rmse'"
-        )
+        raise _NoScale(i, f"has a mean |stress| of {mean[i]:g} at its objective points: "
+                          "RMSAPE (Eq. 20) divides by it; drop that curve (command line: "
+                          "leave its file out) or, from Python, use objective='rmse'")
     return mean[curve] / 100.0
+
+
+class _NoScale(ValueError):
+    """A curve whose residual scale is undefined; :class:`Objective` names the curve."""
+
+    def __init__(self, index: int, what: str) -> None:
+        super().__init__(f"curve {index} {what}")
+        self.index, self.what = index, what
 
 
 @register_objective("rmse")
@@ -267,7 +274,13 @@ class Objective:
                     "scale function"
                 ) from None
             self.kind = kind
-        scale = np.asarray(scale_fn(self.target, self.curve, self.weights), dtype=np.float64)
+        try:
+            scale = np.asarray(scale_fn(self.target, self.curve, self.weights),
+                               dtype=np.float64)
+        except _NoScale as exc:  # name the curve (its file) when the test items say it
+            if items is None or len(items) != m or not getattr(items[exc.index], "name", ""):
+                raise
+            raise ValueError(f"curve {items[exc.index].name!r} {exc.what}") from None
         scale = np.broadcast_to(scale, self.target.shape).copy()
         if self.kind == "rmsape" and items is not None and len(items) == m:
             _point_scales(items, self.slices, scale)

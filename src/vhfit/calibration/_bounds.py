@@ -41,7 +41,8 @@ def rates(curves) -> np.ndarray:
     if not rated and not linear:
         raise ValueError(
             "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
-            "(rate-free) curves carry no viscous response; fit n_prony=0"
+            "(rate-free) curves carry no viscous response; fit n_prony=0 (command line: "
+            "--prony 0)"
         )
     r = np.array([abs(float(c.strain_rate or np.nan)) for c in rated]
                  + linear)

@@ -24,10 +24,19 @@ from vhfit.cli._common import (
     Progress,
     UsageError,
 )
-from vhfit.cli._fit import CARD_FILES
 from vhfit.cli._main import main
 from vhfit.cli._parser import build_parser
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
+
+
+def __getattr__(name: str):
+    # the card table lives with the fitting code (numpy, scipy): loaded when first asked
+    if name == "CARD_FILES":
+        from vhfit.cli._cards import CARD_FILES
+
+        return CARD_FILES
+    raise AttributeError(f"module 'vhfit.cli' has no attribute {name!r}")
+
 
 __all__ = [
     "main",

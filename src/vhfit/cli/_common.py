@@ -27,6 +27,7 @@ __all__ = [
 EXIT_OK = 0
 EXIT_FAILED = 1
 EXIT_USAGE = 2
+DEMO_PRONY = 4  # Prony terms of ``vhfit demo`` (here: the parser shows it without the fit code)
 
 
 class UsageError(Exception):

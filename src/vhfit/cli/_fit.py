@@ -40,6 +40,7 @@ from vhfit.cli._cards import (
     plan_fits,
 )
 from vhfit.cli._common import (
+    DEMO_PRONY,
     EXIT_FAILED,
     EXIT_OK,
     FitFailed,
@@ -63,7 +64,6 @@ __all__ = ["cmd_fit", "cmd_demo", "run_fit", "run_compare", "model_list", "group
 
 RESULTS = "results.json"
 CHECKPOINT = "checkpoint.json"
-DEMO_PRONY = 4
 DEMO_STRATEGY = "semifree"
 
 

@@ -12,13 +12,8 @@ from collections.abc import Callable
 from typing import Any
 
 from vhfit._version import __version__
-from vhfit.cli._check import cmd_check
-from vhfit.cli._common import UsageError
-from vhfit.cli._export import cmd_export
-from vhfit.cli._fit import DEMO_PRONY, cmd_demo, cmd_fit
-from vhfit.cli._models import cmd_models
+from vhfit.cli._common import DEMO_PRONY, UsageError
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
-from vhfit.cli._simulate import cmd_simulate
 from vhfit.data import MAX_POINTS
 from vhfit.export import get_solver, solvers
 from vhfit.formulations import FORMULATIONS
@@ -32,6 +27,23 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # noqa: D401 - argparse API
         raise UsageError(f"{message} (see '{self.prog} --help')")
+
+
+def _command(name: str) -> Callable[..., int]:
+    """The command ``cmd_<name>`` of ``vhfit.cli._<module>``, imported when it runs.
+
+    Why: a command's module pulls in numpy, scipy and the fitting code; ``--help``,
+    ``--version`` and the other commands must not wait for it.
+    """
+    module, _, func = name.partition(":")
+
+    def run(args, argv=()) -> int:
+        import importlib
+
+        return getattr(importlib.import_module(f"vhfit.cli.{module}"), func)(args, argv)
+
+    run.__name__ = func
+    return run
 
 
 # ============================================================== value checks
@@ -397,7 +409,7 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
                         "alpha1=-40:40 or tau1=1e-3:10 (tau in s, moduli in MPa; "
                         "repeatable, each parameter once; within its physical range)")
     _add_fit_options(p, demo=False)
-    p.set_defaults(func=cmd_fit)
+    p.set_defaults(func=_command("_fit:cmd_fit"))
 
 
 def _add_demo(sub, common: argparse.ArgumentParser) -> None:
@@ -409,7 +421,7 @@ def _add_demo(sub, common: argparse.ArgumentParser) -> None:
                                    "write every output into a fresh folder.")
     _add_fit_options(p, demo=True)
     # one temperature: no shift; the default search limits
-    p.set_defaults(func=cmd_demo, shift=None, tref=None, bounds=None)
+    p.set_defaults(func=_command("_fit:cmd_demo"), shift=None, tref=None, bounds=None)
 
 
 def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
@@ -514,7 +526,7 @@ def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
                    help="stress measure (default engineering)")
     p.add_argument("--out", metavar="FILE.csv", help="output CSV (default: standard output)")
-    p.set_defaults(func=cmd_simulate)
+    p.set_defaults(func=_command("_simulate:cmd_simulate"))
 
 
 def _add_export(sub, common: argparse.ArgumentParser) -> None:
@@ -527,7 +539,7 @@ def _add_export(sub, common: argparse.ArgumentParser) -> None:
     p.add_argument("--name", help="material name in the card")
     _add_card_options(p, fit=False)
     p.add_argument("--out", metavar="FILE", help="output file (default: standard output)")
-    p.set_defaults(func=cmd_export)
+    p.set_defaults(func=_command("_export:cmd_export"))
 
 
 def _add_check(sub, common: argparse.ArgumentParser) -> None:
@@ -560,7 +572,7 @@ def _add_check(sub, common: argparse.ArgumentParser) -> None:
                    action="append", default=d, help="as for fit (default: the fit's)")
     _add_data_choices(p, default=d)
     p.add_argument("--json", action="store_true", help="print the card check as JSON")
-    p.set_defaults(func=cmd_check)
+    p.set_defaults(func=_command("_check:cmd_check"))
 
 
 def _add_models(sub, common: argparse.ArgumentParser) -> None:
@@ -570,4 +582,4 @@ def _add_models(sub, common: argparse.ArgumentParser) -> None:
                                    f"the '{PLUGIN_GROUP}' entry-point group) and tau "
                                    "strategies.")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.set_defaults(func=cmd_models)
+    p.set_defaults(func=_command("_models:cmd_models"))

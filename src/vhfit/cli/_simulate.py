@@ -27,6 +27,7 @@ def cmd_simulate(args, argv=()) -> int:
                          "with --param NAME=VALUE for each constant")
     model, params, source = _material(args)
     n_prony = model.n_prony
+    _check_names(model, params)
     try:
         x = model.check(params)
     except ValueError as exc:
@@ -85,6 +86,26 @@ def _material(args) -> tuple[ViscoHyperelastic, dict[str, float], str]:
     except ValueError as exc:
         raise UsageError(f"parameters: {one_line(exc)}") from None
     return model, params, source
+
+
+def _check_names(model: ViscoHyperelastic, params: dict[str, float]) -> None:
+    """Missing or unknown constants, in the command line's words (the law's name as
+    ``--model`` takes it, the constants as ``--param`` takes them)."""
+    missing = [n for n in model.param_names if n not in params]
+    extra = [k for k in params if k not in model.param_names]
+    if not (missing or extra):
+        return
+    law = model.hyperelastic.name
+    parts = []
+    if missing:
+        parts.append(f"missing {', '.join(missing)} (give "
+                     + ", ".join(f"--param {n}=VALUE" for n in missing) + ")")
+    if extra:
+        parts.append(f"{', '.join(extra)} {'is' if len(extra) == 1 else 'are'} not among "
+                     "them (drop --param " + ", ".join(extra) + ")")
+    n = model.n_prony
+    raise UsageError(f"--model {law} with {n} Prony term{'' if n == 1 else 's'} takes "
+                     f"{', '.join(model.param_names)}: " + "; ".join(parts))
 
 
 def _loads(args) -> list[tuple[str, float, History]]:

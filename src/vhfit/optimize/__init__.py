@@ -11,9 +11,7 @@ stress–strain curves using a genetic algorithm and its application to soft tis
 simulants*; its §2.2 describes the algorithm, the stopping criteria and the τ bounds.
 """
 
-from vhfit.optimize._de import DifferentialEvolutionSolver, differential_evolution
 from vhfit.optimize._history import DEHistory
-from vhfit.optimize._minimize import de
 from vhfit.optimize._presets import preset_settings, presets
 from vhfit.optimize._stopping import (
     AllOf,
@@ -38,6 +36,23 @@ from vhfit.optimize._tau import (
     tau_range,
     tau_strategies,
 )
+
+# the search itself needs scipy.optimize (~0.3 s): loaded when first asked, so that
+# reading the τ strategies (``vhfit models``, the parser) does not pay for it
+_LAZY = {"DifferentialEvolutionSolver": "vhfit.optimize._de",
+         "differential_evolution": "vhfit.optimize._de",
+         "de": "vhfit.optimize._minimize"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'vhfit.optimize' has no attribute {name!r}")
+
 
 __all__ = [
     "differential_evolution",
