@@ -12,7 +12,7 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
-           "bound_hit_headlines", "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG"]
+           "bound_hit_headlines", "pinned_headlines", "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -266,6 +266,71 @@ def bound_hit_headlines(prob, x: np.ndarray, hits: dict[str, str], widened: dict
             f"{name} = {x[k]:.6g} ended on its search bound {name} "
             f"{'>=' if side == 'low' else '<='} {b:g} ({how}): the best fit may lie beyond it; "
             f"widen it with the bounds= keyword, e.g. "
+            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
+            f"{name}={sug[0]:g}:{sug[1]:g})")
+    return out
+
+
+def _suggest(name: str, lo: float, hi: float, side: str, log: bool) -> tuple[float, float]:
+    """A wider interval on the side hit: :data:`WIDEN` widths out (decades for τ)."""
+    if log:
+        a, b = math.log10(lo), math.log10(hi)
+        w = WIDEN * max(b - a, 1.0)
+        return (10.0 ** (a - w), hi) if side == "low" else (lo, 10.0 ** (b + w))
+    w = WIDEN * (hi - lo)
+    return (lo - w, hi) if side == "low" else (lo, hi + w)
+
+
+def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
+    """One sentence per constant that ends on a bound no widening moves, beyond those
+    of :func:`bound_hits` (``skip``): a bound the user gave to a linear constant or a
+    relaxation time, and a relaxation time on an end of the automatic τ range (the
+    boundaries between the terms' pieces of ``"semifree"`` are not limits of the fit).
+    A bound at the law's physical limit (G_i >= 0, μ > 0) is no warning."""
+    hm, model, out = prob.hm, prob.model, []
+    names = list(model.param_names)
+    tau_b = np.asarray(prob.tau_b, dtype=np.float64).reshape(-1, 2)
+    free = [i for i in range(tau_b.shape[0]) if tau_b[i, 1] > tau_b[i, 0]]
+    ends = ((float(tau_b[:, 0].min()), float(tau_b[:, 1].max())) if tau_b.size
+            else (math.nan, math.nan))
+    for k, name in enumerate(names):
+        if name in skip or not np.isfinite(x[k]):
+            continue
+        tau_i = int(name[3:]) - 1 if name.startswith("tau") and name[3:].isdigit() else None
+        if tau_i is not None:
+            if tau_i not in free:
+                continue  # a fixed τ (strategy "fixed") is no bound hit
+            a, b = (float(v) for v in tau_b[tau_i])
+            z = math.log10(x[k]) if x[k] > 0 else -math.inf
+            margin = HIT_MARGIN * (b - a)
+            user = name in prob.user_bounds
+            side = ("low" if z - a <= margin and (user or a <= ends[0]) else
+                    "high" if b - z <= margin and (user or b >= ends[1]) else None)
+            lo, hi = 10.0 ** a, 10.0 ** b
+            how = ("given in bounds=" if user else
+                   f"the automatic range's {'lower' if side == 'low' else 'upper'} end, "
+                   f"{'decades_below' if side == 'low' else 'decades_above'}= widens it")
+            log = True
+        else:
+            if name not in prob.user_bounds or name not in prob.bounds:
+                continue  # automatic bounds of the searched shape: bound_hits' part
+            lo, hi = (float(v) for v in prob.bounds[name])
+            if not hi > lo:
+                continue
+            plo, phi = ((float(v) for v in hm.bounds[k]) if k < hm.n_params
+                        else (0.0, math.inf))  # G_i >= 0
+            margin = HIT_MARGIN * (hi - lo)
+            side = ("low" if x[k] - lo <= margin and lo > plo else
+                    "high" if hi - x[k] <= margin and hi < phi else None)
+            how, log = "given in bounds=", False
+        if side is None:
+            continue
+        b_ = lo if side == "low" else hi
+        sug = _suggest(name, lo, hi, side, log)
+        out.append(
+            f"{name} = {x[k]:.6g} ended on its search bound {name} "
+            f"{'>=' if side == 'low' else '<='} {b_:g} ({how}): the best fit may lie beyond "
+            f"it; widen it with the bounds= keyword, e.g. "
             f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
             f"{name}={sug[0]:g}:{sug[1]:g})")
     return out

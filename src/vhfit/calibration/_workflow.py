@@ -17,6 +17,7 @@ from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
     bound_hit_headlines,
     bound_hits,
+    pinned_headlines,
     search_bounds,
     widen_bounds,
 )
@@ -468,7 +469,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
             if err2 <= err:
                 prob, found, x, err = prob2, found2, x2, err2
             hits = bound_hits(prob, x)
-    heads = bound_hit_headlines(prob, x, hits, widened)
+    heads = bound_hit_headlines(prob, x, hits, widened) + pinned_headlines(prob, x, hits)
     free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
             else None)
     space = SPACES[s.method]
