@@ -2222,4 +2222,14 @@ MUTANTS: list[Mutant] = [
       "            raise\n",
       "the all-zero-stress refusal says 'curve 1' instead of naming the file's curve",
       ("tests/test_cli.py::test_fit_refusals_name_the_file_and_the_cli_flag",)),
+    # ------------------------- constants on bounds named (issue 33)
+    M("i33b_user_tau_bound_unnamed", "vhfit/calibration/_bounds.py",
+      "            user = name in prob.user_bounds\n",
+      "            user = False\n",
+      "a relaxation time on a bound the user gave is not named (only the automatic ends are)",
+      ("tests/test_bounds_named.py",)),
+    M("i33b_pinned_not_reported", "vhfit/calibration/_workflow.py",
+      "pinned_headlines(prob, x, hits)", "[]",
+      "no constant on a user bound or the τ range's ends is named in the summary",
+      ("tests/test_bounds_named.py",)),
 ]
