@@ -309,7 +309,8 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
             lo, hi = 10.0 ** a, 10.0 ** b
             how = ("given in bounds=" if user else
                    f"the automatic range's {'lower' if side == 'low' else 'upper'} end, "
-                   f"widened from Python by {'decades_below' if side == 'low' else 'decades_above'}=")
+                   "widened from Python by "
+                   f"{'decades_below' if side == 'low' else 'decades_above'}=")
             log = True
         else:
             if name not in prob.user_bounds or name not in prob.bounds:
