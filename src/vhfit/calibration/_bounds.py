@@ -284,15 +284,13 @@ def _suggest(name: str, lo: float, hi: float, side: str, log: bool) -> tuple[flo
 def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
     """One sentence per constant that ends on a bound no widening moves, beyond those
     of :func:`bound_hits` (``skip``): a bound the user gave to a linear constant or a
-    relaxation time, and a relaxation time on an end of the automatic τ range (the
-    boundaries between the terms' pieces of ``"semifree"`` are not limits of the fit).
+    relaxation time (a τ on an end of the automatic range is the time-window warnings'
+    part).
     A bound at the law's physical limit (G_i >= 0, μ > 0) is no warning."""
     hm, model, out = prob.hm, prob.model, []
     names = list(model.param_names)
     tau_b = np.asarray(prob.tau_b, dtype=np.float64).reshape(-1, 2)
     free = [i for i in range(tau_b.shape[0]) if tau_b[i, 1] > tau_b[i, 0]]
-    ends = ((float(tau_b[:, 0].min()), float(tau_b[:, 1].max())) if tau_b.size
-            else (math.nan, math.nan))
     for k, name in enumerate(names):
         if name in skip or not np.isfinite(x[k]):
             continue
@@ -302,16 +300,15 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
                 continue  # a fixed τ (strategy "fixed") is no bound hit
             a, b = (float(v) for v in tau_b[tau_i])
             z = math.log10(x[k]) if x[k] > 0 else -math.inf
-            margin = HIT_MARGIN * (b - a)
             user = name in prob.user_bounds
-            side = ("low" if z - a <= margin and (user or a <= ends[0]) else
-                    "high" if b - z <= margin and (user or b >= ends[1]) else None)
+            if not user:
+                # the automatic range's ends follow the data's time scales: a τ there is
+                # reported by the time-window warnings (faster/slower than every test)
+                continue
+            margin = HIT_MARGIN * (b - a)
+            side = ("low" if z - a <= margin else "high" if b - z <= margin else None)
             lo, hi = 10.0 ** a, 10.0 ** b
-            how = ("given in bounds=" if user else
-                   f"the automatic range's {'lower' if side == 'low' else 'upper'} end, "
-                   "widened from Python by "
-                   f"{'decades_below' if side == 'low' else 'decades_above'}=")
-            log = True
+            how, log = "given in bounds=", True
         else:
             if name not in prob.user_bounds or name not in prob.bounds:
                 continue  # automatic bounds of the searched shape: bound_hits' part
