@@ -30,12 +30,13 @@ from vhfit.data._columns import (
     _GROUP_NAMES,
     _UNITS,
     _Col,
+    _classify,
     _Plan,
     _resolve_columns,
     _split_header,
     _unit_factor,
 )
-from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _Where
+from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _warn, _Where
 from vhfit.data._modes import _deformation_name, _implied_deformation, _is_shear, _known
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _Table
@@ -212,6 +213,9 @@ def _split_rows(
     """The selected rows, split into curves by group columns and by nominal rate."""
     src = table.source
     rows = _select_rows(table, select)
+    # columns compared with the one read (and found to agree) are no unused channels
+    compared = {c.index for role, alts in plan.alternates.items()
+                for c in [getattr(plan, role), *alts]}
     _settle_columns(table, plan, rows)
     rate_vals = None
     if plan.rate is not None:
@@ -238,7 +242,9 @@ def _split_rows(
         members = [np.flatnonzero(inv == g) for g in order]
     else:
         members = [np.arange(rows.size)]
-    _check_text_columns(table, rows, members, _used_columns(table, plan, gcols, select))
+    unused = _check_text_columns(table, rows, members,
+                                 _used_columns(table, plan, gcols, select) | compared)
+    _note_unused(table, plan, unused)
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
@@ -307,6 +313,33 @@ def _used_columns(table: _Table, plan: _Plan, gcols: list[int],
              if c is not None}
     used |= {_col_index(table, h, "select") for h in (select or {})}
     return used
+
+
+def _note_unused(table: _Table, plan: _Plan, unused: list[int]) -> None:
+    """One line naming the columns the fit does not read (a second stress measure beside
+    the one fitted said as such), so that nothing is dropped unseen."""
+    if not unused:
+        return
+    names = table.names
+    stress = plan.stress
+    other = [j for j in unused
+             if (c := _classify(j, names[j])) is not None and c.role == stress.role
+             and c.rank < 2.0 and {c.kind, stress.kind} == {"engineering", "true"}]
+    rest = [j for j in unused if j not in other]
+    parts = []
+    if other:
+        word = "true" if stress.kind != "true" else "nominal"
+        fitted = "true" if stress.kind == "true" else "nominal"
+        flag = ("measure='true' (command line: --measure true)" if fitted == "nominal" else
+                "measure='engineering' (command line: --measure engineering)")
+        parts.append(
+            f"the {fitted} stress {stress.header!r} is fitted, not the {word} stress "
+            f"{', '.join(repr(names[j]) for j in other)} (to fit that one: {flag} or "
+            f"columns={{'stress': {names[other[0]]!r}}}, --columns stress={names[other[0]]})")
+    if rest:
+        parts.append(f"column{'s' if len(rest) > 1 else ''} "
+                     f"{', '.join(repr(names[j]) for j in rest)} read and not used by the fit")
+    _warn(f"{table.source}: {'; '.join(parts)}", stacklevel=2)
 
 
 def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarray) -> np.ndarray:
