@@ -347,3 +347,99 @@ def test_history_units_and_competing_columns(tmp_path):
     with pytest.raises(DataError, match=r"column 'strain_gauge': unit 'gauge' is not "
                                         r"understood for strain"):
         read_history(write(tmp_path, "time,strain_gauge\n0,0\n1,0.1\n"))
+
+
+# ============================================ extra numeric channels (lab files as written)
+def _hydrogel(n: int = 3276) -> tuple[str, np.ndarray, np.ndarray]:
+    """A hydrogel tension file as its lab writes it: the derived reduced stress is nan at
+    λ = 1 (0/0) and differs on every other row."""
+    lam = np.linspace(1.0, 3.0, n)
+    nominal = 10.0 * (lam - lam**-2)  # kPa, neo-Hooke with μ = 10 kPa
+    with np.errstate(invalid="ignore", divide="ignore"):
+        reduced = nominal / (lam - lam**-2) * (1.0 + 0.01 * (lam - 1.0))
+    lines = ["time_s, stretch, engineering_strain, nominal_stress_kPa, reduced_stress_kPa"]
+    for k, (lm, sn, sr) in enumerate(zip(lam, nominal, reduced)):
+        red = "nan" if not np.isfinite(sr) else f"{sr:.4f}"
+        lines.append(f"{0.05 * k:.2f}, {lm:.6f}, {lm - 1.0:.6f}, {sn:.5f}, {red}")
+    return "\n".join(lines) + "\n", lam, nominal
+
+
+def test_the_hydrogel_file_with_a_derived_column_nan_at_rest_is_read(tmp_path):
+    """Issue: 'reduced_stress_kPa' (nan on the first row) was refused as 3275 specimens."""
+    text, lam, nominal = _hydrogel()
+    p = write(tmp_path, text)
+    with pytest.warns(vhfit.DataWarning) as rec:
+        [c] = vhfit.read_csv(p, n_points=None)
+    np.testing.assert_allclose(c.strain, lam - 1.0, atol=1e-6)
+    np.testing.assert_allclose(c.stress, nominal * 1e-3, atol=1e-8)  # kPa -> MPa
+    notes = [str(w.message) for w in rec if "not used by the fit" in str(w.message)]
+    assert notes == [f"{p}: column 'reduced_stress_kPa' read and not used by the fit"]
+
+
+@pytest.mark.parametrize("cell", ["nan", "", "inf", "-inf", "NaN", "N/A"])
+def test_a_numeric_channel_with_non_finite_cells_is_data_not_a_label(tmp_path, cell):
+    rows = "".join(f"{0.1 * k:.1f},{k:.1f},{'%s' % cell if k == 2 else 3.1 * k + 0.7}\n"
+                   for k in range(6))
+    p = write(tmp_path, "strain,stress_MPa,force_N\n" + rows)
+    with pytest.warns(vhfit.DataWarning, match=r"column 'force_N' read and not used by the "
+                                               r"fit"):
+        [c] = vhfit.read_csv(p, rate=0.1, n_points=None)
+    np.testing.assert_allclose(c.stress, np.arange(6.0))
+
+
+def test_numbers_in_few_contiguous_blocks_are_a_specimen_label(tmp_path):
+    """specimen = 1, 1, 1, 2, 2, 2 under a header no reader knows: a label, refused with
+    the flags; group_by= splits by it; the same numbers interleaved are a channel."""
+    rows = "".join(f"{0.1 * (k % 3):.1f},{k % 3:.1f},{1 + k // 3}\n" for k in range(6))
+    p = write(tmp_path, "strain,stress_MPa,sample_no\n" + rows)
+    refused(r"column 'sample_no': 2 different values \('1', '2'\) would be merged into one "
+            r"curve: .*--group-by sample_no", p, rate=0.1)
+    a, b = vhfit.read_csv(p, rate=0.1, group_by="sample_no", n_points=None)
+    np.testing.assert_allclose(a.stress, [0.0, 1.0, 2.0])
+    np.testing.assert_allclose(b.stress, [0.0, 1.0, 2.0])
+    mixed = "".join(f"{0.1 * k:.1f},{k:.1f},{1 + k % 2}\n" for k in range(6))
+    q = write(tmp_path, "strain,stress_MPa,channel\n" + mixed, "q.csv")
+    with pytest.warns(vhfit.DataWarning, match="'channel' read and not used"):
+        [c] = vhfit.read_csv(q, rate=0.1, n_points=None)
+    assert c.n_points == 6
+
+
+def test_many_values_in_blocks_are_a_channel_not_a_label():
+    """A stepped channel with more values than LABEL_VALUES is data."""
+    from vhfit.data._ambiguous import LABEL_VALUES, _is_block_label
+
+    few = np.repeat(np.arange(3.0), 4)
+    assert _is_block_label(few)
+    assert not _is_block_label(np.repeat(np.arange(LABEL_VALUES + 1.0), 2))
+    assert not _is_block_label(np.arange(12.0))  # every value differs
+    assert not _is_block_label(np.array([1.0, 1.0, 2.0, 2.0, 1.0, 1.0]))  # 1 comes back
+    assert not _is_block_label(np.array([1.0, 1.0, 2.0, 3.0, 3.0]))  # a block of one row
+
+
+def test_a_true_stress_beside_the_nominal_one_is_no_conflict(tmp_path):
+    """The nominal stress is fitted, and the note says so and how to fit the true one."""
+    eps = np.linspace(0.0, 0.5, 6)
+    s = 2.0 * eps
+    rows = "".join(f"{e:.2f},{a:.3f},{a * (1 + e):.4f}\n" for e, a in zip(eps, s))
+    p = write(tmp_path, "strain,nominal_stress_MPa,true_stress_MPa\n" + rows)
+    with pytest.warns(vhfit.DataWarning) as rec:
+        [c] = vhfit.read_csv(p, rate=0.1, n_points=None)
+    assert c.measure == "engineering"
+    np.testing.assert_allclose(c.stress, s, atol=1e-12)
+    [msg] = [str(w.message) for w in rec if "stress" in str(w.message)]
+    assert ("the nominal stress 'nominal_stress_MPa' is fitted, not the true stress "
+            "'true_stress_MPa'") in msg and "--measure true" in msg, msg
+    [t] = vhfit.read_csv(p, rate=0.1, n_points=None, measure="true")
+    assert t.measure == "true"
+    np.testing.assert_allclose(t.stress, s * (1 + eps), atol=1e-4)
+
+
+def test_cli_reads_the_hydrogel_file_and_says_which_column_it_ignored(tmp_path, capsys):
+    text, _, _ = _hydrogel(400)
+    p = write(tmp_path, text)
+    code = main(["fit", str(p), "--model", "neo_hooke", "--prony", "0", "--no-plot",
+                 "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    lines = [ln for ln in err.splitlines() if "reduced_stress_kPa" in ln]
+    assert len(lines) == 1 and "not used by the fit" in lines[0], err
