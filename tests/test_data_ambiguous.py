@@ -378,7 +378,7 @@ def test_the_hydrogel_file_with_a_derived_column_nan_at_rest_is_read(tmp_path):
 
 @pytest.mark.parametrize("cell", ["nan", "", "inf", "-inf", "NaN", "N/A"])
 def test_a_numeric_channel_with_non_finite_cells_is_data_not_a_label(tmp_path, cell):
-    rows = "".join(f"{0.1 * k:.1f},{k:.1f},{'%s' % cell if k == 2 else 3.1 * k + 0.7}\n"
+    rows = "".join(f"{0.1 * k:.1f},{k:.1f},{cell if k == 2 else 3.1 * k + 0.7}\n"
                    for k in range(6))
     p = write(tmp_path, "strain,stress_MPa,force_N\n" + rows)
     with pytest.warns(vhfit.DataWarning, match=r"column 'force_N' read and not used by the "

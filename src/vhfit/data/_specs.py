@@ -29,8 +29,8 @@ from vhfit.data._ambiguous import (
 from vhfit.data._columns import (
     _GROUP_NAMES,
     _UNITS,
-    _Col,
     _classify,
+    _Col,
     _Plan,
     _resolve_columns,
     _split_header,
@@ -322,14 +322,15 @@ def _note_unused(table: _Table, plan: _Plan, unused: list[int]) -> None:
         return
     names = table.names
     stress = plan.stress
+    kind = stress.kind or "engineering"  # an unqualified stress is read as nominal
     other = [j for j in unused
              if (c := _classify(j, names[j])) is not None and c.role == stress.role
-             and c.rank < 2.0 and {c.kind, stress.kind} == {"engineering", "true"}]
+             and c.rank < 2.0 and {c.kind or "engineering", kind} == {"engineering", "true"}]
     rest = [j for j in unused if j not in other]
     parts = []
     if other:
-        word = "true" if stress.kind != "true" else "nominal"
-        fitted = "true" if stress.kind == "true" else "nominal"
+        word = "true" if kind != "true" else "nominal"
+        fitted = "true" if kind == "true" else "nominal"
         flag = ("measure='true' (command line: --measure true)" if fitted == "nominal" else
                 "measure='engineering' (command line: --measure engineering)")
         parts.append(
