@@ -443,3 +443,108 @@ def test_cli_reads_the_hydrogel_file_and_says_which_column_it_ignored(tmp_path, 
     assert code == 0, err
     lines = [ln for ln in err.splitlines() if "reduced_stress_kPa" in ln]
     assert len(lines) == 1 and "not used by the fit" in lines[0], err
+
+
+# ============================================ plausibility notes (never change the data)
+def _notes(path, **kw):
+    """The curves read and the DataWarning lines of one read."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        curves = vhfit.read_csv(path, rate=0.1, n_points=None, **kw)
+    msgs = [str(w.message) for w in caught if issubclass(w.category, vhfit.DataWarning)]
+    assert all("\n" not in m for m in msgs), msgs
+    return curves, msgs
+
+
+def test_a_strain_beyond_5_with_no_unit_asks_whether_it_is_percent(tmp_path):
+    p = write(tmp_path, "strain,stress_MPa\n0,0\n10,0.5\n50,1.5\n")
+    [c], msgs = _notes(p)
+    [m] = [m for m in msgs if "is it in %" in m]
+    assert "column 'strain': the strain reaches 50 (a stretch of 51)" in m, m
+    assert "units={'strain': '%'}" in m and "--units strain=%" in m, m
+    np.testing.assert_allclose(c.strain, [0.0, 10.0, 50.0])  # read as written
+    [c], msgs = _notes(p, units={"strain": "%"})  # followed: no note, λ up to 1.5
+    assert not [m for m in msgs if "is it in %" in m], msgs
+    np.testing.assert_allclose(c.strain, [0.0, 0.1, 0.5])
+    q = write(tmp_path, "strain_%,stress_MPa\n0,0\n10,0.5\n50,1.5\n", "q.csv")
+    assert not [m for m in _notes(q)[1] if "is it in %" in m]  # a unit is stated
+    q = write(tmp_path, "strain [mm/mm],stress_MPa\n0,0\n10,0.5\n50,1.5\n", "q.csv")
+    assert not [m for m in _notes(q)[1] if "is it in %" in m]  # stated: not percent
+    r = write(tmp_path, "strain,stress_MPa\n0,0\n2,0.5\n4.9,1.5\n", "r.csv")
+    assert not [m for m in _notes(r)[1] if "is it in %" in m]  # up to 5: plausible
+
+
+def test_a_stress_with_no_unit_is_said_to_be_read_as_mpa(tmp_path):
+    p = write(tmp_path, "strain,stress\n0,0\n0.1,0.5\n0.5,1.5\n")
+    [c], msgs = _notes(p)
+    assert [m for m in msgs if "no unit: read as MPa" in m] == [
+        f"{p}, column 'stress': no unit: read as MPa (another with units={{'stress': "
+        "'kPa'}, command line: --units stress=kPa)"]
+    np.testing.assert_allclose(c.stress, [0.0, 0.5, 1.5])
+    for ok in ("strain,stress_MPa\n", "strain,stress [kPa]\n"):
+        q = write(tmp_path, ok + "0,0\n0.1,0.5\n", "q.csv")
+        assert not [m for m in _notes(q)[1] if "no unit" in m]
+    [c], msgs = _notes(p, units={"stress": "kPa"})  # said: no note, read in kPa
+    assert not [m for m in msgs if "no unit" in m or "overrides" in m], msgs
+    np.testing.assert_allclose(c.stress, [0.0, 5e-4, 1.5e-3])
+
+
+def test_units_overriding_a_stated_unit_is_said(tmp_path):
+    p = write(tmp_path, "strain,stress_psi\n0,0\n0.1,100\n0.5,300\n")
+    [c], msgs = _notes(p, units={"stress": "kPa"})
+    [m] = [m for m in msgs if "overrides" in m]
+    assert m == (f"{p}, column 'stress_psi': units={{'stress': 'kPa'}} (command line: "
+                 "--units stress=kPa) overrides the unit 'psi' the header states: read as "
+                 "kPa"), m
+    np.testing.assert_allclose(c.stress, [0.0, 0.1, 0.3])  # the override is obeyed
+    [c], msgs = _notes(p, units={"stress": "PSI"})  # the same unit: nothing to say
+    assert not [m for m in msgs if "overrides" in m], msgs
+    np.testing.assert_allclose(c.stress, np.array([0.0, 100, 300]) * 6.894757293168361e-3)
+
+
+def test_a_stress_implausible_for_its_unit_is_said(tmp_path):
+    p = write(tmp_path, "strain,stress_MPa\n0,0\n0.1,5000\n0.5,12000\n")
+    [c], msgs = _notes(p)
+    [m] = [m for m in msgs if "implausible" in m]
+    assert "column 'stress_MPa': the stress reaches 12000 MPa as read, implausible for a " \
+           "soft solid: check its unit" in m and "--units stress=Pa" in m, m
+    np.testing.assert_allclose(c.stress, [0.0, 5000.0, 12000.0])
+    q = write(tmp_path, "strain,stress_Pa\n0,0\n0.1,5000\n0.5,12000\n", "q.csv")
+    [c], msgs = _notes(q)  # in Pa the same numbers are 0.012 MPa: plausible
+    assert not [m for m in msgs if "implausible" in m], msgs
+    r = write(tmp_path, "strain,stress_MPa\n0,0\n0.1,5000\n0.5,9999\n", "r.csv")
+    assert not [m for m in _notes(r)[1] if "implausible" in m]  # below 1e4 MPa
+
+
+def test_notes_do_not_change_the_data_read(tmp_path):
+    """The same numbers give the same curve read with three notes firing (no units, a
+    strain beyond 5, a stress beyond 1e4 MPa) and read under headers that state the
+    units the notes assume."""
+    text = "\n".join(f"{e:.3f},{s:.3f}" for e, s in zip(np.linspace(0, 60, 7),
+                                                         np.linspace(0, 2e4, 7))) + "\n"
+    noisy = write(tmp_path, "strain,stress\n" + text, "noisy.csv")
+    quiet = write(tmp_path, "strain [-],stress_MPa\n" + text, "quiet.csv")
+    [a], msgs = _notes(noisy)
+    assert len([m for m in msgs if "is it in %" in m or "no unit" in m
+                or "implausible" in m]) == 3, msgs
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        [b] = vhfit.read_csv(quiet, rate=0.1, n_points=None)
+    np.testing.assert_array_equal(a.strain, b.strain)
+    np.testing.assert_array_equal(a.stress, b.stress)
+    assert a.strain_rate == b.strain_rate and a.measure == b.measure
+
+
+def test_cli_prints_a_plausibility_note_as_one_warning_line(tmp_path, capsys):
+    p = write(tmp_path, "strain,stress\n" + "".join(
+        f"{e:.2f},{0.5 * e:.4f}\n" for e in np.linspace(0, 0.5, 12)))
+    code = main(["fit", str(p), "--model", "neo_hooke", "--prony", "0", "--rate", "0.1",
+                 "--no-plot", "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    [line] = [ln for ln in err.splitlines() if "read as MPa" in ln]
+    assert line.startswith("warning: ") and "--units stress=kPa" in line, err
