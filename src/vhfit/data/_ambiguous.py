@@ -10,8 +10,10 @@ the conversion; twice, because a column computed from another's already rounded 
 carries that rounding too — a lab's true strain from its rounded engineering strain),
 and then the column written with the finest digits is read — nothing
 the other holds is lost; otherwise a one-line ``DataError`` names both columns and how to
-choose one. ``_check_text_columns`` refuses a varying text column that no option accounts
-for, naming ``group_by=`` / ``select=`` and their command-line flags. ``_select_rows``
+choose one. ``_check_text_columns`` refuses a varying label column (text, or numbers in
+few contiguous blocks) that no option accounts for, naming ``group_by=`` / ``select=`` and
+their command-line flags, and returns the columns the fit does not read (numeric channels
+with ``nan``/``inf``/empty cells among them). ``_select_rows``
 (``select=``) lives here so that curves and moduli tables share it.
 """
 
