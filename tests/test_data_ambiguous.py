@@ -347,3 +347,204 @@ def test_history_units_and_competing_columns(tmp_path):
     with pytest.raises(DataError, match=r"column 'strain_gauge': unit 'gauge' is not "
                                         r"understood for strain"):
         read_history(write(tmp_path, "time,strain_gauge\n0,0\n1,0.1\n"))
+
+
+# ============================================ extra numeric channels (lab files as written)
+def _hydrogel(n: int = 3276) -> tuple[str, np.ndarray, np.ndarray]:
+    """A hydrogel tension file as its lab writes it: the derived reduced stress is nan at
+    λ = 1 (0/0) and differs on every other row."""
+    lam = np.linspace(1.0, 3.0, n)
+    nominal = 10.0 * (lam - lam**-2)  # kPa, neo-Hooke with μ = 10 kPa
+    with np.errstate(invalid="ignore", divide="ignore"):
+        reduced = nominal / (lam - lam**-2) * (1.0 + 0.01 * (lam - 1.0))
+    lines = ["time_s, stretch, engineering_strain, nominal_stress_kPa, reduced_stress_kPa"]
+    for k, (lm, sn, sr) in enumerate(zip(lam, nominal, reduced)):
+        red = "nan" if not np.isfinite(sr) else f"{sr:.4f}"
+        lines.append(f"{0.05 * k:.2f}, {lm:.6f}, {lm - 1.0:.6f}, {sn:.5f}, {red}")
+    return "\n".join(lines) + "\n", lam, nominal
+
+
+def test_the_hydrogel_file_with_a_derived_column_nan_at_rest_is_read(tmp_path):
+    """Issue: 'reduced_stress_kPa' (nan on the first row) was refused as 3275 specimens."""
+    text, lam, nominal = _hydrogel()
+    p = write(tmp_path, text)
+    with pytest.warns(vhfit.DataWarning) as rec:
+        [c] = vhfit.read_csv(p, n_points=None)
+    np.testing.assert_allclose(c.strain, lam - 1.0, atol=1e-6)
+    np.testing.assert_allclose(c.stress, nominal * 1e-3, atol=1e-8)  # kPa -> MPa
+    notes = [str(w.message) for w in rec if "not used by the fit" in str(w.message)]
+    assert notes == [f"{p}: column 'reduced_stress_kPa' read and not used by the fit"]
+
+
+@pytest.mark.parametrize("cell", ["nan", "", "inf", "-inf", "NaN", "N/A"])
+def test_a_numeric_channel_with_non_finite_cells_is_data_not_a_label(tmp_path, cell):
+    rows = "".join(f"{0.1 * k:.1f},{k:.1f},{cell if k == 2 else 3.1 * k + 0.7}\n"
+                   for k in range(6))
+    p = write(tmp_path, "strain,stress_MPa,force_N\n" + rows)
+    with pytest.warns(vhfit.DataWarning, match=r"column 'force_N' read and not used by the "
+                                               r"fit"):
+        [c] = vhfit.read_csv(p, rate=0.1, n_points=None)
+    np.testing.assert_allclose(c.stress, np.arange(6.0))
+
+
+def test_numbers_in_few_contiguous_blocks_are_a_specimen_label(tmp_path):
+    """specimen = 1, 1, 1, 2, 2, 2 under a header no reader knows: a label, refused with
+    the flags; group_by= splits by it; the same numbers interleaved are a channel."""
+    rows = "".join(f"{0.1 * (k % 3):.1f},{k % 3:.1f},{1 + k // 3}\n" for k in range(6))
+    p = write(tmp_path, "strain,stress_MPa,sample_no\n" + rows)
+    refused(r"column 'sample_no': 2 different values \('1', '2'\) would be merged into one "
+            r"curve: .*--group-by sample_no", p, rate=0.1)
+    a, b = vhfit.read_csv(p, rate=0.1, group_by="sample_no", n_points=None)
+    np.testing.assert_allclose(a.stress, [0.0, 1.0, 2.0])
+    np.testing.assert_allclose(b.stress, [0.0, 1.0, 2.0])
+    mixed = "".join(f"{0.1 * k:.1f},{k:.1f},{1 + k % 2}\n" for k in range(6))
+    q = write(tmp_path, "strain,stress_MPa,channel\n" + mixed, "q.csv")
+    with pytest.warns(vhfit.DataWarning, match="'channel' read and not used"):
+        [c] = vhfit.read_csv(q, rate=0.1, n_points=None)
+    assert c.n_points == 6
+
+
+def test_many_values_in_blocks_are_a_channel_not_a_label():
+    """A stepped channel with more values than LABEL_VALUES is data."""
+    from vhfit.data._ambiguous import LABEL_VALUES, _is_block_label
+
+    few = np.repeat(np.arange(3.0), 4)
+    assert _is_block_label(few)
+    assert not _is_block_label(np.repeat(np.arange(LABEL_VALUES + 1.0), 2))
+    assert not _is_block_label(np.arange(12.0))  # every value differs
+    assert not _is_block_label(np.array([1.0, 1.0, 2.0, 2.0, 1.0, 1.0]))  # 1 comes back
+    assert not _is_block_label(np.array([1.0, 1.0, 2.0, 3.0, 3.0]))  # a block of one row
+
+
+def test_a_true_stress_beside_the_nominal_one_is_no_conflict(tmp_path):
+    """The nominal stress is fitted, and the note says so and how to fit the true one."""
+    eps = np.linspace(0.0, 0.5, 6)
+    s = 2.0 * eps
+    rows = "".join(f"{e:.2f},{a:.3f},{a * (1 + e):.4f}\n" for e, a in zip(eps, s))
+    p = write(tmp_path, "strain,nominal_stress_MPa,true_stress_MPa\n" + rows)
+    with pytest.warns(vhfit.DataWarning) as rec:
+        [c] = vhfit.read_csv(p, rate=0.1, n_points=None)
+    assert c.measure == "engineering"
+    np.testing.assert_allclose(c.stress, s, atol=1e-12)
+    [msg] = [str(w.message) for w in rec if "stress" in str(w.message)]
+    assert ("the nominal stress 'nominal_stress_MPa' is fitted, not the true stress "
+            "'true_stress_MPa'") in msg and "--measure true" in msg, msg
+    [t] = vhfit.read_csv(p, rate=0.1, n_points=None, measure="true")
+    assert t.measure == "true"
+    np.testing.assert_allclose(t.stress, s * (1 + eps), atol=1e-4)
+
+
+def test_cli_reads_the_hydrogel_file_and_says_which_column_it_ignored(tmp_path, capsys):
+    text, _, _ = _hydrogel(400)
+    p = write(tmp_path, text)
+    code = main(["fit", str(p), "--model", "neo_hooke", "--prony", "0", "--no-plot",
+                 "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    lines = [ln for ln in err.splitlines() if "reduced_stress_kPa" in ln]
+    assert len(lines) == 1 and "not used by the fit" in lines[0], err
+
+
+# ============================================ plausibility notes (never change the data)
+def _notes(path, **kw):
+    """The curves read and the DataWarning lines of one read."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        curves = vhfit.read_csv(path, rate=0.1, n_points=None, **kw)
+    msgs = [str(w.message) for w in caught if issubclass(w.category, vhfit.DataWarning)]
+    assert all("\n" not in m for m in msgs), msgs
+    return curves, msgs
+
+
+def test_a_strain_beyond_5_with_no_unit_asks_whether_it_is_percent(tmp_path):
+    p = write(tmp_path, "strain,stress_MPa\n0,0\n10,0.5\n50,1.5\n")
+    [c], msgs = _notes(p)
+    [m] = [m for m in msgs if "is it in %" in m]
+    assert "column 'strain': the strain reaches 50 (a stretch of 51)" in m, m
+    assert "units={'strain': '%'}" in m and "--units strain=%" in m, m
+    np.testing.assert_allclose(c.strain, [0.0, 10.0, 50.0])  # read as written
+    [c], msgs = _notes(p, units={"strain": "%"})  # followed: no note, λ up to 1.5
+    assert not [m for m in msgs if "is it in %" in m], msgs
+    np.testing.assert_allclose(c.strain, [0.0, 0.1, 0.5])
+    q = write(tmp_path, "strain_%,stress_MPa\n0,0\n10,0.5\n50,1.5\n", "q.csv")
+    assert not [m for m in _notes(q)[1] if "is it in %" in m]  # a unit is stated
+    q = write(tmp_path, "strain [mm/mm],stress_MPa\n0,0\n10,0.5\n50,1.5\n", "q.csv")
+    assert not [m for m in _notes(q)[1] if "is it in %" in m]  # stated: not percent
+    r = write(tmp_path, "strain,stress_MPa\n0,0\n2,0.5\n4.9,1.5\n", "r.csv")
+    assert not [m for m in _notes(r)[1] if "is it in %" in m]  # up to 5: plausible
+
+
+def test_a_stress_with_no_unit_is_said_to_be_read_as_mpa(tmp_path):
+    p = write(tmp_path, "strain,stress\n0,0\n0.1,0.5\n0.5,1.5\n")
+    [c], msgs = _notes(p)
+    assert [m for m in msgs if "no unit: read as MPa" in m] == [
+        f"{p}, column 'stress': no unit: read as MPa (another with units={{'stress': "
+        "'kPa'}, command line: --units stress=kPa)"]
+    np.testing.assert_allclose(c.stress, [0.0, 0.5, 1.5])
+    for ok in ("strain,stress_MPa\n", "strain,stress [kPa]\n"):
+        q = write(tmp_path, ok + "0,0\n0.1,0.5\n", "q.csv")
+        assert not [m for m in _notes(q)[1] if "no unit" in m]
+    [c], msgs = _notes(p, units={"stress": "kPa"})  # said: no note, read in kPa
+    assert not [m for m in msgs if "no unit" in m or "overrides" in m], msgs
+    np.testing.assert_allclose(c.stress, [0.0, 5e-4, 1.5e-3])
+
+
+def test_units_overriding_a_stated_unit_is_said(tmp_path):
+    p = write(tmp_path, "strain,stress_psi\n0,0\n0.1,100\n0.5,300\n")
+    [c], msgs = _notes(p, units={"stress": "kPa"})
+    [m] = [m for m in msgs if "overrides" in m]
+    assert m == (f"{p}, column 'stress_psi': units={{'stress': 'kPa'}} (command line: "
+                 "--units stress=kPa) overrides the unit 'psi' the header states: read as "
+                 "kPa"), m
+    np.testing.assert_allclose(c.stress, [0.0, 0.1, 0.3])  # the override is obeyed
+    [c], msgs = _notes(p, units={"stress": "PSI"})  # the same unit: nothing to say
+    assert not [m for m in msgs if "overrides" in m], msgs
+    np.testing.assert_allclose(c.stress, np.array([0.0, 100, 300]) * 6.894757293168361e-3)
+
+
+def test_a_stress_implausible_for_its_unit_is_said(tmp_path):
+    p = write(tmp_path, "strain,stress_MPa\n0,0\n0.1,5000\n0.5,12000\n")
+    [c], msgs = _notes(p)
+    [m] = [m for m in msgs if "implausible" in m]
+    assert "column 'stress_MPa': the stress reaches 12000 MPa as read, implausible for a " \
+           "soft solid: check its unit" in m and "--units stress=Pa" in m, m
+    np.testing.assert_allclose(c.stress, [0.0, 5000.0, 12000.0])
+    q = write(tmp_path, "strain,stress_Pa\n0,0\n0.1,5000\n0.5,12000\n", "q.csv")
+    [c], msgs = _notes(q)  # in Pa the same numbers are 0.012 MPa: plausible
+    assert not [m for m in msgs if "implausible" in m], msgs
+    r = write(tmp_path, "strain,stress_MPa\n0,0\n0.1,5000\n0.5,9999\n", "r.csv")
+    assert not [m for m in _notes(r)[1] if "implausible" in m]  # below 1e4 MPa
+
+
+def test_notes_do_not_change_the_data_read(tmp_path):
+    """The same numbers give the same curve read with three notes firing (no units, a
+    strain beyond 5, a stress beyond 1e4 MPa) and read under headers that state the
+    units the notes assume."""
+    text = "\n".join(f"{e:.3f},{s:.3f}" for e, s in zip(np.linspace(0, 60, 7),
+                                                         np.linspace(0, 2e4, 7))) + "\n"
+    noisy = write(tmp_path, "strain,stress\n" + text, "noisy.csv")
+    quiet = write(tmp_path, "strain [-],stress_MPa\n" + text, "quiet.csv")
+    [a], msgs = _notes(noisy)
+    assert len([m for m in msgs if "is it in %" in m or "no unit" in m
+                or "implausible" in m]) == 3, msgs
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        [b] = vhfit.read_csv(quiet, rate=0.1, n_points=None)
+    np.testing.assert_array_equal(a.strain, b.strain)
+    np.testing.assert_array_equal(a.stress, b.stress)
+    assert a.strain_rate == b.strain_rate and a.measure == b.measure
+
+
+def test_cli_prints_a_plausibility_note_as_one_warning_line(tmp_path, capsys):
+    p = write(tmp_path, "strain,stress\n" + "".join(
+        f"{e:.2f},{0.5 * e:.4f}\n" for e in np.linspace(0, 0.5, 12)))
+    code = main(["fit", str(p), "--model", "neo_hooke", "--prony", "0", "--rate", "0.1",
+                 "--no-plot", "--out", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 0, err
+    [line] = [ln for ln in err.splitlines() if "read as MPa" in ln]
+    assert line.startswith("warning: ") and "--units stress=kPa" in line, err

@@ -867,6 +867,80 @@ def test_mode_columns_fuzz(tmp_path_factory, seed):
     assert counts["ok"] > 0 and counts["error"] > 0
 
 
+# ============================================ extra numeric channels of a lab file
+#: Channels a lab writes beside strain and stress (no role in a fit).
+CHANNELS = ["force_N", "displacement_mm", "reduced_stress_kPa", "load_cell_V", "extension_mm",
+            "true_stress_MPa", "Chamber T", "cycle_count"]
+NOT_FINITE = ["nan", "", "inf", "-inf", "NaN", "N/A"]
+
+
+def channels_case(rng: np.random.Generator) -> dict:
+    """A strain/stress file with extra numeric channels (non-finite cells among them), and
+    maybe a numeric label column in contiguous blocks, in shuffled column order."""
+    n = int(rng.integers(6, 40))
+    e = np.linspace(0.0, rng.uniform(0.05, 1.0), n)
+    s = 10 ** rng.uniform(-2, 1) * e
+    cols = {"strain": [f"{v:.6g}" for v in e], "stress_MPa": [f"{v:.6g}" for v in s]}
+    extras = [str(h) for h in rng.choice(CHANNELS, size=int(rng.integers(0, 4)), replace=False)]
+    for h in extras:
+        v = rng.normal(size=n).cumsum() + np.arange(n)  # a channel: its values differ
+        cells = [f"{x:.5g}" for x in v]
+        for k in rng.choice(n, size=int(rng.integers(0, 3)), replace=False):
+            cells[k] = str(rng.choice(NOT_FINITE))
+        cols[h] = cells
+    label = None
+    if rng.random() < 0.3:  # numbers naming specimens: few values in contiguous blocks
+        k = int(rng.integers(1, 4))
+        cuts = np.sort(rng.choice(np.arange(2, n - 1), size=k - 1, replace=False))
+        if k == 1 or np.diff(np.r_[0, cuts, n]).min() >= 2:
+            label = k
+            cols["sample_no"] = [str(1 + int(np.searchsorted(cuts, i, side="right")))
+                                 for i in range(n)]
+    names = list(cols)
+    rng.shuffle(names)
+    text = ",".join(names) + "\n" + "".join(
+        ",".join(cols[h][i] for h in names) + "\n" for i in range(n))
+    return {"what": "channels", "data": text.encode(), "stress": s, "extras": extras,
+            "label": label,
+            "expect": "error" if label and label > 1 else "same"}
+
+
+def check_channels(case, path: Path) -> str:
+    import vhfit
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        got = read_case(path, case["data"], lambda p: vhfit.read_csv(p, rate=0.1,
+                                                                       n_points=None),
+                        case["expect"])
+    if got is None:
+        return "error"
+    [c] = got
+    np.testing.assert_allclose(c.stress, case["stress"], rtol=1e-5)
+    notes = [str(w.message) for w in caught if "not used by the fit" in str(w.message)
+             or "is fitted, not" in str(w.message)]
+    unused = [h for h in case["extras"] if h != "true_stress_MPa"]
+    unused += ["sample_no"] if case["label"] == 1 else []
+    if not unused and "true_stress_MPa" not in case["extras"]:
+        assert not notes, notes
+        return "ok"
+    assert len(notes) == 1, notes  # one line for the file
+    for h in unused:
+        assert repr(h) in notes[0], (h, notes[0])
+    if "true_stress_MPa" in case["extras"]:
+        assert "not the true stress 'true_stress_MPa'" in notes[0], notes[0]
+    return "ok"
+
+
+@settings(FUZZ, max_examples=max(10, EXAMPLES // 5))  # a modest budget: one reader's path
+@given(seed=SEEDS)
+def test_extra_numeric_channels_fuzz(tmp_path_factory, seed):
+    path = tmp_path_factory.getbasetemp() / "fuzz-channels.csv"
+    counts = _batch("channels", seed, channels_case, lambda c: check_channels(c, path),
+                    _explain_data)
+    assert counts["ok"] > 0
+
+
 # ==================================================== command-line option values
 #: Values typed where a number, a name or a window belongs.
 HOSTILE_TEXTS = ["", " ", "abc", "nan", "NaN", "inf", "-inf", "1e400", "-1e400", "0", "-0",

@@ -10,8 +10,10 @@ the conversion; twice, because a column computed from another's already rounded 
 carries that rounding too — a lab's true strain from its rounded engineering strain),
 and then the column written with the finest digits is read — nothing
 the other holds is lost; otherwise a one-line ``DataError`` names both columns and how to
-choose one. ``_check_text_columns`` refuses a varying text column that no option accounts
-for, naming ``group_by=`` / ``select=`` and their command-line flags. ``_select_rows``
+choose one. ``_check_text_columns`` refuses a varying label column (text, or numbers in
+few contiguous blocks) that no option accounts for, naming ``group_by=`` / ``select=`` and
+their command-line flags, and returns the columns the fit does not read (numeric channels
+with ``nan``/``inf``/empty cells among them). ``_select_rows``
 (``select=``) lives here so that curves and moduli tables share it.
 """
 
@@ -162,31 +164,75 @@ def _col_index(table: _Table, h: str, what: str = "") -> int:
                     f"{', '.join(map(repr, table.names))}")
 
 
+#: Words a lab (or a DataFrame) writes for a number that is not finite: a numeric
+#: channel with such cells (a derived quantity undefined at λ = 1) is still numbers.
+_NOT_FINITE = {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "+infinity",
+               "-infinity", "na", "n/a", "none", "null"}
+#: A numeric column names specimens only with at most this many values, each in one block.
+LABEL_VALUES = 20
+
+
+def _numeric_cells(texts: np.ndarray) -> np.ndarray | None:
+    """The values of a column of numbers (NaN where a cell is empty, nan or inf), or None
+    if one of its cells is text."""
+    vals = _cells(texts)[0]
+    miss = np.isnan(vals)
+    if miss.any():
+        low = {str(t).strip().strip("\"'").lower() for t in texts[miss]}
+        if low - _NOT_FINITE - {""}:
+            return None
+    return vals
+
+
+def _is_block_label(vals: np.ndarray) -> bool:
+    """Few values, each in one contiguous block of at least 2 rows (specimen = 1, 1, …,
+    2, 2, …): numbers that name specimens, not a measured channel."""
+    v = vals[np.isfinite(vals)]
+    if v.size < 4:
+        return False
+    starts = np.flatnonzero(np.r_[True, v[1:] != v[:-1]])
+    n_blocks = starts.size
+    n_values = np.unique(v).size
+    sizes = np.diff(np.r_[starts, v.size])
+    return 2 <= n_values <= LABEL_VALUES and n_blocks == n_values and sizes.min() >= 2
+
+
 def _check_text_columns(
     table: _Table, rows: np.ndarray, members: list[np.ndarray], skip: set[int]
-) -> None:
-    """Refuse a text column whose values differ inside one curve (``members``: positions
-    in ``rows`` of each curve), other than the columns in ``skip``.
+) -> list[int]:
+    """Refuse a label column whose values differ inside one curve (``members``: positions
+    in ``rows`` of each curve), other than the columns in ``skip``; return the other
+    columns (read and ignored by the fit).
 
-    A column counts as text when one of its non-empty cells is not a number; numeric
-    columns (force, displacement) are other channels and are ignored, as are columns
+    A column is a label when one of its non-empty cells is not a number (``nan``,
+    ``inf`` count as numbers), or when its numbers are few values each in one contiguous
+    block (:func:`_is_block_label`). Other numeric columns (force, displacement, a
+    derived stress that is ``nan`` at λ = 1) are other channels, and so are text columns
     whose every value differs (a timestamp or row label names rows, not curves).
     """
+    unused = []
     for j, h in enumerate(table.names):
         if j in skip:
             continue
-        try:
-            table.floats(j, rows)
-            continue  # numbers: another channel
-        except DataError:
-            pass
         texts = table.texts(j)[rows]
         filled = texts != ""
-        if not (np.isnan(_cells(texts[filled])[0])).any():
-            continue  # numbers with some cells empty
-        uniq, codes = np.unique(texts[filled].astype(str), return_inverse=True)
-        if uniq.size < 2 or uniq.size == int(filled.sum()):
-            continue
+        if not filled.any():
+            continue  # an empty column (a trailing separator): nothing to say
+        vals = _numeric_cells(texts)
+        if vals is not None and not _is_block_label(vals):
+            unused.append(j)
+            continue  # numbers: another channel
+        if vals is not None:
+            keys = np.where(np.isfinite(vals), vals, np.nan)
+            uniq_v, codes_v = np.unique(keys[filled], return_inverse=True)
+            uniq = np.asarray(texts[filled])[
+                [int(np.flatnonzero(codes_v == k)[0]) for k in range(uniq_v.size)]]
+            codes = codes_v
+        else:
+            uniq, codes = np.unique(texts[filled].astype(str), return_inverse=True)
+            if uniq.size < 2 or uniq.size == int(filled.sum()):
+                unused.append(j)
+                continue
         code = np.full(rows.size, -1)
         code[filled] = codes
         for g in members:
@@ -194,6 +240,8 @@ def _check_text_columns(
             c = c[c >= 0]
             if c.size and c.min() != c.max():
                 _refuse_text_column(table, h, uniq[np.unique(c)])
+        unused.append(j)
+    return unused
 
 
 def _refuse_text_column(table: _Table, h: str, values: np.ndarray) -> None:

@@ -20,6 +20,7 @@ import numpy as np
 
 from vhfit.data._ambiguous import (
     _Cand,
+    _cells,
     _check_text_columns,
     _col_index,
     _scaled,
@@ -29,13 +30,15 @@ from vhfit.data._ambiguous import (
 from vhfit.data._columns import (
     _GROUP_NAMES,
     _UNITS,
+    _classify,
     _Col,
+    _norm_unit,
     _Plan,
     _resolve_columns,
     _split_header,
     _unit_factor,
 )
-from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _Where
+from vhfit.data._errors import _MODES, DataError, _norm_key, _norm_measure, _warn, _Where
 from vhfit.data._modes import _deformation_name, _implied_deformation, _is_shear, _known
 from vhfit.data._points import DEFAULT_N_POINTS
 from vhfit.data._table import _Table
@@ -161,6 +164,7 @@ def _table_options(
     _check_deformation_column(table, plan)
     if deformation is None and plan.deformation is None:
         deformation = _mentioned_deformation(table)
+    _note_units(table, plan, units)
     return _Options(plan, meas or plan.measure or "engineering", mode, compression_positive,
                     weight, meta_rate, deformation, known, meta)
 
@@ -224,6 +228,9 @@ def _split_rows(
     """The selected rows, split into curves by group columns and by nominal rate."""
     src = table.source
     rows = _select_rows(table, select)
+    # columns compared with the one read (and found to agree) are no unused channels
+    compared = {c.index for role, alts in plan.alternates.items()
+                for c in [getattr(plan, role), *alts]}
     _settle_columns(table, plan, rows)
     rate_vals = None
     if plan.rate is not None:
@@ -250,7 +257,10 @@ def _split_rows(
         members = [np.flatnonzero(inv == g) for g in order]
     else:
         members = [np.arange(rows.size)]
-    _check_text_columns(table, rows, members, _used_columns(table, plan, gcols, select))
+    unused = _check_text_columns(table, rows, members,
+                                 _used_columns(table, plan, gcols, select) | compared)
+    _note_unused(table, plan, unused)
+    _note_levels(table, plan, rows)
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
@@ -319,6 +329,90 @@ def _used_columns(table: _Table, plan: _Plan, gcols: list[int],
              if c is not None}
     used |= {_col_index(table, h, "select") for h in (select or {})}
     return used
+
+
+def _note_unused(table: _Table, plan: _Plan, unused: list[int]) -> None:
+    """One line naming the columns the fit does not read (a second stress measure beside
+    the one fitted said as such), so that nothing is dropped unseen."""
+    if not unused:
+        return
+    names = table.names
+    stress = plan.stress
+    kind = stress.kind or "engineering"  # an unqualified stress is read as nominal
+    other = [j for j in unused
+             if (c := _classify(j, names[j])) is not None and c.role == stress.role
+             and c.rank < 2.0 and {c.kind or "engineering", kind} == {"engineering", "true"}]
+    rest = [j for j in unused if j not in other]
+    parts = []
+    if other:
+        word = "true" if kind != "true" else "nominal"
+        fitted = "true" if kind == "true" else "nominal"
+        flag = ("measure='true' (command line: --measure true)" if fitted == "nominal" else
+                "measure='engineering' (command line: --measure engineering)")
+        parts.append(
+            f"the {fitted} stress {stress.header!r} is fitted, not the {word} stress "
+            f"{', '.join(repr(names[j]) for j in other)} (to fit that one: {flag} or "
+            f"columns={{'stress': {names[other[0]]!r}}}, --columns stress={names[other[0]]})")
+    if rest:
+        parts.append(f"column{'s' if len(rest) > 1 else ''} "
+                     f"{', '.join(repr(names[j]) for j in rest)} read and not used by the fit")
+    _warn(f"{table.source}: {'; '.join(parts)}", stacklevel=2)
+
+
+#: An engineering strain beyond this, in a column with no unit, is likely in percent.
+PERCENT_STRAIN = 5.0
+#: A stress beyond this many MPa (10 GPa) is no soft solid's: likely a wrong unit.
+SOFT_SOLID_MPA = 1e4
+
+
+def _note_units(table: _Table, plan: _Plan, units: Mapping[str, str]) -> None:
+    """One line each: a file's stress column with no unit (read as MPa), and a ``units=`` that
+    overrides the unit a header states. Notes only: nothing read changes."""
+    src = table.source
+    for role, col in (("stress", plan.stress), ("stress2", plan.stress2),
+                      ("deform", plan.deform), ("time", plan.time)):
+        if col is None:
+            continue
+        base = col.role.rstrip("2")
+        given = units.get(col.role, units.get(base))
+        if given is not None and col.unit and _norm_unit(given) != _norm_unit(col.unit):
+            _warn(f"{src}, column {col.header!r}: units={{{base!r}: {given!r}}} (command "
+                  f"line: --units {base}={given}) overrides the unit {col.unit!r} the "
+                  f"header states: read as {given}", stacklevel=2)
+        elif role == "stress" and given is None and not col.unit and table.labels.word == "line":
+            # a file's header only: arrays and mappings are documented as MPa
+            _warn(f"{src}, column {col.header!r}: no unit: read as MPa (another with "
+                  f"units={{'stress': 'kPa'}}, command line: --units stress=kPa)",
+                  stacklevel=2)
+
+
+def _note_levels(table: _Table, plan: _Plan, rows: np.ndarray) -> None:
+    """One line each for values implausible as read: a strain beyond
+    :data:`PERCENT_STRAIN` in a column with no unit (percent?), a stress beyond
+    :data:`SOFT_SOLID_MPA` MPa. Notes only: nothing read changes."""
+    src = table.source
+    col = plan.deform
+    if col.role == "strain" and col.kind == "eng" and not col.unit \
+            and plan.factors["deform"] == 1.0:
+        top = _largest(table, col.index, rows)
+        if top > PERCENT_STRAIN:
+            _warn(f"{src}, column {col.header!r}: the strain reaches {top:g} (a stretch of "
+                  f"{1 + top:g}) with no unit: is it in %? then say units={{'strain': '%'}} "
+                  "(command line: --units strain=%)", stacklevel=2)
+    col = plan.stress
+    top = _largest(table, col.index, rows) * plan.factors["stress"]
+    if top >= SOFT_SOLID_MPA:
+        _warn(f"{src}, column {col.header!r}: the stress reaches {top:g} MPa as read, "
+              "implausible for a soft solid: check its unit (units={'stress': 'Pa'} or "
+              "'kPa', command line: --units stress=Pa)", stacklevel=2)
+
+
+def _largest(table: _Table, j: int, rows: np.ndarray) -> float:
+    """The largest finite |value| of a column at ``rows`` (0 if none): a bad cell is
+    refused later, where the column is read, with its own message."""
+    v = np.abs(_cells(table.texts(j)[rows])[0])
+    v = v[np.isfinite(v)]
+    return float(v.max()) if v.size else 0.0
 
 
 def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarray) -> np.ndarray:

@@ -36,7 +36,7 @@ SEBS_LABEL = (
 
 
 def sebs_path() -> Path:
-    """Path of the bundled synthetic SEBS CSV (``strain_rate, strain, stress`` columns)."""
+    """Path of the bundled synthetic SEBS CSV (``strain_rate, strain, stress_MPa`` columns)."""
     return Path(str(resources.files(__name__).joinpath(_SEBS_FILE)))
 
 

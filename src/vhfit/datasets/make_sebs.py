@@ -53,7 +53,7 @@ HEADER = """\
 #   {params}
 # loading: constant engineering strain rate from rest; max strain -0.3 (slow), -0.6 (fast)
 # columns: strain_rate (1/s), strain (engineering, compression < 0),
-#          stress (engineering / nominal, MPa, compression < 0)
+#          stress_MPa (engineering / nominal, compression < 0)
 # regenerate: python -m vhfit.datasets.make_sebs
 """
 
@@ -76,7 +76,7 @@ def render() -> str:
     buf = io.StringIO()
     params = ", ".join(f"{k}={v:.6g}" for k, v in PARAMS.items())
     buf.write(HEADER.format(params=params))
-    buf.write("strain_rate,strain,stress\n")
+    buf.write("strain_rate,strain,stress_MPa\n")
     for rate, eps, sig in curves_table():
         for e, s in zip(eps, sig):
             buf.write(f"{rate:g},{e:.6g},{s:.10g}\n")
