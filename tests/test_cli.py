@@ -345,8 +345,8 @@ def test_fit_bad_flags_in_process(argv, needle, noisy, tmp_path, monkeypatch, ca
 def test_fit_refusals_name_the_file_and_the_cli_flag(tmp_path, monkeypatch, capsys):
     """All-zero stress and Prony terms without rates: the file and the flag as typed."""
     monkeypatch.chdir(tmp_path)
-    (tmp_path / "ok.csv").write_text("strain,stress\n0,0\n0.1,0.1\n0.2,0.25\n0.3,0.4\n")
-    (tmp_path / "flat.csv").write_text("strain,stress\n0,0\n0.1,0\n0.2,0\n0.3,0\n")
+    (tmp_path / "ok.csv").write_text("strain,stress_MPa\n0,0\n0.1,0.1\n0.2,0.25\n0.3,0.4\n")
+    (tmp_path / "flat.csv").write_text("strain,stress_MPa\n0,0\n0.1,0\n0.2,0\n0.3,0\n")
     for argv, needles in (
             (["ok.csv", "flat.csv"], ["'flat'", "leave its file out"]),
             (["ok.csv", "--prony", "1"], ["--prony 0"])):
