@@ -45,6 +45,9 @@ def __getattr__(name: str):
 
     if name in _LAZY:
         value = getattr(importlib.import_module(_LAZY[name]), name)
+        if _LAZY[name].startswith("vhfit.calibration"):
+            # the HTML report registers Calibration.report's writer: load it with the fit
+            importlib.import_module("vhfit.report")
     elif not name.startswith("__"):
         try:  # a submodule (vhfit.export, vhfit.optimize, ...): imported when first asked
             value = importlib.import_module(f"vhfit.{name}")
