@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _short
 from vhfit.data._table import _Table
 
@@ -114,8 +115,8 @@ def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit
             raise DataError(
                 f"{table.source}, {table.label(int(rows[i]))}: columns {a.header!r} and "
                 f"{c.header!r} could both be the {what} but differ ({x0[i]:.6g} vs "
-                f"{x[i]:.6g}{unit}): say which with columns={{{a.key!r}: {a.header!r}}} "
-                f"(command line: --columns {a.key}={a.header})"
+                f"{x[i]:.6g}{unit}): say which with "
+                + setting(f"columns={{{a.key!r}: {a.header!r}}}", f"--columns {a.key}={a.header}")
             )
     finest = [float(np.nanmedian(r)) if np.isfinite(r).any() else np.inf for _, r in conv]
     return int(np.argmin(finest))
@@ -145,8 +146,8 @@ def _select_rows(table: _Table, select: Mapping[str, Any] | None) -> np.ndarray:
             shown = ", ".join(sorted(set(map(str, vals)))[:6])
             first = wants[0] if wants else ""
             raise DataError(
-                f"{table.source}: select={{{h!r}: {want!r}}} (command line: --select "
-                f"{h}={first}) keeps no rows; column {table.names[j]!r} holds {shown}"
+                f"{table.source}: {setting(f'select={{{h!r}: {want!r}}}', f'--select {h}={first}')}"
+                f" keeps no rows; column {table.names[j]!r} holds {shown}"
             )
         rows = rows[ok]
     return rows
@@ -248,9 +249,11 @@ def _refuse_text_column(table: _Table, h: str, values: np.ndarray) -> None:
     shown = ", ".join(_short(str(v)) for v in values[:_SHOWN]) + (
         ", ..." if values.size > _SHOWN else "")
     v0 = str(values[0])
+    ignore = setting("columns={'ignore': " + repr(h) + "}", f"--columns ignore={h}")
     raise DataError(
         f"{table.source}, column {h!r}: {values.size} different values ({shown}) would be "
-        f"merged into one curve: split the file by them with group_by={h!r} (command line: "
-        f"--group-by {h}), keep one with select={{{h!r}: {v0!r}}} (--select {h}={v0}), or "
-        f"ignore the column with columns={{'ignore': {h!r}}} (--columns ignore={h})"
+        f"merged into one curve: fit the groups as one material with "
+        f"{setting(f'group_by={h!r}', f'--group-by {h}')}, keep one with "
+        f"{setting(f'select={{{h!r}: {v0!r}}}', f'--select {h}={v0}')}, or ignore the column "
+        f"with {ignore}"
     )

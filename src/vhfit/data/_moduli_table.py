@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._ambiguous import (
     _Cand,
     _check_text_columns,
@@ -189,8 +190,9 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
         if not hits and role == "time":
             continue  # a stress–strain role too: its reader names the problem
         if not hits:
-            raise DataError(f"{src}: columns={{{key!r}: {val!r}}}: no such column; the header "
-                            f"has {', '.join(map(repr, names))}")
+            which = setting(f"columns={{{key!r}: {val!r}}}", f"--columns {key}={val}")
+            raise DataError(f"{src}: {which}"
+                            f": no such column; the header has {', '.join(map(repr, names))}")
         name, unit = _unit_and_name(names[hits[0]])
         plan.cols[role] = _MCol(hits[0], names[hits[0]], role, unit or "",
                                 _modulus_kind(_tokens(name)))
@@ -216,8 +218,9 @@ def _ignored(names: list[str], given: Any, src: str) -> set[int]:
         hits = [j for j, h in enumerate(names) if h.strip().lower() == str(g).strip().lower()
                 or (isinstance(g, int) and j == g)]
         if not hits:
-            raise DataError(f"{src}: columns={{'ignore': {g!r}}} (--columns ignore={g}): no "
-                            f"such column; the header has {', '.join(map(repr, names))}")
+            ignore = setting("columns={'ignore': " + repr(g) + "}", f"--columns ignore={g}")
+            raise DataError(f"{src}: {ignore}"
+                            f": no such column; the header has {', '.join(map(repr, names))}")
         out.update(hits)
     return out
 
@@ -259,8 +262,8 @@ def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
     f = table.get(nu if col.role != "frequency" or nu else "hz")
     if f is None:
         raise DataError(f"{src}, column {col.header!r}: unit {u!r} is not understood for "
-                        f"{col.role.replace('_', ' ')}: use {hint}, or pass units={{"
-                        f"'{col.role}': ...}} (command line: --units {col.role}=UNIT)")
+                        f"{col.role.replace('_', ' ')}: use {hint}, or pass "
+                        f"{setting(f'units={{{col.role!r}: ...}}', f'--units {col.role}=UNIT')}")
     return float(f)
 
 
