@@ -156,3 +156,86 @@ def test_warnings_read_in_python_words(cls_name):
     w = cls("note: " + setting("units={'stress': 'kPa'}", "--units stress=kPa"))
     assert str(w) == "note: units={'stress': 'kPa'} (command line: --units stress=kPa)"
     assert one_line(w) == "note: --units stress=kPa"
+
+
+# ------------------------------------------------------------ hints, followed
+def _refusal(argv: list[str], capsys) -> str | None:
+    """The one-line refusal of ``vhfit fit argv`` up to reading the data and checking the
+    settings (``--maxiter 1``: a hint is followed if the fit then starts), or None."""
+    from vhfit import cli
+
+    capsys.readouterr()
+    code = cli.main(["fit", *argv, "--no-plot", "-q", "--maxiter", "1", "--popsize", "5"])
+    err = [x for x in capsys.readouterr().err.splitlines() if x.startswith("vhfit: error: ")]
+    if code == 2:
+        assert len(err) == 1, err
+        return err[0].removeprefix("vhfit: error: ")
+    return None
+
+
+def _hints(msg: str) -> list[list[str]]:
+    """The flags a refusal suggests, each as arguments to append."""
+    out = []
+    for m in re.finditer(r"(--[a-z][\w-]*)(?: ([^\s,;)]+))?", msg):
+        flag, value = m[1], m[2]
+        if value is None or value.startswith("--") or value.isupper() or "=UNIT" in value \
+                or value.endswith("=NAME"):
+            continue  # a placeholder (--prony N, --units stress=UNIT): nothing to follow
+        out.append([flag, value])
+    return out
+
+
+BRAIN = ("region,strain,stress_kPa,time_s\n"
+         + "".join(f"{r},{e:g},{s:g},{t:g}\n" for r, k in (("cortex", 1.0), ("callosum", 0.5))
+                   for e, s, t in ((0.0, 0.0, 0.0), (0.1, 0.3 * k, 1.0), (0.2, 0.7 * k, 2.0),
+                                   (0.3, 1.2 * k, 3.0))))
+
+
+def _dma(drift: float) -> str:
+    """Two isothermal sweeps, measured temperature first, drifting by ``drift`` a point."""
+    rows = [(f, 10.0 + f, 1.0, T, T - 0.2 + drift * k) for T in (25.0, 50.0)
+            for k, f in enumerate((0.1, 0.3, 1.0, 3.0, 10.0))]
+    return ("frequency_Hz,storage_MPa,loss_MPa,measured_sample_temperature_C,"
+            "nominal_temperature_C\n"
+            + "".join(f"{f:g},{e:g},{lo:g},{m:.2f},{T:.1f}\n" for f, e, lo, T, m in rows))
+
+
+@pytest.mark.parametrize("name, text, extra", [
+    ("text-column", BRAIN, []),
+    ("two-stresses", "strain,stress_kPa,stress_MPa,time_s\n0,0,0,0\n0.1,50,0.5,1\n"
+                     "0.2,120,1.5,2\n0.3,200,2.0,3\n", []),
+    ("rate-free-with-prony", "strain,stress_MPa\n0,0\n0.1,0.3\n0.2,0.7\n0.3,1.2\n",
+     ["--prony", "1"]),
+    ("dma-drifting-temperature", _dma(0.3), []),
+])
+def test_each_hint_the_command_line_gives_gets_past_its_refusal(tmp_path, capsys, name, text,
+                                                                 extra):
+    path = tmp_path / f"{name}.csv"
+    path.write_text(text)
+    argv = [str(path), *extra, "--out", str(tmp_path / "out")]
+    msg = _refusal(argv, capsys)
+    assert msg is not None, "the case must be refused to test its hint"
+    hints = _hints(msg)
+    assert hints, f"no hint to follow in: {msg}"
+    for k, hint in enumerate(hints):
+        args = [a for a in argv if a not in extra or hint[0] not in extra]
+        if hint[0] in extra:  # a hint that replaces a flag given
+            i = extra.index(hint[0])
+            args = [str(path), *extra[:i], *extra[i + 2:], "--out", str(tmp_path / "out")]
+        args[-1] = str(tmp_path / f"out{k}")
+        again = _refusal([*args, *hint], capsys)
+        assert again != msg, f"following {' '.join(hint)} gives the same refusal: {msg}"
+        assert again is None, f"following {' '.join(hint)} of '{msg}' is refused: {again}"
+
+
+def test_the_drifting_temperature_hint_names_the_nominal_column_and_says_why(tmp_path,
+                                                                              capsys):
+    path = tmp_path / "dma.csv"
+    path.write_text(_dma(0.3))
+    msg = _refusal([str(path), "--out", str(tmp_path / "out")], capsys)
+    assert "'measured_sample_temperature_C' drifts within the file" in msg, msg
+    assert msg.endswith("--columns temperature=nominal_temperature_C"), msg
+    import vhfit
+
+    items = vhfit.read_csv(path, columns={"temperature": "nominal_temperature_C"})
+    assert sorted(i.temperature for i in items) == [25.0, 50.0]

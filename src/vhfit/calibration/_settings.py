@@ -168,7 +168,7 @@ def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
                      "without Prony terms")
         what = (f"the {law.name} law {terms_txt}" if law is not None
                 else f"a fit {terms_txt}")
-        more = (f" (more terms: raise {setting('n_prony', '--prony N')})" if prony else "")
+        more = (f" (more terms: raise {setting('n_prony', '--prony')})" if prony else "")
         return (f"unknown parameter of {what}{more}; give one of "
                 f"{', '.join(names + terms) or 'none'}")
     try:

@@ -24,6 +24,7 @@ from vhfit.data._ambiguous import (
     _Cand,
     _check_text_columns,
     _col_index,
+    _level_of,
     _scaled,
     _select_rows,
     _settle,
@@ -38,8 +39,6 @@ _HZ = {"hz": 1.0, "1/s": 1.0, "khz": 1e3, "cps": 1.0}
 _RAD = {"rad/s": 1.0, "rad/sec": 1.0, "rad/min": 1 / 60}
 _ROLES = ("frequency", "omega", "storage", "loss", "modulus", "tan_delta", "time",
           "relaxation", "temperature", "set")
-#: Records of one temperature level: within this many degrees of the level's first.
-LEVEL_TOLERANCE = 0.5
 _SET_NAMES = ("set", "set_index", "set_id", "set_no", "set_number", "segment")
 _MODULUS_ROLES = ("storage", "loss", "modulus", "relaxation")
 
@@ -345,21 +344,15 @@ def _levels(temps: np.ndarray, sets: np.ndarray | None) -> list[tuple[float, np.
     """(mean temperature, rows) of each temperature level, in order of appearance.
 
     A set column says which rows form one level; without one, a row joins the level
-    whose first temperature is within :data:`LEVEL_TOLERANCE` of its own (the readings
+    whose first temperature is within ``LEVEL_TOLERANCE`` of its own (the readings
     of one level drift by hundredths of a degree), else starts a new level.
     """
-    keys: list[float] = []
-    rows: list[list[int]] = []
-    for i, T in enumerate(temps.tolist()):
-        key = float(sets[i]) if sets is not None else T
-        near = [k for k, v in enumerate(keys) if (v == key if sets is not None
-                                                   else abs(v - key) <= LEVEL_TOLERANCE)]
-        if near:
-            rows[near[-1]].append(i)
-        else:
-            keys.append(key)
-            rows.append([i])
-    return [(float(np.mean(temps[r])), np.asarray(r)) for r in rows]
+    level = (_level_of(temps.tolist()) if sets is None else
+             [list(dict.fromkeys(sets.tolist())).index(v) for v in sets.tolist()])
+    rows: dict[int, list[int]] = {}
+    for i, k in enumerate(level):
+        rows.setdefault(k, []).append(i)
+    return [(float(np.mean(temps[r])), np.asarray(r)) for r in rows.values()]
 
 
 def _sweep_moduli(v: dict[str, np.ndarray]) -> dict[str, np.ndarray | None]:

@@ -383,8 +383,8 @@ def _note_units(table: _Table, plan: _Plan, units: Mapping[str, str]) -> None:
                   f"header states: read as {given}", stacklevel=2)
         elif role == "stress" and given is None and not col.unit and table.labels.word == "line":
             # a file's header only: arrays and mappings are documented as MPa
-            _warn(f"{src}, column {col.header!r}: no unit: read as MPa (another with "
-                  + setting("units={'stress': 'kPa'}", "--units stress=kPa") + ")",
+            _warn(f"{src}, column {col.header!r}: no unit: read as MPa; another unit "
+                  "with " + setting("units={'stress': 'kPa'}", "--units stress=kPa"),
                   stacklevel=2)
 
 

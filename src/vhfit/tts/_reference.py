@@ -140,11 +140,11 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     elif shift_factors is not None:
         source = "table"
         if not known:
-            raise DataError(setting("shift_factors", "--shift") + ": a table of log10 a_T, "
-                            "but no test has a temperature: give each test its temperature ("
+            raise DataError("shift_factors: a table of log10 a_T, but no test has a "
+                            "temperature: give each test its temperature with "
                             + setting("temperature=, metadata={'temperature': T}",
                                       "a '# temperature: T' line in its file")
-                            + ") or drop it")
+                            + ", or drop shift_factors")
     out, _ = reduce_to_reference(items, shift_factors=shift_factors,
                                  T_ref=T_ref if source == "law" else given_T,
                                  tolerance=TOLERANCE)
