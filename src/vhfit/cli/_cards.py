@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from vhfit._io import atomic_write
+from vhfit.calibration import grade_word
 from vhfit.cli._common import UsageError, one_line
 from vhfit.export import LiveMapping, TooManyTerms, export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
-from vhfit.calibration import grade
 from vhfit.export.check import (
     MARGIN_ABSOLUTE,
     MARGIN_RELATIVE,
@@ -347,8 +347,8 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
 
 def _headline(res: Cards, plan: dict) -> list[str]:
     """The summary's first lines: per solver card, its file, the error its solver will
-    show on the data and its grade (:func:`vhfit.calibration.grade`, as the main fit's),
-    or why it has no card."""
+    show on the data and its grade (:func:`vhfit.calibration.grade_word`: the main fit's
+    thresholds), or why it has no card."""
     lines = []
     for k in _card_keys(res, plan):
         c = res.check.get(k)
@@ -357,7 +357,7 @@ def _headline(res: Cards, plan: dict) -> list[str]:
                 what = f"not checked: {c['error']}" if c else "not checked"
             else:
                 what = (f"{label(k)} will show RMSAPE {c.rmsape:.4g} % on the data (its fit, "
-                        f"in '{res.fits[k]}': {c.fit_rmsape:.4g} %): {grade(c.rmsape)[1]}")
+                        f"in '{res.fits[k]}': {c.fit_rmsape:.4g} %): {grade_word(c.rmsape)}")
             lines.append(f"{k}: {res.files[k]}: {what}")
         elif k in res.errors:
             lines.append(f"{k}: no card: {res.errors[k]}")
