@@ -109,7 +109,7 @@ def own_fit_warnings(fits: Mapping, served: Mapping) -> list[str]:
     Returns
     -------
     list of str
-        ``"LS-DYNA card's own fit ('lsdyna'): ..."``, one line each.
+        ``"<label> card's own fit ('<formulation>'): <warning>"``, one line each.
     """
     items = list(fits.items())
     if not items:
