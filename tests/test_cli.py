@@ -151,12 +151,19 @@ def test_demo_writes_every_card_from_its_solvers_own_fit(demo):
         assert c["rmsape"] <= 1.05 * c["fit_rmsape"] + 0.01 and not c["exceeds"], s
     lines = (out / "summary.txt").read_text().splitlines()
     assert proc.stdout.splitlines()[:5] == lines[:5]
-    # top-down: the verdict, the data, then per solver its card and error
+    # top-down: the verdict, the data, the cards' own fits' warnings, then per solver its
+    # card, error and grade
     assert lines[0].startswith(f"RMSAPE {res['rmsape']:.4g} %: good fit; worst curve ")
     assert lines[1].startswith("data: synthetic SEBS")
-    for ln, s in zip(lines[2:5], ("abaqus", "ansys", "lsdyna")):
+    own = [f"WARNING: {w}" for w in res["card_fit_warnings"]]
+    assert all(w.startswith("LS-DYNA card's own fit ('lsdyna'): ")
+               for w in res["card_fit_warnings"])
+    k = 2 + len(own)
+    assert lines[2:k] == own
+    for ln, s in zip(lines[k:k + 3], ("abaqus", "ansys", "lsdyna")):
         assert ln.startswith(f"{s}: {res['cards'][s]}: ") and "will show RMSAPE" in ln
-    assert lines[5] == ""
+        assert ln.endswith("%): good fit")  # every card within 5 %
+    assert lines[k + 3] == ""
 
 
 def test_demo_refuses_a_non_empty_out(demo):

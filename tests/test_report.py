@@ -303,7 +303,7 @@ def test_a_result_read_back_brings_its_recorded_context(cal, tmp_path):
     assert html.escape(shlex.join(["vhfit", "fit", "<x>.csv"])) in text
     assert '<p class="interrupted">' in text
     assert "WARNING: LS-DYNA card: recorded warning" in text
-    assert "lsdyna: EXCEEDS, card RMSAPE 9 % (allowed 1.1 %)" in text
+    assert "lsdyna: EXCEEDS its fit; fits within 10 %, card RMSAPE 9 % (allowed 1.1 %)" in text
     assert "0.0-recorded" in text and "label &lt;i&gt;" in text
 
 

@@ -21,13 +21,16 @@ from vhfit.calibration._for import calibrate_for, plan_formulations, same_fit, s
 from vhfit.calibration._identify import default_n_prony, viscous_evidence
 from vhfit.calibration._result import (
     GOOD_FIT,
+    GRADES,
     RESULTS_FORMAT,
     ROUGH_FIT,
     WITHIN_FIT,
     Calibration,
     CalibrationWarning,
     grade,
+    grade_word,
     set_html_report,
+    worst_grade,
 )
 from vhfit.calibration._settings import (
     CalibrationSettings,
@@ -41,4 +44,5 @@ __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarnin
            "CalibrationError", "RecordedCallable", "auto_bounds", "RESULTS_FORMAT",
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
            "bound_problem", "bounds_terms", "plan_formulations", "start_options", "grade",
+           "grade_word", "worst_grade", "GRADES",
            "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit", "refuse_unrepresentable"]

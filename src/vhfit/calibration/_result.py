@@ -171,6 +171,32 @@ def grade(rmsape: float) -> tuple[str, str]:
                     "the data")
 
 
+#: The levels of :func:`grade`, best first (a page's colour is the worst of its fits').
+GRADES = ("good", "fair", "poor")
+
+
+def grade_word(rmsape: float) -> str:
+    """The verdict of :func:`grade` without its advice: the words before the first colon.
+
+    Examples
+    --------
+    >>> grade_word(3.0), grade_word(17.0), grade_word(40.0)
+    ('good fit', 'rough fit', 'poor')
+    """
+    return grade(rmsape)[1].split(":")[0]
+
+
+def worst_grade(levels) -> str:
+    """The worst of grade levels (:data:`GRADES`); ``"good"`` for none.
+
+    Examples
+    --------
+    >>> worst_grade(["good", "poor", "fair"])
+    'poor'
+    """
+    return max(levels, key=GRADES.index, default=GRADES[0])
+
+
 def _g(v: float, digits: int = 4) -> str:
     """A number rounded for reading."""
     return f"{float(v):.{digits}g}"

@@ -6,6 +6,8 @@ label and variant here comes from the records), so one fit may serve several sol
 and several fits may be run. Every written card is then parsed back and re-simulated in
 its solver's formulation on the data (:mod:`vhfit.export.check`); a card whose error
 exceeds its fit's by more than the margin gets a warning, in the card and the summary.
+Each card is graded on its own error, as the main fit is (the summary's first lines), and
+the warnings of a card's own fit head the summary beside the main fit's.
 """
 
 from __future__ import annotations
@@ -20,17 +22,24 @@ from pathlib import Path
 import numpy as np
 
 from vhfit._io import atomic_write
+from vhfit.calibration import grade_word
 from vhfit.cli._common import UsageError, one_line
-from vhfit.export import LiveMapping, export, get_solver, supported_laws
+from vhfit.export import LiveMapping, TooManyTerms, export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
-from vhfit.export.check import MARGIN_ABSOLUTE, MARGIN_RELATIVE, check_cards
+from vhfit.export.check import (
+    MARGIN_ABSOLUTE,
+    MARGIN_RELATIVE,
+    check_cards,
+    check_words,
+    own_fit_warnings,
+)
 from vhfit.modes import get_deformation
 from vhfit.tts import fit_shift_law
 
 __all__ = ["CARD_FILES", "Cards", "plan_fits", "check_targets",
            "card_options", "card_shift", "card_jobs", "label", "solver_of", "write_cards",
            "check_table", "unfinished", "mark", "json_marked", "UNCONVERGED", "fit_record",
-           "other_fits"]
+           "other_fits", "refusal"]
 
 JSON_FILE = "material.json"
 
@@ -175,6 +184,7 @@ class Cards:
     fits: dict = field(default_factory=dict)  # solver -> formulation of its fit
     check: dict = field(default_factory=dict)  # solver -> CardCheck, or {"error": ...}
     warnings: list = field(default_factory=list)  # headline warnings of the check
+    fit_warnings: list = field(default_factory=list)  # those of the cards' own fits
     summary: list = field(default_factory=list)  # lines for summary.txt
     headline: list = field(default_factory=list)  # the summary's first lines, per solver
     fit_lines: list = field(default_factory=list)  # the summaries of the fits after the first
@@ -221,7 +231,7 @@ def _texts(fits, plan, args) -> tuple[dict, Cards]:
                     warnings.simplefilter("always")
                     text = export(cal, to=name, **kw)
             except Exception as exc:  # a solver that cannot take this model is not fatal
-                res.errors[solver] = one_line(exc)
+                res.errors[solver] = refusal(exc, solver)
                 continue
             notes = list(dict.fromkeys(one_line(w.message) for w in ws))
             if notes:
@@ -229,6 +239,15 @@ def _texts(fits, plan, args) -> tuple[dict, Cards]:
             out[solver] = (text, kw, cal)
             res.fits[solver] = form
     return out, res
+
+
+def refusal(exc: Exception, key: str) -> str:
+    """Why a writer refused a card, in the command line's words: a card that holds fewer
+    Prony terms than the fit names the ``vhfit fit`` flag that makes one it can hold."""
+    if isinstance(exc, TooManyTerms):
+        return (f"{one_line(exc.what)}: refit (vhfit fit) with --prony {exc.limit} for "
+                f"{label(key)} cards")
+    return one_line(exc)
 
 
 #: Stop reasons of a search that ended before converging (docs/cli.md): the card says so.
@@ -318,6 +337,7 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
                                 "folder did not finish; these test data are complete")
                 atomic_write(out / file, text)
                 res.files[key] = file
+    res.fit_warnings = own_fit_warnings(fits, plan)
     res.headline = _headline(res, plan)
     res.fit_lines = other_fits(fits, plan)
     res.fits_record = {f: {"solvers": plan[f], **fit_record(c)} for f, c in fits.items()}
@@ -326,8 +346,9 @@ def write_cards(fits: dict, plan: dict, curves, out: Path, args,
 
 
 def _headline(res: Cards, plan: dict) -> list[str]:
-    """The summary's first lines: per solver card, its file and the error its solver will
-    show on the data, or why it has no card."""
+    """The summary's first lines: per solver card, its file, the error its solver will
+    show on the data and its grade (:func:`vhfit.calibration.grade_word`: the main fit's
+    thresholds), or why it has no card."""
     lines = []
     for k in _card_keys(res, plan):
         c = res.check.get(k)
@@ -336,7 +357,7 @@ def _headline(res: Cards, plan: dict) -> list[str]:
                 what = f"not checked: {c['error']}" if c else "not checked"
             else:
                 what = (f"{label(k)} will show RMSAPE {c.rmsape:.4g} % on the data (its fit, "
-                        f"in '{res.fits[k]}': {c.fit_rmsape:.4g} %)")
+                        f"in '{res.fits[k]}': {c.fit_rmsape:.4g} %): {grade_word(c.rmsape)}")
             lines.append(f"{k}: {res.files[k]}: {what}")
         elif k in res.errors:
             lines.append(f"{k}: no card: {res.errors[k]}")
@@ -374,8 +395,9 @@ def check_table(check: dict, curve_names) -> list[str]:
     """The card check as text lines (solver rows, then per-curve errors)."""
     lines = [
         "card check: each card parsed back and re-simulated in its solver's formulation on "
-        "every test history; RMSAPE (Eq. 20) on the data; a card passes when its error <= "
-        f"{1 + MARGIN_RELATIVE:g} x its fit's + {MARGIN_ABSOLUTE:g}",
+        "every test history; RMSAPE (Eq. 20) on the data; a card passes (ok: card = its fit) "
+        f"when its error <= {1 + MARGIN_RELATIVE:g} x its fit's + {MARGIN_ABSOLUTE:g}; then "
+        "its own grade, as the fit's",
         f"  {'card':<16}{'solver law':<13}{'fit (law)':<26}{'card':>12}{'allowed':>12}",
     ]
     rows = {s: c if isinstance(c, dict) else c.to_dict() for s, c in check.items()}
@@ -387,7 +409,7 @@ def check_table(check: dict, curve_names) -> list[str]:
                if c.get("fit_rmsape") is not None else "-")
         allowed = f"{c['allowed']:.4g} %" if c.get("allowed") is not None else "-"
         lines.append(f"  {s:<16}{c['formulation']:<13}{fit:<26}{c['rmsape']:>10.4g} %"
-                     f"{allowed:>12}" + ("  EXCEEDS" if c.get("exceeds") else "  ok"))
+                     f"{allowed:>12}  " + check_words(c["rmsape"], bool(c.get("exceeds"))))
     done = [s for s, c in rows.items() if "error" not in c]
     if done and curve_names:
         lines.append("  per curve (RMSAPE %): " + " | ".join(done))

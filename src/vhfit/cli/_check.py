@@ -1,4 +1,5 @@
-"""``vhfit check``: the error each solver will show with the cards of a fit, on the data."""
+"""``vhfit check``: the error each solver will show with the cards of a fit, on the data,
+each card graded on its own error, and the warnings of the cards' own fits."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from vhfit.cli._common import EXIT_OK, UsageError, one_line
 from vhfit.cli._fit import read_curves
 from vhfit.cli._results import load_calibration
 from vhfit.export import parse
-from vhfit.export.check import card_solver, check_card
+from vhfit.export.check import card_solver, check_card, own_fit_warnings
 
 __all__ = ["cmd_check"]
 
@@ -29,9 +30,10 @@ def cmd_check(args, argv=()) -> int:
     cards = _cards(args, res, folder)
     curves = _curves(args, cal)
     card_fits = res.get("card_fits") or {}
-    checks = {}
+    checks, served = {}, {}
     for key, (solver, text) in cards.items():
         fit = cal.fits.get(card_fits.get(key, card_fits.get(solver)), cal)
+        served.setdefault(fit.model.formulation, []).append(solver)
         try:
             checks[key] = check_card(text, curves, solver=solver, fit=fit)
         except ValueError as exc:
@@ -43,6 +45,9 @@ def cmd_check(args, argv=()) -> int:
     for c in checks.values():
         if c.warning():
             print(f"WARNING: {c.warning()}")
+    fits = {cal.model.formulation: cal, **cal.fits}  # the main fit first
+    for w in own_fit_warnings(fits, served):
+        print(f"WARNING: {w}")
     print("\n".join(check_table(checks, names)))
     return EXIT_OK
 

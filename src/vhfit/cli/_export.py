@@ -2,8 +2,15 @@
 
 from __future__ import annotations
 
-from vhfit.cli._cards import card_options, card_shift, json_marked, mark, unfinished
-from vhfit.cli._common import EXIT_OK, UsageError, emit, one_line
+from vhfit.cli._cards import (
+    card_options,
+    card_shift,
+    json_marked,
+    mark,
+    refusal,
+    unfinished,
+)
+from vhfit.cli._common import EXIT_OK, UsageError, emit
 from vhfit.cli._results import load_calibration
 from vhfit.export import export, get_solver, solvers
 
@@ -36,7 +43,7 @@ def cmd_export(args, argv=()) -> int:
     try:
         text = export(fit, to=args.to, **kw)
     except ValueError as exc:
-        raise UsageError(f"--to {args.to}: {one_line(exc)}") from None
+        raise UsageError(f"--to {args.to}: {refusal(exc, args.to)}") from None
     if not text.endswith("\n"):
         text += "\n"
     status = unfinished(fit, cal.context.get("status") == "interrupted")

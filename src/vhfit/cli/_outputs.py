@@ -68,7 +68,8 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
     compared = [] if comparison is None else comparison.table().splitlines() + [
         f"the other laws' results: laws/LAW/ ({RESULTS}, summary.txt)", ""]
-    lines = (verdict + head + [f"WARNING: {w}" for w in cards.warnings]
+    lines = (verdict + head
+             + [f"WARNING: {w}" for w in cards.warnings + cards.fit_warnings]
              + ([""] + compared if compared else [])
              + cards.headline  # + "" when it has lines
              + [f"status: {status}", "", cal.summary(verdict=False)] + cards.fit_lines + [""]
@@ -92,6 +93,7 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
         "card_fits": cards.fits,
         "card_check": cards.check_dict(),
         "card_check_warnings": cards.warnings,
+        "card_fit_warnings": cards.fit_warnings,
     }
     if len(plan) > 1:
         extra["fits"] = cards.fits_record

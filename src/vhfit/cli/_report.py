@@ -27,9 +27,11 @@ def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, comman
     try:
         report.write_report(
             cal, out / FILE, curves, command=shlex.join(["vhfit", *command]),
-            cards={s: (out / f).read_text() for s, f in cards.files.items()
-                   if s in CARD_FILES and s != "json"},
+            cards={**{s: (out / f).read_text() for s, f in cards.files.items()
+                      if s in CARD_FILES and s != "json"},
+                   **{s: None for s in cards.errors if s in CARD_FILES}},  # no card: why
             card_check=cards.check, card_warnings=cards.warnings,
+            fit_warnings=cards.fit_warnings,
             card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
             status="interrupted" if interrupted else "complete", title=label, inputs=inputs,
             figures=not args.no_plot, images={k: out / f for k, f in plots.items()},

@@ -33,7 +33,7 @@ import json
 import pkgutil
 from collections.abc import Mapping
 
-from vhfit.export._common import Material, generator, resolve
+from vhfit.export._common import Material, TooManyTerms, generator, resolve
 from vhfit.export._solvers import (
     LiveMapping,
     Solver,
@@ -59,6 +59,7 @@ __all__ = [
     "unregister_solver",
     "get_solver",
     "solvers",
+    "TooManyTerms",
 ]
 
 

@@ -31,6 +31,7 @@ __all__ = [
     "generator",
     "header",
     "unsupported",
+    "TooManyTerms",
     "model_hint",
     "UNITS",
     "BULK_RATIO",
@@ -329,6 +330,16 @@ def unsupported(solver: str, model: str, supported: Sequence[str], why: str = ""
         f"{solver} export does not support the hyperelastic model {model!r}{extra}: "
         f"{where}; supported: {', '.join(supported)}"
     )
+
+
+class TooManyTerms(ValueError):
+    """A card that cannot hold the fit's number of Prony terms: the solver's limit in
+    ``limit``, the text without a remedy in ``what`` (the command line adds its own flag).
+    """
+
+    def __init__(self, what: str, limit: int):
+        super().__init__(f"{what}: refit with at most {limit} terms (n_prony={limit})")
+        self.what, self.limit = what, int(limit)
 
 
 def no_density_note(solver: str, keyword: str) -> str:

@@ -14,6 +14,11 @@ A card whose solver error exceeds the fit's by more than the margin
 names the remedy: a fit in that solver's formulation (``vhfit fit --for SOLVER``,
 ``calibrate(..., formulation=...)``).
 
+Passing says only that the card reproduces its fit, not that the fit is good: every
+card is also graded on its own error, with the thresholds of the fit's verdict
+(:func:`check_words`, :func:`vhfit.calibration.grade`), and the warnings of a card's own
+fit (a solver's fit after the first) are named with the card (:func:`own_fit_warnings`).
+
 Examples
 --------
 >>> import numpy as np, vhfit
@@ -37,6 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit.calibration import grade_word
 from vhfit.export import parse
 from vhfit.export._solvers import card_body, records, solver_of
 from vhfit.formulations import SOLVER_FORMULATIONS
@@ -55,12 +61,74 @@ __all__ = [
     "card_stress",
     "check_card",
     "check_cards",
+    "PASSES",
+    "FAILS",
+    "check_words",
+    "own_fit_warnings",
 ]
 
 #: A card passes when its RMSAPE <= fit RMSAPE × (1 + MARGIN_RELATIVE) + MARGIN_ABSOLUTE.
 MARGIN_RELATIVE = 0.05
 #: ... in percentage points: room for the card's printed digits on a near-exact fit.
 MARGIN_ABSOLUTE = 0.01
+
+
+#: The check's word for a card within the margin of its fit, and for one beyond: what
+#: "ok" means, so that nobody reads it as a verdict on the fit.
+PASSES, FAILS = "ok (card = its fit)", "EXCEEDS its fit"
+
+
+def check_words(rmsape: float, exceeds: bool) -> str:
+    """A card check in words: whether the card reproduces its fit, then the card's own
+    grade (:func:`vhfit.calibration.grade_word`, the thresholds of the fit's verdict).
+
+    Examples
+    --------
+    >>> check_words(2.0, False)
+    'ok (card = its fit); good fit'
+    >>> check_words(23.6, False)
+    'ok (card = its fit); rough fit'
+    >>> check_words(30.0, True)
+    'EXCEEDS its fit; poor'
+    """
+    return f"{FAILS if exceeds else PASSES}; {grade_word(rmsape)}"
+
+
+def own_fit_warnings(fits: Mapping, served: Mapping) -> list[str]:
+    """The headline warnings of the cards' own fits: of every fit after the first (the
+    main one, whose warnings head its summary), those the first does not have, and an
+    unstable fit's stability, each naming the cards it serves.
+
+    Parameters
+    ----------
+    fits : mapping of str to Calibration
+        Formulation -> fit, the main fit first.
+    served : mapping of str to list of str
+        Formulation -> the card keys (solver names) its fit was written into.
+
+    Returns
+    -------
+    list of str
+        ``"<label> card's own fit ('<formulation>'): <warning>"``, one line each.
+    """
+    items = list(fits.items())
+    if not items:
+        return []
+    main = items[0][1]
+    shown = set(main.headlines or [])
+    out = []
+    for form, cal in items[1:]:
+        cards = [solver_of(s).label for s in served.get(form, [])]
+        if not cards:
+            continue
+        who = (f"{cards[0]} card's" if len(cards) == 1
+               else f"{', '.join(dict.fromkeys(cards))} cards'") + f" own fit ('{form}')"
+        warns = [h for h in cal.headlines or [] if h not in shown]
+        stab = cal.stability
+        if stab is not None and not stab.stable:
+            warns.append(stab.describe())
+        out += [f"{who}: {w}" for w in dict.fromkeys(warns)]
+    return out
 
 
 def allowed_rmsape(fit_rmsape: float) -> float:

@@ -39,6 +39,7 @@ from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
     BULK_RATIO,
     Material,
+    TooManyTerms,
     check_compressibility,
     fixed_number,
     header,
@@ -139,10 +140,8 @@ def _check_card(mat, mid, name) -> None:
         raise ValueError(f"material title {name!r}: 1-80 characters on one line")
     keyword = "OGDEN_RUBBER" if kind in _OGDEN_MODELS else "HYPERELASTIC_RUBBER"
     if mat.n_prony > MAX_PRONY[keyword]:
-        raise ValueError(
-            f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} Prony terms; "
-            f"this model has {mat.n_prony}: prune or refit with fewer terms"
-        )
+        raise TooManyTerms(f"{SOLVER} *MAT_{keyword} reads at most {MAX_PRONY[keyword]} "
+                           f"Prony terms; this model has {mat.n_prony}", MAX_PRONY[keyword])
 
 
 def _pr_field(mat: Material, poisson, bulk_modulus, width: int) -> tuple[str, list[str]]:

@@ -142,7 +142,8 @@ def _figures_of(cal, curves, images: dict) -> tuple[list, dict]:
 
 def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = None,
                  card_check: dict | None = None, card_notes: dict | None = None,
-                 card_warnings: Sequence[str] = (), command: str | None = None,
+                 card_warnings: Sequence[str] = (), fit_warnings: Sequence[str] | None = None,
+                 command: str | None = None,
                  status: str | None = None, title: str | None = None, inputs=None,
                  figures: bool = True, images: dict | None = None,
                  comparison=None) -> str:
@@ -163,6 +164,10 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         Solver -> notes on its card (why there is none, writer warnings).
     card_warnings : sequence of str
         Headline warnings of the card check (shown in the verdict).
+    fit_warnings : sequence of str, optional
+        The warnings of the cards' own fits (the fits after the first,
+        :func:`vhfit.export.check.own_fit_warnings`), shown in the verdict; default: those
+        a results file read back recorded (``card_fit_warnings``).
     command : str, optional
         The command that produced the result.
     status : {"complete", "interrupted"}, optional
@@ -223,7 +228,12 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     if status == "interrupted":
         body.append('<p class="interrupted">INTERRUPTED: the best parameters found so far, '
                     "not converged; resume the fit to finish it</p>")
-    body.append(_html.verdict_html(cal, status, check, card_warnings))
+    if fit_warnings is None:
+        fit_warnings = ctx.get("card_fit_warnings") or ()
+    no_cards = {s: "; ".join((card_notes or {}).get(s, [])) or "no card"
+                for s, text in cards.items() if text is None}
+    body.append(_html.verdict_html(cal, status, check, [*card_warnings, *fit_warnings],
+                                   no_cards))
     if comparison is not None:
         body.append(_html.section("laws", "laws compared", [_html.comparison_html(comparison)]))
     body.append(_nav(cal, check, cards))

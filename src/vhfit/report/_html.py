@@ -12,6 +12,8 @@ import json
 import math
 
 from vhfit.calibration import grade as calibration_grade
+from vhfit.calibration import worst_grade
+from vhfit.export.check import check_words
 
 STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;margin:0 auto;
@@ -21,7 +23,7 @@ padding-bottom:.2em;margin-top:1.6em}h3{font-size:1em;margin:1em 0 .3em}
 .verdict{border-left:6px solid #888;background:#f5f5f7;padding:.6em 1em;margin:.8em 0}
 .verdict.good{border-color:#2e7d32}.verdict.fair{border-color:#f9a825}
 .verdict.poor{border-color:#c62828}.headline{font-size:1.2em;font-weight:600;margin:.2em 0}
-.warn{color:#8a1c1c}.ok{color:#2e7d32}.bad{color:#c62828;font-weight:600}
+.warn{color:#8a1c1c}.ok{color:#2e7d32}li.warn{color:#9a6700}.bad{color:#c62828;font-weight:600}
 .interrupted{background:#fff3cd;border:1px solid #e0b000;padding:.4em .8em}
 table{border-collapse:collapse;margin:.4em 0;font-size:.92em}
 th,td{border:1px solid #ddd;padding:.2em .6em;text-align:left}td.n{text-align:right;
@@ -97,20 +99,31 @@ def headline(cal, status: str = "complete") -> str:
     return cal.verdict(status)
 
 
-def card_rows(check: dict) -> list[tuple[str, bool | None, str]]:
-    """(solver, passed or None when not checked, plain text) of each card's check."""
+def card_rows(check: dict) -> list[tuple[str, str, str]]:
+    """(solver, css class, plain text) of each card's check: whether the card reproduces
+    its fit, then the card's own grade (:func:`vhfit.export.check.check_words`); the
+    class is ``ok`` for a card that passes with a good grade, ``bad`` for one that
+    exceeds its fit or grades poor, ``warn`` between, ``note`` when not checked."""
     out = []
     for solver, c in check.items():
         if "error" in c:
-            out.append((solver, None, f"{solver}: not checked ({c['error']})"))
+            out.append((solver, "note", f"{solver}: not checked ({c['error']})"))
             continue
         allowed = c.get("allowed")
         bound = f" (allowed {num(allowed)} %)" if allowed is not None else ""
-        state = "EXCEEDS" if c.get("exceeds") else "ok"
-        out.append((solver, not c.get("exceeds"),
-                     f"{solver}: {state}, card RMSAPE {num(c['rmsape'])} %{bound} in the "
-                     f"'{c.get('formulation')}' formulation"))
+        level = grade(c["rmsape"])[0]
+        cls = ("bad" if c.get("exceeds") or level == "poor" else
+               "ok" if level == "good" else "warn")
+        out.append((solver, cls,
+                     f"{solver}: {check_words(c['rmsape'], bool(c.get('exceeds')))}, card "
+                     f"RMSAPE {num(c['rmsape'])} %{bound} in the '{c.get('formulation')}' "
+                     "formulation"))
     return out
+
+
+def card_levels(check: dict) -> list[str]:
+    """The grade level of every checked card (its own RMSAPE, as the fit's verdict)."""
+    return [grade(c["rmsape"])[0] for c in check.values() if "error" not in c]
 
 
 def important_warnings(cal, card_warnings: list[str]) -> list[str]:
@@ -122,8 +135,12 @@ def important_warnings(cal, card_warnings: list[str]) -> list[str]:
     return list(dict.fromkeys(out))
 
 
-def verdict_html(cal, status: str, check: dict, card_warnings: list[str]) -> str:
-    cls = grade(float(cal.rmsape))[0]
+def verdict_html(cal, status: str, check: dict, card_warnings: list[str],
+                 no_cards: dict | None = None) -> str:
+    """The verdict box: its colour is the worst grade of the fit and of its cards (a
+    warning that matters makes a good one fair); the cards' rows, then the solvers
+    without a card (``no_cards``: solver -> why, "no card: ...")."""
+    cls = worst_grade([grade(float(cal.rmsape))[0], *card_levels(check)])
     warns = important_warnings(cal, card_warnings)
     if warns and cls == "good":  # a good error with a warning that matters is not green
         cls = "fair"
@@ -138,12 +155,11 @@ def verdict_html(cal, status: str, check: dict, card_warnings: list[str]) -> str
     others = [w for w in (cal.warnings or []) if w not in warns]
     if others:
         parts.append(f'<p>{len(others)} further warning(s): <a href="#warnings">below</a></p>')
-    if check:
-        items = []
-        for _, ok, text in card_rows(check):
-            c = "note" if ok is None else ("ok" if ok else "bad")
-            items.append(f'<li class="{c}">{esc(text)}</li>')
-        parts.append("<p>solver cards (each parsed back and re-simulated):</p><ul>"
+    items = [f'<li class="{c}">{esc(text)}</li>' for _, c, text in card_rows(check)]
+    items += [f'<li class="bad">{esc(s)}: {esc(why)}</li>' for s, why in (no_cards or {}).items()]
+    if items:
+        parts.append("<p>solver cards (each parsed back and re-simulated; ok: the card "
+                     "reproduces its fit, then the card's own grade):</p><ul>"
                      + "".join(items) + "</ul>")
     parts.append("</div>")
     return "\n".join(parts)
@@ -212,7 +228,7 @@ def check_html(check: dict, names: list[str]) -> str:
         rows.append([solver, c.get("formulation", "-"),
                      "-" if fit is None else f"{num(fit)} ({c.get('fit_formulation')})",
                      num(c["rmsape"]), "-" if c.get("allowed") is None else num(c["allowed"]),
-                     ("EXCEEDS",) if c.get("exceeds") else "ok"])
+                     check_words(c["rmsape"], bool(c.get("exceeds")))])
         per.append(solver)
     out = ["<p>Each card parsed back and re-simulated in its solver's formulation on every "
            "test history; RMSAPE (%) on the data.</p>",
