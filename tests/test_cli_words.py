@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from vhfit._words import in_python, on_command_line, raw, setting
+from vhfit._words import in_python, on_command_line, raw, setting, worded
 from vhfit.cli._common import one_line
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "vhfit"
@@ -99,6 +99,9 @@ def messages() -> list[tuple[str, int, str]]:
                 elif node.args and isinstance(node.args[0], ast.Call) \
                         and _name(node.args[0].func) in WARNED:
                     call = node.args[0]
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) \
+                    and _name(node.exc.func) == "worded" and len(node.exc.args) > 1:
+                call = ast.Call(func=node.exc.func, args=node.exc.args[1:], keywords=[])
             if call is None or not call.args:
                 continue
             arg = call.args[0]
@@ -134,15 +137,18 @@ def test_a_setting_reads_in_each_readers_words():
     assert on_command_line(text) == "curve 'slow': no rate: fit --prony 0"
 
 
+TEXT = "bad: try " + setting("n_prony=0", "--prony 0")
+
+
 def test_errors_carry_both_spellings_through_str_and_the_command_line():
     from vhfit.calibration import CalibrationError
     from vhfit.data import DataError
 
-    for cls in (DataError, CalibrationError):
-        exc = cls("bad: try " + setting("n_prony=0", "--prony 0"))
+    for exc in (DataError(TEXT), CalibrationError(TEXT), worded(ValueError, TEXT)):
         assert str(exc) == "bad: try n_prony=0 (command line: --prony 0)"
         assert one_line(exc) == "bad: try --prony 0"
         assert raw(exc) is not None
+    assert type(worded(ValueError, TEXT)) is ValueError  # doctests and users see the class
     plain = ValueError("no marks here")
     assert raw(plain) is None and one_line(plain) == "no marks here"
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["setting", "in_python", "on_command_line", "raw", "Worded", "SettingError"]
+__all__ = ["setting", "in_python", "on_command_line", "raw", "Worded", "worded"]
 
 _OPEN, _SEP, _CLOSE = "\ue000", "\ue001", "\ue002"
 _MARK = re.compile(f"{_OPEN}([^{_SEP}]*){_SEP}([^{_CLOSE}]*){_CLOSE}")
@@ -39,6 +39,9 @@ def on_command_line(text: str) -> str:
 
 def raw(exc: BaseException) -> str | None:
     """The marked text of ``exc``, if it carries one, else None."""
+    marked = getattr(exc, "_vhfit_words", None)
+    if marked is not None:
+        return marked
     args = getattr(exc, "args", ())
     if args and isinstance(args[0], str) and _OPEN in args[0]:
         return args[0]
@@ -53,5 +56,9 @@ class Worded:
         return in_python(text) if text is not None else super().__str__()
 
 
-class SettingError(Worded, ValueError):
-    """A ``ValueError`` whose message names settings with :func:`setting`."""
+def worded(cls: type[BaseException], text: str) -> BaseException:
+    """An exception of the plain class ``cls`` (e.g. ``ValueError``) reading ``text`` in
+    Python words, which keeps the marked text for the command line (:func:`raw`)."""
+    exc = cls(in_python(text))
+    exc._vhfit_words = text
+    return exc

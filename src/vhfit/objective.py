@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from vhfit._words import SettingError, setting
+from vhfit._words import setting, worded
 from vhfit.data import TestItem
 
 __all__ = [
@@ -285,7 +285,7 @@ class Objective:
             item = items[exc.index]
             src = getattr(item, "source", None)
             where = f"curve {item.name!r}" + (f" ({src})" if src else "")
-            raise SettingError(f"{where} {exc.what}") from None
+            raise worded(ValueError, f"{where} {exc.what}") from None
         scale = np.broadcast_to(scale, self.target.shape).copy()
         if self.kind == "rmsape" and items is not None and len(items) == m:
             _point_scales(items, self.slices, scale)

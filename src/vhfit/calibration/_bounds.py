@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from vhfit._words import SettingError, setting
+from vhfit._words import setting, worded
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
@@ -43,7 +43,7 @@ def rates(curves) -> np.ndarray:
         files = sorted({str(c.source) for c in curves if getattr(c, "source", None)})
         shown = (" (" + ", ".join(files[:3]) + (", ..." if len(files) > 3 else "") + ")"
                  if files else "")
-        raise SettingError(
+        raise worded(ValueError,
             f"{setting('n_prony > 0', 'Prony terms')} need curves with a strain rate or a "
             f"time column: the equilibrium (rate-free) curves{shown} carry no viscous "
             "response; fit "

@@ -11,7 +11,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
-from vhfit._words import SettingError, setting
+from vhfit._words import setting, worded
 from vhfit.formulations import get_formulation
 
 __all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable",
@@ -25,7 +25,7 @@ FULL_TOL = 1e-5  # the paper's best-mean gap of 0.001 %, the full method's defau
 
 
 def _fail(name: str, value: Any, fix: str) -> None:
-    raise SettingError(f"{name} = {value!r}: {fix}")
+    raise worded(ValueError, f"{name} = {value!r}: {fix}")
 
 
 def _is_int(v: Any) -> bool:

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from vhfit._blas import one_blas_thread
-from vhfit._words import SettingError, in_python, setting
+from vhfit._words import in_python, setting, worded
 from vhfit.calibration import _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
@@ -293,7 +293,7 @@ def calibrate(
         named = sorted(set(s.bounds) - set(bounds_for_terms(s.bounds, n_prony))
                        ) if isinstance(s.bounds, dict) else []
         if named:
-            raise SettingError(
+            raise worded(ValueError,
                 f"bounds name {', '.join(named)} but the fit has no Prony terms by default "
                 f"({unidentified}): give {setting('n_prony=N', '--prony N')} to fit some, "
                 "or drop those bounds")

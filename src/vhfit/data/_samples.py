@@ -156,8 +156,8 @@ def _clean_time_series(eps, sig, t, keep, where):
                    "it, or ignore it (read_csv(..., columns={'time': None}, rate=...); command "
                    "line: --columns time= --rate R)")
         else:
-            fix = ("sort the rows by time (" + setting("read_csv(..., sort=True)", "--sort")
-                   + "); "
+            fix = ("sort the rows by time with " + setting("read_csv(..., sort=True)", "--sort")
+                   + "; "
                    "if the file holds "
                    "several tests, give each its own curve (a 'test' column)")
         raise DataError(
@@ -308,8 +308,8 @@ def _check_kinematics(eps, t, rate, keep, where, shear=False):
             raise DataError(
                 f"{where(keep[k + 1])}: strain goes back from {eps[k]:g} to {eps[k + 1]:g}: "
                 "a constant-rate curve must be monotonic; if this test loads and unloads "
-                "give its time column, if the rows are out of order sort them "
-                "(" + setting("read_csv(..., sort=True)", "--sort") + ")"
+                "give its time column, if the rows are out of order sort them with "
+                + setting("read_csv(..., sort=True)", "--sort")
             )
     if not shear and (eps <= -1.0).any():
         k = int(np.flatnonzero(eps <= -1.0)[0])

@@ -223,10 +223,10 @@ def _propagate(sets, known, names, domain: str) -> list[float]:
             except ValueError as exc:
                 raise DataError(
                     f"{names[k]}: no shift factor for T = {Tb:g} and its moduli do not "
-                    f"overlap those at T = {Ta:g} ({exc}): give shift factors for it ("
-                    + setting("vhfit.tts, shift_factors= a law or a table",
+                    f"overlap those at T = {Ta:g} ({exc}): give shift factors for it, "
+                    + setting("shift_factors= a law or a table (vhfit.tts)",
                               "--shift wlf:C1,C2 --tref T")
-                    + ") or sweeps that overlap their neighbours") from None
+                    + ", or sweeps that overlap their neighbours") from None
             L[k] = sign * d
     return [float(v) for v in L]
 
@@ -425,7 +425,7 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
             k = next(i for i, T in enumerate(temps) if T is not None)
             raise DataError(f"{_label(items[k], k)}: tests at {len(known)} temperatures and "
                             "no shift factors: give "
-                            + setting("shift_factors= (a WLF law or a table)",
+                            + setting("shift_factors= a WLF law or a table",
                                       "--shift wlf:C1,C2 --tref T")
                             + " or DMA sweeps at those temperatures")
         source = master_curve(moduli, T_ref=T_ref, tolerance=tolerance)
