@@ -33,7 +33,7 @@ TOP = "vhfit"
 #: below it, never one above.
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("infrastructure", ("vhfit._io", "vhfit._pools", "vhfit._version", "vhfit._blas",
-                        "vhfit._nnls")),
+                        "vhfit._nnls", "vhfit._words")),
     ("physics", ("vhfit.hyperelastic", "vhfit.viscoelastic", "vhfit.history", "vhfit.model",
                  "vhfit._batch", "vhfit.modes", "vhfit._plans", "vhfit.formulations",
                  "vhfit._linear", "vhfit._kernels", "vhfit.stability", "vhfit._derivatives",

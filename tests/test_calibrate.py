@@ -658,7 +658,7 @@ def test_gent_past_its_locking_stretch_raises_naming_the_bound_and_the_fix(tmp_p
         r"the gent fit found no parameter set with a finite error \(\d+ evaluated, stop: no "
         r"finite error in 50 generations\): its search bounds \(Jm <= " + f"{hi:g}"
         + r"\) leave the gent law undefined at the data's deformation everywhere, but Jm = "
-        + f"{fix:g}" + r" is not; widen them with the bounds= keyword, e\.g\. "
+        + f"{fix:g}" + r" is not; widen them, e\.g\. "
         r"bounds=\{'Jm': \(0\.1, " + f"{fix:g}" + r"\)\} \(command line: --bounds Jm=0\.1:"
         + f"{fix:g}" + r"\)", msg), msg
     assert not ck.exists()

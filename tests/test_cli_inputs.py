@@ -79,8 +79,7 @@ BAD_BOUNDS = [
      r"--bounds alpha1=-40:40: unknown parameter of the mooney_rivlin law with up to 2 "
      r"Prony term\(s\); give one of C10, C01, G1, tau1, G2, tau2 .*"),
     ("term-beyond-N", ["--prony", "2", "--bounds", "tau3=1e-3:1"],
-     r"--bounds tau3=0\.001:1: unknown parameter .*more terms: raise n_prony; command "
-     r"line: --prony N.*"),
+     r"--bounds tau3=0\.001:1: unknown parameter .*\(more terms: raise --prony\); .*"),
     ("low-above-high", ["--model", "ogden", "--bounds", "alpha1=3:1"],
      r"argument --bounds: --bounds 'alpha1=3:1': LO must be below HI; give alpha1=1:3 with "
      r"LO < HI .*"),
@@ -125,7 +124,7 @@ def test_bounds_on_prony_terms_the_default_fit_does_not_have_are_refused(ogden_c
     msg = refused(["fit", str(ogden_csv), "--model", "ogden", "--bounds", "tau1=1e-3:1"],
                   tmp_path / "out", capsys, "files")
     assert re.fullmatch(r"bounds name tau1 but the fit has no Prony terms by default \(.*\): "
-                        r"give n_prony=N \(command line: --prony N\) to fit some, or drop "
+                        r"give --prony N to fit some, or drop "
                         r"those bounds", msg), msg
 
 
@@ -284,8 +283,7 @@ def test_select_of_a_value_that_is_not_there_lists_those_present(tmp_path, capsy
     path.write_text("region,strain,stress_kPa\n" + rows)
     msg = refused(["fit", str(path), "--select", "region=grey"], tmp_path / "out", capsys,
                   "files")
-    assert re.fullmatch(re.escape(f"{path}: select={{'region': 'grey'}} (command line: "
-                                  "--select region=grey) keeps no rows; column 'region' "
+    assert re.fullmatch(re.escape(f"{path}: --select region=grey keeps no rows; column 'region' "
                                   "holds cortex, white"), msg), msg
 
 
@@ -324,7 +322,7 @@ def test_nominal_and_measured_temperatures_that_disagree_name_both_and_the_flag(
                     + "".join(f"{f:g},{e:g},{lo:g},{T:.1f},{m:.2f}\n" for f, e, lo, T, m in rows))
     msg = refused(["fit", str(path)], tmp_path / "out", capsys)
     assert "'nominal_temperature_C'" in msg and "'measured_sample_temperature_C'" in msg
-    assert msg.endswith("(command line: --columns temperature=nominal_temperature_C)"), msg
+    assert msg.endswith("say which with --columns temperature=nominal_temperature_C"), msg
     items = vhfit.read_csv(path, columns={"temperature": "measured_sample_temperature_C"})
     assert [round(i.temperature, 2) for i in items] == [24.59, 49.59]
     parser = build_parser()
@@ -356,7 +354,7 @@ def test_temperature_columns_of_a_stress_strain_file_are_read_or_refused(tmp_pat
     msg = refused(["fit", str(off)], tmp_path / "out", capsys, "files")
     assert "'nominal_temperature_C' and 'measured_sample_temperature_C' could both be the " \
            "temperature but differ (40 vs 38.6)" in msg, msg
-    assert msg.endswith("(command line: --columns temperature=nominal_temperature_C)"), msg
+    assert msg.endswith("say which with --columns temperature=nominal_temperature_C"), msg
     parser = build_parser()
     [c], _ = read_curves([str(off)], parser.parse_args(
         ["fit", str(off), "--columns", "temperature=measured_sample_temperature_C"]))
@@ -368,7 +366,7 @@ def test_temperature_columns_of_a_stress_strain_file_are_read_or_refused(tmp_pat
     msg = refused(["fit", str(drift), "--columns", "temperature=measured_sample_temperature_C"],
                   tmp_path / "out2", capsys)
     assert re.search(r"column 'measured_sample_temperature_C': the temperature goes from 40 "
-                     r"to 55 within one curve: .*--columns temperature=\)$", msg), msg
+                     r"to 55 within one curve: .*--columns temperature=$", msg), msg
 
 
 def test_stress_strain_files_at_two_temperatures_are_not_merged(tmp_path, capsys):

@@ -196,10 +196,9 @@ BRAIN = ("region,mode,stretch_or_shear_amount,nominal_stress_kPa\n"
 
 def test_a_varying_text_column_is_refused_with_the_flags(tmp_path):
     refused(r"^\S*brain\.csv, column 'region': 2 different values \('callosum', 'cortex'\) "
-            r"would be merged into one curve: split the file by them with group_by='region' "
-            r"\(command line: --group-by region\), keep one with select=\{'region': "
-            r"'callosum'\} \(--select region=callosum\), or ignore the column with "
-            r"columns=\{'ignore': 'region'\} \(--columns ignore=region\)$",
+            r"would be merged into one curve: fit the groups as one material with "
+            r"group_by='region' \(command line: --group-by region\) or keep one with "
+            r"select=\{'region': 'callosum'\} \(command line: --select region=callosum\)$",
             write(tmp_path, BRAIN, "brain.csv"))
 
 
@@ -242,7 +241,8 @@ def test_a_moduli_file_with_a_varying_text_column(tmp_path):
     np.testing.assert_allclose(b.storage, [0.5, 1.0])
     [b] = vhfit.read_csv(p, select={"material": "B"})
     np.testing.assert_allclose(b.loss, [0.05, 0.1])
-    refused(r"columns=\{'ignore': 'nope'\} \(--columns ignore=nope\): no such column", p,
+    refused(r"columns=\{'ignore': 'nope'\} \(command line: --columns ignore=nope\): no such "
+            r"column", p,
             columns={"ignore": "nope"})
 
 
@@ -265,11 +265,10 @@ def _fit(tmp_path, *args):
      r"could both be the stress but differ .*--columns stress=stress_MPa"),
     (BRAIN, [], r"column 'region': .*--group-by region.*--select region=callosum"),
     (BRAIN, ["--select", "region=pons"],
-     r"--select region=pons\) keeps no rows; column 'region' holds callosum, cortex"),
+     r": --select region=pons keeps no rows; column 'region' holds callosum, cortex"),
     (BRAIN, ["--columns", "stress"], r"--columns 'stress': give ROLE=NAME"),
-    (BRAIN, ["--columns", "strass=x"], r"columns=\{'strass': \.\.\.\} \(--columns strass=NAME\)"
-                                       r": unknown role"),
-    (BRAIN, ["--units", "stres=kPa"], r"--units stres=UNIT\): unknown role"),
+    (BRAIN, ["--columns", "strass=x"], r"brain\.csv: --columns strass=NAME: unknown role"),
+    (BRAIN, ["--units", "stres=kPa"], r"error: --units stres=UNIT: unknown role"),
     (BRAIN, ["--group-by", "regio"], r"no column 'regio' \(group_by=, --group-by regio\)"),
 ])
 def test_cli_refuses_ambiguous_input_in_one_line_and_writes_nothing(tmp_path, capsys, text,
@@ -480,8 +479,8 @@ def test_a_stress_with_no_unit_is_said_to_be_read_as_mpa(tmp_path):
     p = write(tmp_path, "strain,stress\n0,0\n0.1,0.5\n0.5,1.5\n")
     [c], msgs = _notes(p)
     assert [m for m in msgs if "no unit: read as MPa" in m] == [
-        f"{p}, column 'stress': no unit: read as MPa (another with units={{'stress': "
-        "'kPa'}, command line: --units stress=kPa)"]
+        f"{p}, column 'stress': no unit: read as MPa; another unit with units={{'stress': "
+        "'kPa'} (command line: --units stress=kPa)"]
     np.testing.assert_allclose(c.stress, [0.0, 0.5, 1.5])
     for ok in ("strain,stress_MPa\n", "strain,stress [kPa]\n"):
         q = write(tmp_path, ok + "0,0\n0.1,0.5\n", "q.csv")

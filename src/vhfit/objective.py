@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting, worded
 from vhfit.data import TestItem
 
 __all__ = [
@@ -108,8 +109,9 @@ def _scale_rmsape(target: np.ndarray, curve: np.ndarray, weights: np.ndarray) ->
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise _NoScale(i, f"has a mean |stress| of {mean[i]:g} at its objective points: "
-                          "RMSAPE (Eq. 20) divides by it; drop that curve (command line: "
-                          "leave its file out) or, from Python, use objective='rmse'")
+                          "RMSAPE (Eq. 20) divides by it; "
+                          + setting("drop that curve or use objective='rmse'",
+                                    "leave its file out"))
     return mean[curve] / 100.0
 
 
@@ -280,7 +282,10 @@ class Objective:
         except _NoScale as exc:  # name the curve (its file) when the test items say it
             if items is None or len(items) != m or not getattr(items[exc.index], "name", ""):
                 raise
-            raise ValueError(f"curve {items[exc.index].name!r} {exc.what}") from None
+            item = items[exc.index]
+            src = getattr(item, "source", None)
+            where = f"curve {item.name!r}" + (f" ({src})" if src else "")
+            raise worded(ValueError, f"{where} {exc.what}") from None
         scale = np.broadcast_to(scale, self.target.shape).copy()
         if self.kind == "rmsape" and items is not None and len(items) == m:
             _point_scales(items, self.slices, scale)

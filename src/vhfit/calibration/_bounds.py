@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from vhfit._words import setting, worded
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
@@ -39,10 +40,14 @@ def rates(curves) -> np.ndarray:
     linear = [r for c in curves if is_moduli(c) for r in _linear_rates(c)]
     rated = [c for c in curves if not c.is_equilibrium and not is_moduli(c)]
     if not rated and not linear:
-        raise ValueError(
-            "n_prony > 0 needs curves with a strain rate or a time column: equilibrium "
-            "(rate-free) curves carry no viscous response; fit n_prony=0 (command line: "
-            "--prony 0)"
+        files = sorted({str(c.source) for c in curves if getattr(c, "source", None)})
+        shown = (" (" + ", ".join(files[:3]) + (", ..." if len(files) > 3 else "") + ")"
+                 if files else "")
+        raise worded(ValueError,
+            f"{setting('n_prony > 0', 'Prony terms')} need curves with a strain rate or a "
+            f"time column: the equilibrium (rate-free) curves{shown} carry no viscous "
+            "response; fit "
+            + setting("n_prony=0", "--prony 0")
         )
     r = np.array([abs(float(c.strain_rate or np.nan)) for c in rated]
                  + linear)

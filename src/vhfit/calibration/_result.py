@@ -12,6 +12,7 @@ from datetime import datetime, timezone
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit._words import Worded
 from vhfit.calibration._settings import CalibrationSettings, shift_law
 from vhfit.data import TestItem
 from vhfit.formulations import FORMULATIONS
@@ -201,7 +202,7 @@ def _g(v: float, digits: int = 4) -> str:
     return f"{float(v):.{digits}g}"
 
 
-class CalibrationWarning(UserWarning):
+class CalibrationWarning(Worded, UserWarning):
     """Something about a calibration the user should know (floor active, unidentifiable τ…)."""
 
 

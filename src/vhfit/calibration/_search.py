@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vhfit._pools import worker_map
+from vhfit._words import Worded
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import ROUNDING_TOL
 from vhfit.calibration._polish import polish as polish_fit
@@ -25,7 +26,7 @@ __all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPE
            "SEARCH_RTOL"]
 
 
-class CalibrationError(ValueError):
+class CalibrationError(Worded, ValueError):
     """The calibration found no parameter set with a finite error: no result to return.
 
     A ``ValueError`` (the command line exits with code 2): the data, the law or the

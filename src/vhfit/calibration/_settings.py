@@ -11,6 +11,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
+from vhfit._words import setting, worded
 from vhfit.formulations import get_formulation
 
 __all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable",
@@ -24,7 +25,7 @@ FULL_TOL = 1e-5  # the paper's best-mean gap of 0.001 %, the full method's defau
 
 
 def _fail(name: str, value: Any, fix: str) -> None:
-    raise ValueError(f"{name} = {value!r}: {fix}")
+    raise worded(ValueError, f"{name} = {value!r}: {fix}")
 
 
 def _is_int(v: Any) -> bool:
@@ -167,7 +168,7 @@ def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
                      "without Prony terms")
         what = (f"the {law.name} law {terms_txt}" if law is not None
                 else f"a fit {terms_txt}")
-        more = (" (more terms: raise n_prony; command line: --prony N)" if prony else "")
+        more = (f" (more terms: raise {setting('n_prony', '--prony')})" if prony else "")
         return (f"unknown parameter of {what}{more}; give one of "
                 f"{', '.join(names + terms) or 'none'}")
     try:

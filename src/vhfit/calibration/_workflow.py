@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from vhfit._blas import one_blas_thread
+from vhfit._words import in_python, setting, worded
 from vhfit.calibration import _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
@@ -292,9 +293,9 @@ def calibrate(
         named = sorted(set(s.bounds) - set(bounds_for_terms(s.bounds, n_prony))
                        ) if isinstance(s.bounds, dict) else []
         if named:
-            raise ValueError(
+            raise worded(ValueError,
                 f"bounds name {', '.join(named)} but the fit has no Prony terms by default "
-                f"({unidentified}): give n_prony=N (command line: --prony N) to fit some, "
+                f"({unidentified}): give {setting('n_prony=N', '--prony N')} to fit some, "
                 "or drop those bounds")
     rate_msgs: list[str] = []
     if s.check_rates:
@@ -320,8 +321,9 @@ def calibrate(
     elif unidentified and cal.n_prony > 0:
         msg = (f"the data cannot separate elastic from viscous response ({unidentified}): "
                f"the {cal.n_prony} Prony term(s) are not identified by them; add tests at "
-               "other rates, a hold or an unloading, or fit n_prony=0 (command line: --prony 0)")
-        warnings.warn(msg, CalibrationWarning, stacklevel=2)
+               f"other rates, a hold or an unloading, or fit {setting('n_prony=0', '--prony 0')}")
+        warnings.warn(CalibrationWarning(msg), stacklevel=2)
+        msg = in_python(msg)
         warns.insert(0, msg)
         heads.insert(0, msg)
     for msg in outside_bounds(s.bounds, cal.params):  # never silently past a user's limit
@@ -398,8 +400,8 @@ def outside_bounds(bounds, params: dict) -> list[str]:
             f"{name} = {v:.6g} is outside the limits ({lo:g}, {hi:g}) given in bounds: "
             "Prony terms whose relaxation times coincide were merged after the search (a "
             "limit of one term holds for the merged one only if every term has it); give "
-            "all terms the same limits, or fit fewer terms (command line: --bounds, "
-            "--prony)")
+            "all terms the same limits, or fit fewer terms ("
+            + setting("bounds=, n_prony=", "--bounds, --prony") + ")")
     return out
 
 
@@ -567,8 +569,8 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
     stiff = _stiffness_from_bounds(prob)
     if stiff:
         return (f"{head}: the bounds given on {stiff} leave the {hm.name} law no positive "
-                "initial shear modulus (a material without stiffness); widen them with the "
-                "bounds= keyword (command line: --bounds)")
+                "initial shear modulus (a material without stiffness); widen them with "
+                + setting("the bounds= keyword", "--bounds"))
     inside = False
     for k in range(hm.n_params):
         if k in hm.linear_index:
@@ -588,13 +590,14 @@ def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
             side = f"{name} <= {hi:g}" if above else f"{name} >= {lo:g}"
             return (f"{head}: its search bounds ({side}) leave the {hm.name} law undefined "
                     f"at the data's deformation everywhere, but {name} = "
-                    f"{new[1] if above else new[0]:g} is not; widen them with the bounds= keyword, "
-                    f"e.g. bounds={{'{name}': ({new[0]:g}, {new[1]:g})}} (command line: "
-                    f"--bounds {name}={new[0]:g}:{new[1]:g})")
+                    f"{new[1] if above else new[0]:g} is not; widen them, e.g. "
+                    + setting(f"bounds={{'{name}': ({new[0]:g}, {new[1]:g})}}",
+                              f"--bounds {name}={new[0]:g}:{new[1]:g}"))
     if inside:
         return (f"{head}: some parameter sets within the bounds have a finite error but the "
-                "search did not reach them; narrow the bounds (bounds= keyword; command line: "
-                "--bounds NAME=LO:HI) or give a larger popsize (--popsize)")
+                "search did not reach them; narrow the bounds ("
+                + setting("bounds=", "--bounds NAME=LO:HI") + ") or give a larger "
+                + setting("popsize=", "--popsize"))
     return (f"{head}: the {hm.name} law is undefined at the data's deformation for any of "
             "its constants; check the data's strain and units, or choose another law")
 

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TextIO
 
 from vhfit._io import atomic_write
+from vhfit._words import on_command_line, raw
 
 __all__ = [
     "EXIT_OK",
@@ -39,8 +40,10 @@ class FitFailed(Exception):
 
 
 def one_line(exc: BaseException) -> str:
-    """The message of ``exc`` on one line (an OSError names its file)."""
-    text = str(exc) or type(exc).__name__
+    """The message of ``exc`` on one line, in the command line's words (an OSError names
+    its file)."""
+    marked = raw(exc)
+    text = on_command_line(marked) if marked is not None else (str(exc) or type(exc).__name__)
     if isinstance(exc, OSError) and exc.filename:
         text = f"{exc.filename}: {exc.strerror or text}"
     return " ".join(part.strip() for part in text.splitlines() if part.strip())

@@ -152,6 +152,5 @@ def check_shift(curves, args) -> tuple[Any, list | None]:
     try:
         ref = tts.shift_to_reference(curves, shift_factors=law, T_ref=args.tref)
     except ValueError as exc:
-        raise UsageError(f"{one_line(exc)} (command line: --shift wlf:C1,C2 --tref T)"
-                         ) from None
+        raise UsageError(one_line(exc)) from None
     return law, (ref.items if ref.source != "none" else None)

@@ -114,8 +114,8 @@ def _loads(args) -> list[tuple[str, float, History]]:
     dfm = args.deformation
     if get_deformation(dfm).second_stretch:
         raise UsageError(f"--deformation {dfm} needs a second stretch path, which simulate "
-                         "does not take: use the Python API (ViscoHyperelastic.stress with "
-                         "stretch2=), or a test with one stretch")
+                         "does not take: simulate it from Python (ViscoHyperelastic.stress "
+                         "with a second stretch path), or a test with one stretch")
     kw = {"deformation": dfm}
     if not args.rate and not args.history:
         raise UsageError("give the loading: --rate R (repeatable, 1/s) with --strain-max, "

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _short
 from vhfit.data._table import _Table
 
@@ -84,6 +85,30 @@ def _cells(texts: Sequence[Any]) -> tuple[np.ndarray, np.ndarray]:
     return vals, res
 
 
+#: Records of one temperature level: within this many degrees of the level's first.
+LEVEL_TOLERANCE = 0.5
+
+
+def _level_of(temps) -> list[int]:
+    """The temperature level of each reading, in order of appearance: a reading joins the
+    last level whose first reading is within :data:`LEVEL_TOLERANCE` of its own (the
+    readings of one level drift by hundredths of a degree), else starts a new level."""
+    firsts: list[float] = []
+    out = []
+    for T in temps:
+        near = [k for k, v in enumerate(firsts) if abs(v - T) <= LEVEL_TOLERANCE]
+        if not near:
+            firsts.append(T)
+            near = [len(firsts) - 1]
+        out.append(near[-1])
+    return out
+
+
+def _n_levels(T: np.ndarray) -> int:
+    """How many temperature levels the finite readings ``T`` fall into."""
+    return len(set(_level_of(T[np.isfinite(T)].tolist())))
+
+
 def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit: str) -> int:
     """Which of ``cands`` (the preferred first) to read: all must agree with the first to
     within :data:`ROUNDINGS` times the rounding of their digits; the finest-written one
@@ -110,12 +135,19 @@ def _settle(table: _Table, rows: np.ndarray, cands: list[_Cand], what: str, unit
         bad[ok] = np.abs(x[ok] - x0[ok]) > ROUNDINGS * (r0[ok] + r[ok]) + _FLOAT_RTOL * scale
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            a = cands[0]
+            a, why = cands[0], ""
+            if what == "temperature":  # a measured reading drifts; the test's own is steady
+                n0, n1 = _n_levels(x0), _n_levels(x)
+                if n0 != n1:
+                    a, drift = (cands[0], c) if n0 < n1 else (c, cands[0])
+                    why = (f"; {drift.header!r} drifts within the file ({max(n0, n1)} "
+                           f"temperature levels against {min(n0, n1)}), so reading it would "
+                           "split each test into several temperatures")
             raise DataError(
-                f"{table.source}, {table.label(int(rows[i]))}: columns {a.header!r} and "
-                f"{c.header!r} could both be the {what} but differ ({x0[i]:.6g} vs "
-                f"{x[i]:.6g}{unit}): say which with columns={{{a.key!r}: {a.header!r}}} "
-                f"(command line: --columns {a.key}={a.header})"
+                f"{table.source}, {table.label(int(rows[i]))}: columns {cands[0].header!r} "
+                f"and {c.header!r} could both be the {what} but differ ({x0[i]:.6g} vs "
+                f"{x[i]:.6g}{unit}){why}: say which with "
+                + setting(f"columns={{{a.key!r}: {a.header!r}}}", f"--columns {a.key}={a.header}")
             )
     finest = [float(np.nanmedian(r)) if np.isfinite(r).any() else np.inf for _, r in conv]
     return int(np.argmin(finest))
@@ -145,8 +177,8 @@ def _select_rows(table: _Table, select: Mapping[str, Any] | None) -> np.ndarray:
             shown = ", ".join(sorted(set(map(str, vals)))[:6])
             first = wants[0] if wants else ""
             raise DataError(
-                f"{table.source}: select={{{h!r}: {want!r}}} (command line: --select "
-                f"{h}={first}) keeps no rows; column {table.names[j]!r} holds {shown}"
+                f"{table.source}: {setting(f'select={{{h!r}: {want!r}}}', f'--select {h}={first}')}"
+                f" keeps no rows; column {table.names[j]!r} holds {shown}"
             )
         rows = rows[ok]
     return rows
@@ -239,18 +271,25 @@ def _check_text_columns(
             c = code[g]
             c = c[c >= 0]
             if c.size and c.min() != c.max():
-                _refuse_text_column(table, h, uniq[np.unique(c)])
+                runs = 1 + int(np.count_nonzero(np.diff(c)))
+                _refuse_text_column(table, h, uniq[np.unique(c)],
+                                    blocks=runs == np.unique(c).size)
         unused.append(j)
     return unused
 
 
-def _refuse_text_column(table: _Table, h: str, values: np.ndarray) -> None:
+def _refuse_text_column(table: _Table, h: str, values: np.ndarray, *, blocks: bool) -> None:
+    """Refuse a label column that varies within one curve; ignoring it is offered only for
+    interleaved values: a column in blocks separates tests, which merged are no test."""
     shown = ", ".join(_short(str(v)) for v in values[:_SHOWN]) + (
         ", ..." if values.size > _SHOWN else "")
     v0 = str(values[0])
+    ignore = setting("columns={'ignore': " + repr(h) + "}", f"--columns ignore={h}")
     raise DataError(
         f"{table.source}, column {h!r}: {values.size} different values ({shown}) would be "
-        f"merged into one curve: split the file by them with group_by={h!r} (command line: "
-        f"--group-by {h}), keep one with select={{{h!r}: {v0!r}}} (--select {h}={v0}), or "
-        f"ignore the column with columns={{'ignore': {h!r}}} (--columns ignore={h})"
+        f"merged into one curve: fit the groups as one material with "
+        f"{setting(f'group_by={h!r}', f'--group-by {h}')}" + (", " if not blocks else " or ")
+        + f"keep one with "
+        f"{setting(f'select={{{h!r}: {v0!r}}}', f'--select {h}={v0}')}"
+        + ("" if blocks else f", or ignore the column with {ignore}")
     )

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _norm_key, _short
 
 # ========================================================= column recognition
@@ -59,6 +60,9 @@ _UNIT_HINT = {
     "rate": "1/s, 1/min, %/s or %/min",
     "temperature": "C, K or F",
 }
+#: A header of each role with a unit it understands, for the hint's example.
+_UNIT_EXAMPLE = {"stress": "stress_MPa", "strain": "strain_%", "stretch": "stretch",
+                 "time": "time_s", "rate": "rate_1/s", "temperature": "temperature_C"}
 
 _STRESS_WORDS = {"stress", "sigma", "σ", "spannung"}
 _STRAIN_WORDS = {"strain", "epsilon", "eps", "ε", "dehnung"}
@@ -295,15 +299,16 @@ def _resolve_columns(
     if deform is None:
         raise DataError(
             f"{src}: no strain or stretch column among {header_list}: name one 'strain' "
-            "(or 'stretch', 'strain_%'), or pass columns={'strain': '<header>'} (command "
-            "line: --columns strain=NAME)"
+            "(or 'stretch', 'strain_%'), or pass "
+            + setting("columns={'strain': '<header>'}", "--columns strain=NAME")
         )
     if stress is None:
         raise DataError(
             f"{src}: no stress column among {header_list}: name one 'stress_MPa' (or "
-            "'stress [kPa]', ...), or pass columns={'stress': '<header>'} (command line: "
-            "--columns stress=NAME); force and "
-            "displacement must first be converted with the specimen's area and gauge length"
+            "'stress [kPa]', ...), or pass "
+            + setting("columns={'stress': '<header>'}", "--columns stress=NAME")
+            + "; force and displacement must first be converted with the specimen's area "
+            "and gauge length"
         )
     deform2 = _second_deform_column(cols, explicit, src, alts.setdefault("deform2", []))
     stress2 = _best_column(cols, explicit, ("stress2",), "second stress", src,
@@ -345,8 +350,8 @@ def _explicit_columns(
                 "shear": "strain"}.get(role, role)
         if role not in _ROLE_KEYS:
             raise DataError(
-                f"{src}: columns={{{key!r}: ...}} (--columns {key}=NAME): unknown role; use "
-                f"{', '.join(_ROLE_KEYS)}"
+                f"{src}: {setting(f'columns={{{key!r}: ...}}', f'--columns {key}=NAME')}: "
+                f"unknown role; use {', '.join(_ROLE_KEYS)}"
             )
         if val is None:
             explicit[role] = None
@@ -371,14 +376,16 @@ def _explicit_index(key: Any, val: Any, names: list[str], src: str) -> int:
     if isinstance(val, (int, np.integer)) and not isinstance(val, bool):
         j = int(val)
         if not 0 <= j < len(names):
-            raise DataError(f"{src}: columns={{{key!r}: {j}}}: there are {len(names)} columns")
+            which = setting(f"columns={{{key!r}: {j}}}", f"--columns {key}={j}")
+            raise DataError(f"{src}: {which}"
+                            f": there are {len(names)} columns")
         return j
     wanted = str(val).strip().lower()
     hits = [j for j, h in enumerate(names) if _plain(h) == wanted]
     if not hits:
         raise DataError(
-            f"{src}: columns={{{key!r}: {val!r}}} (--columns {key}={val}): no such column; the "
-            f"header has {', '.join(map(repr, names))}"
+            f"{src}: {setting(f'columns={{{key!r}: {val!r}}}', f'--columns {key}={val}')}: "
+            f"no such column; the header has {', '.join(map(repr, names))}"
         )
     return hits[0]
 
@@ -451,8 +458,7 @@ def _best_column(
         raise DataError(
             f"{src}: several columns could be the {what}: "
             f"{', '.join(repr(c.header) for c in cands)}: say which with "
-            f"columns={{'{roles[0]}': '<header>'}} (command line: --columns "
-            f"{roles[0]}=NAME)"
+            + setting(f"columns={{'{roles[0]}': '<header>'}}", f"--columns {roles[0]}=NAME")
         )
     return cands[0]
 
@@ -495,12 +501,12 @@ def _column_factor(col: _Col, units: Mapping[str, str] | None, src: str,
     if rival is not None:
         raise DataError(
             f"{src}, column {col.header!r}: could also be the {r} beside {rival.header!r}, "
-            f"but {why}: say which column is the {r} with columns={{'{r}': {rival.header!r}}} "
-            f"(command line: --columns {r}={rival.header}), or its unit with "
-            f"units={{'{r}': ...}} (--units {r}=UNIT)"
+            f"but {why}: say which column is the {r} with "
+            f"{setting(f'columns={{{r!r}: {rival.header!r}}}', f'--columns {r}={rival.header}')}"
+            f", or its unit with {setting(f'units={{{r!r}: ...}}', f'--units {r}=UNIT')}"
         )
     raise DataError(
         f"{src}, column {col.header!r}: {why}: use "
-        f"{_UNIT_HINT[r]} (e.g. '{r}_{'MPa' if r == 'stress' else 's'}'), or pass "
-        f"units={{'{r}': ...}} (command line: --units {r}=UNIT)"
+        f"{_UNIT_HINT[r]} (e.g. '{_UNIT_EXAMPLE[r]}'), or pass "
+        f"{setting(f'units={{{r!r}: ...}}', f'--units {r}=UNIT')}"
     )

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _norm_measure, _Subset, _warn, _Where
 from vhfit.data._modes import (
     _check_deformation,
@@ -374,7 +375,8 @@ class Curve:
             where = _Where(_mode_name(deformation, strain_rate, time), src, rows)
         strain = _driving_strain(strain, stretch, deformation, where)
         if stress is None:
-            raise DataError(f"{where()}: no stress= given: give the stress of each sample")
+            raise DataError(f"{where()}: no {setting('stress=', 'stress column')} given: give "
+                            "the stress of each sample")
         eps, sig, t = _sample_arrays(where, strain, stress, time, rows)
         e2, s2 = _second_path(deformation, strain2, stretch2, stress2, eps.size, where)
         measure = _norm_measure(measure, where)
@@ -716,8 +718,9 @@ class Curve:
         array([-0.1, -0.2, -0.3])
         """
         if time is not None and self._equilibrium:
-            raise DataError(f"{self._where()}: trim(time=...): an equilibrium curve has no "
-                            "time: trim it by strain")
+            raise DataError(f"{self._where()}: {setting('trim(time=...)', '--trim-time')}: an "
+                            "equilibrium curve has no time: trim it by strain"
+                            f" ({setting('trim(strain=...)', '--trim-strain')})")
         ts = self._sample_time()
         mask = np.ones(self._strain.size, dtype=bool) if self._window is None else self._window
         desc = list(self._window_desc)
@@ -797,7 +800,8 @@ class Curve:
         if weight is not None:
             w = float(weight)
             if not (np.isfinite(w) and w >= 0):
-                raise DataError(f"{self._where()}: weight={weight!r}: give a finite weight >= 0")
+                raise DataError(f"{self._where()}: {setting(f'weight={weight!r}', 'its weight')}"
+                                ": give a finite weight >= 0")
             attrs["_weight"] = w
         return self._derive(**attrs)
 

@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import Worded, setting
+
 _MEASURES = {
     "engineering": "engineering",
     "eng": "engineering",
@@ -39,11 +41,11 @@ _MODES = {
 }
 
 
-class DataError(ValueError):
+class DataError(Worded, ValueError):
     """Unusable test data; the message names the file, curve, row or column, and the fix."""
 
 
-class DataWarning(UserWarning):
+class DataWarning(Worded, UserWarning):
     """Something about the data was inferred rather than declared; the message says what."""
 
 
@@ -144,8 +146,8 @@ def _norm_measure(measure: Any, where: _Where) -> str:
     m = _MEASURES.get(_norm_key(measure))
     if m is None:
         raise DataError(
-            f"{where()}: measure={measure!r} is not understood: use 'engineering' (nominal) "
-            "or 'true' (Cauchy)"
+            f"{where()}: {setting(f'measure={measure!r}', f'--measure {measure}')} is not "
+            "understood: use 'engineering' (nominal) or 'true' (Cauchy)"
         )
     return m
 
@@ -154,8 +156,8 @@ def _norm_mode(mode: Any, where: _Where) -> str:
     m = _MODES.get(_norm_key(mode))
     if m is None:
         raise DataError(
-            f"{where()}: mode={mode!r} is not understood: use 'compression', 'tension' or "
-            "'mixed'"
+            f"{where()}: {setting(f'mode={mode!r}', f'the loading mode {mode!r}')} is not "
+            "understood: use 'compression', 'tension' or 'mixed'"
         )
     return m
 

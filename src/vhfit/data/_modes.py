@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _Where
 from vhfit.modes import (
     deformation_named,
@@ -55,7 +56,8 @@ def _check_deformation(deformation: Any, where: _Where) -> str:
     name = _deformation_name(deformation)
     if name is None:
         raise DataError(
-            f"{where()}: deformation={deformation!r} is not a test vhfit knows: use one of "
+            f"{where()}: {setting(f'deformation={deformation!r}', f'--deformation {deformation}')}"
+            " is not a test vhfit knows: use one of "
             f"{_known()}"
         )
     return name
@@ -67,20 +69,22 @@ def _driving_strain(strain: Any, stretch: Any, deformation: str, where: _Where) 
         raise DataError(
             f"{where()}: {deformation.replace('_', ' ')} is driven by the amount of shear γ, "
             "not a stretch: "
-            "give strain=γ (a column 'gamma' or 'shear_strain'), not stretch="
+            f"give {setting('strain=γ', 'γ')} (a column 'gamma' or 'shear_strain'), not "
+            + setting("stretch=", "a stretch")
         )
     if strain is not None and stretch is not None:
-        raise DataError(f"{where()}: both strain= and stretch= given: give one of them")
+        both = setting("strain= and stretch=", "a strain and a stretch")
+        raise DataError(f"{where()}: both {both} given: give one of them")
     if strain is None and stretch is None:
-        raise DataError(f"{where()}: no strain= or stretch= given: give the deformation "
-                        "of each sample")
+        raise DataError(f"{where()}: no {setting('strain= or stretch=', 'strain or stretch')} "
+                        "given: give the deformation of each sample")
     if strain is not None:
         return strain
     lam = where.array("stretch", stretch)
     if (lam <= 0).any():
         k = int(np.flatnonzero(lam <= 0)[0])
         raise DataError(f"{where(k)}: stretch = {lam[k]:g} is not > 0: give stretch "
-                        "λ = L/L0 (1 at rest), or strain= for λ − 1")
+                        f"λ = L/L0 (1 at rest), or {setting('strain=', 'a strain')} for λ − 1")
     return lam - 1.0
 
 
@@ -105,12 +109,14 @@ def _second_path(
             tied = [n for n in with_two_directions() if n not in with_second_stretch()]
             raise DataError(
                 f"{where()}: a {deformation} curve needs its second stretch at each sample: "
-                "give stretch2= (λ2) or strain2= (λ2 − 1)"
-                + "".join(f", or use deformation={n!r} (command line: --deformation {n}) "
+                "give " + setting("stretch2= (λ2) or strain2= (λ2 − 1)",
+                                  "a stretch2 (λ2) or strain2 (λ2 − 1) column")
+                + "".join(f", or use {setting(f'deformation={n!r}', f'--deformation {n}')} "
                           "if λ2 = λ1" for n in tied[:1])
             )
         if strain2 is not None and stretch2 is not None:
-            raise DataError(f"{where()}: both strain2= and stretch2= given: give one of them")
+            both = setting("strain2= and stretch2=", "a strain2 and a stretch2")
+            raise DataError(f"{where()}: both {both} given: give one of them")
         if strain2 is not None:
             e2 = where.array("strain2", strain2, n)
         else:
@@ -131,9 +137,10 @@ def _second_path(
     if stress2 is not None:
         if test.directions < 2:
             raise DataError(
-                f"{where()}: stress2= is the stress in the second loaded direction, which "
-                f"only {' and '.join(map(repr, with_two_directions()))} tests have: drop it, or "
-                "correct deformation= (command line: --deformation)"
+                f"{where()}: {setting('stress2=', 'a stress2 column')} is the stress in the "
+                f"second loaded direction, which only "
+                f"{' and '.join(map(repr, with_two_directions()))} tests have: drop it, or "
+                "correct " + setting("deformation=", "--deformation")
             )
         s2 = where.array("stress2", stress2, n)
     return e2, s2

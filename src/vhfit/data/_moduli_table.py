@@ -19,10 +19,12 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._ambiguous import (
     _Cand,
     _check_text_columns,
     _col_index,
+    _level_of,
     _scaled,
     _select_rows,
     _settle,
@@ -37,8 +39,6 @@ _HZ = {"hz": 1.0, "1/s": 1.0, "khz": 1e3, "cps": 1.0}
 _RAD = {"rad/s": 1.0, "rad/sec": 1.0, "rad/min": 1 / 60}
 _ROLES = ("frequency", "omega", "storage", "loss", "modulus", "tan_delta", "time",
           "relaxation", "temperature", "set")
-#: Records of one temperature level: within this many degrees of the level's first.
-LEVEL_TOLERANCE = 0.5
 _SET_NAMES = ("set", "set_index", "set_id", "set_no", "set_number", "segment")
 _MODULUS_ROLES = ("storage", "loss", "modulus", "relaxation")
 
@@ -189,8 +189,9 @@ def _moduli_plan(names: list[str], columns: Mapping[str, Any] | None, src: str
         if not hits and role == "time":
             continue  # a stress–strain role too: its reader names the problem
         if not hits:
-            raise DataError(f"{src}: columns={{{key!r}: {val!r}}}: no such column; the header "
-                            f"has {', '.join(map(repr, names))}")
+            which = setting(f"columns={{{key!r}: {val!r}}}", f"--columns {key}={val}")
+            raise DataError(f"{src}: {which}"
+                            f": no such column; the header has {', '.join(map(repr, names))}")
         name, unit = _unit_and_name(names[hits[0]])
         plan.cols[role] = _MCol(hits[0], names[hits[0]], role, unit or "",
                                 _modulus_kind(_tokens(name)))
@@ -216,8 +217,9 @@ def _ignored(names: list[str], given: Any, src: str) -> set[int]:
         hits = [j for j, h in enumerate(names) if h.strip().lower() == str(g).strip().lower()
                 or (isinstance(g, int) and j == g)]
         if not hits:
-            raise DataError(f"{src}: columns={{'ignore': {g!r}}} (--columns ignore={g}): no "
-                            f"such column; the header has {', '.join(map(repr, names))}")
+            ignore = setting("columns={'ignore': " + repr(g) + "}", f"--columns ignore={g}")
+            raise DataError(f"{src}: {ignore}"
+                            f": no such column; the header has {', '.join(map(repr, names))}")
         out.update(hits)
     return out
 
@@ -259,8 +261,8 @@ def _factor(col: _MCol, units: Mapping[str, str] | None, src: str) -> float:
     f = table.get(nu if col.role != "frequency" or nu else "hz")
     if f is None:
         raise DataError(f"{src}, column {col.header!r}: unit {u!r} is not understood for "
-                        f"{col.role.replace('_', ' ')}: use {hint}, or pass units={{"
-                        f"'{col.role}': ...}} (command line: --units {col.role}=UNIT)")
+                        f"{col.role.replace('_', ' ')}: use {hint}, or pass "
+                        f"{setting(f'units={{{col.role!r}: ...}}', f'--units {col.role}=UNIT')}")
     return float(f)
 
 
@@ -342,21 +344,15 @@ def _levels(temps: np.ndarray, sets: np.ndarray | None) -> list[tuple[float, np.
     """(mean temperature, rows) of each temperature level, in order of appearance.
 
     A set column says which rows form one level; without one, a row joins the level
-    whose first temperature is within :data:`LEVEL_TOLERANCE` of its own (the readings
+    whose first temperature is within ``LEVEL_TOLERANCE`` of its own (the readings
     of one level drift by hundredths of a degree), else starts a new level.
     """
-    keys: list[float] = []
-    rows: list[list[int]] = []
-    for i, T in enumerate(temps.tolist()):
-        key = float(sets[i]) if sets is not None else T
-        near = [k for k, v in enumerate(keys) if (v == key if sets is not None
-                                                   else abs(v - key) <= LEVEL_TOLERANCE)]
-        if near:
-            rows[near[-1]].append(i)
-        else:
-            keys.append(key)
-            rows.append([i])
-    return [(float(np.mean(temps[r])), np.asarray(r)) for r in rows]
+    level = (_level_of(temps.tolist()) if sets is None else
+             [list(dict.fromkeys(sets.tolist())).index(v) for v in sets.tolist()])
+    rows: dict[int, list[int]] = {}
+    for i, k in enumerate(level):
+        rows.setdefault(k, []).append(i)
+    return [(float(np.mean(temps[r])), np.asarray(r)) for r in rows.values()]
 
 
 def _sweep_moduli(v: dict[str, np.ndarray]) -> dict[str, np.ndarray | None]:

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _Where
 from vhfit.data._paths import _arclength, _place
 
@@ -36,13 +37,15 @@ def _check_points_args(n_points: Any, by: Any, where: _Where
             ok = False
         if not ok:
             raise DataError(
-                f"{where()}: n_points={n_points!r}: give a whole number >= 1, None for the "
-                "measured samples, or 'all' for every sample without binning (command line: "
-                "--points N|all)"
+                f"{where()}: {setting(f'n_points={n_points!r}', f'--points {n_points}')}: give "
+                "a whole number >= 1, "
+                + setting("None", "nothing") + " for the measured samples, or 'all' for every "
+                "sample without binning"
             )
         n_points = int(n_points)
     if by is not None and by not in _BYS:
-        raise DataError(f"{where()}: by={by!r}: use one of {', '.join(map(repr, _BYS))}")
+        raise DataError(f"{where()}: {setting(f'by={by!r}', 'the resampling')}: use one of "
+                        f"{', '.join(map(repr, _BYS))}")
     return n_points, by
 
 
@@ -118,7 +121,8 @@ def _objective_indices(
     if by == "strain" and not monotone:
         raise DataError(
             f"{where()}: cannot resample by strain: the strain is not monotonic (it "
-            "unloads or holds): use by='segments', by='arclength' or by='time'"
+            "unloads or holds): use "
+            + setting("by='segments', by='arclength' or by='time'", "--points N alone")
         )
     if n_req is None or n_req == "all":
         return None, "samples"

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._ambiguous import ROUNDINGS, _cells
 from vhfit.data._columns import _classify, _unit_factor
 from vhfit.data._curve import Curve, _curves_from_table
@@ -194,7 +195,7 @@ def _check_unit_roles(units: Mapping[str, str] | None) -> None:
     """A ``units=`` role that no column can have is refused, not ignored."""
     for role in units or {}:
         if role not in _UNIT_ROLES:
-            raise DataError(f"units={{{role!r}: ...}} (command line: --units {role}=UNIT): "
+            raise DataError(f"{setting(f'units={{{role!r}: ...}}', f'--units {role}=UNIT')}: "
                             f"unknown role; use {', '.join(_UNIT_ROLES)}")
 
 

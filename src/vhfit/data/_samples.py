@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _norm_mode, _warn, _Where
 from vhfit.data._paths import _estimate_rate
 
@@ -59,10 +60,11 @@ def _check_weight(weight: Any, where: _Where) -> float:
     try:
         weight = float(weight)
     except (TypeError, ValueError):
-        raise DataError(f"{where()}: weight={weight!r} is not a number: give a number >= 0"
-                        ) from None
+        raise DataError(f"{where()}: {setting(f'weight={weight!r}', 'its weight')} is not a "
+                        "number: give a number >= 0") from None
     if not (np.isfinite(weight) and weight >= 0):
-        raise DataError(f"{where()}: weight={weight!r}: give a finite weight >= 0")
+        raise DataError(f"{where()}: {setting(f'weight={weight!r}', 'its weight')}: give a "
+                        "finite weight >= 0")
     return weight
 
 
@@ -71,12 +73,13 @@ def _parse_rate_value(value: Any, where: _Where) -> float:
         r = float(value)
     except (TypeError, ValueError):
         raise DataError(
-            f"{where()}: strain_rate={value!r} is not a number: give it in 1/s"
+            f"{where()}: {setting(f'strain_rate={value!r}', f'--rate {value}')} is not a "
+            "number: give it in 1/s"
         ) from None
     if not np.isfinite(r) or r == 0.0:
         raise DataError(
-            f"{where()}: strain_rate={value!r}: give a finite, non-zero rate in 1/s "
-            "(negative in compression; command line: --rate R)"
+            f"{where()}: {setting(f'strain_rate={value!r}', f'--rate {value}')}: give a "
+            "finite, non-zero rate in 1/s (negative in compression)"
         )
     return r
 
@@ -153,7 +156,8 @@ def _clean_time_series(eps, sig, t, keep, where):
                    "it, or ignore it (read_csv(..., columns={'time': None}, rate=...); command "
                    "line: --columns time= --rate R)")
         else:
-            fix = ("sort the rows by time (read_csv(..., sort=True); command line: --sort); "
+            fix = ("sort the rows by time with " + setting("read_csv(..., sort=True)", "--sort")
+                   + "; "
                    "if the file holds "
                    "several tests, give each its own curve (a 'test' column)")
         raise DataError(
@@ -223,8 +227,9 @@ def _loading_mode(eps, sig, rate, mode, compression_positive, tol, keep, where, 
             word = "positive" if mode == "compression" else "negative"
             raise DataError(
                 f"{where(keep[k])}: strain = {eps[k]:g} is {word} but the curve is "
-                f"declared mode={mode!r} (compression is negative): pass "
-                "compression_positive=True if compression is given as positive numbers, "
+                f"declared {setting(f'mode={mode!r}', mode)} (compression is negative): "
+                + setting("pass compression_positive=True", "give compression as negative "
+                          "strain") + " if compression is given as positive numbers, "
                 "or correct the mode"
             )
         return eps, sig, mode
@@ -303,8 +308,8 @@ def _check_kinematics(eps, t, rate, keep, where, shear=False):
             raise DataError(
                 f"{where(keep[k + 1])}: strain goes back from {eps[k]:g} to {eps[k + 1]:g}: "
                 "a constant-rate curve must be monotonic; if this test loads and unloads "
-                "give its time column, if the rows are out of order sort them "
-                "(read_csv(..., sort=True); command line: --sort)"
+                "give its time column, if the rows are out of order sort them with "
+                + setting("read_csv(..., sort=True)", "--sort")
             )
     if not shear and (eps <= -1.0).any():
         k = int(np.flatnonzero(eps <= -1.0)[0])

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._ambiguous import (
     _Cand,
     _cells,
@@ -144,8 +145,9 @@ def _table_options(
     if meas is not None and plan.measure is not None and plan.measure != meas:
         raise DataError(
             f"{src}, column {plan.stress.header!r}: the header says {plan.measure} stress but "
-            f"measure={meas!r} was given: drop measure=, or name the right column with "
-            "columns={'stress': ...} (command line: --columns stress=NAME)"
+            f"{setting(f'measure={meas!r}', f'--measure {meas}')} was given: drop "
+            + setting("measure=", "--measure") + ", or name the right column with "
+            + setting("columns={'stress': ...}", "--columns stress=NAME")
         )
     if mode is None and "mode" in known:
         mode = known["mode"]
@@ -237,8 +239,7 @@ def _split_rows(
         rate_vals = table.floats(
             plan.rate.index, rows,
             empty="the strain rate is missing: fill it in (1/s, negative in compression), or "
-                  "ignore the column with columns={'rate': None} (command line: "
-                  "--columns rate=)",
+                  "ignore the column with " + setting("columns={'rate': None}", "--columns rate="),
         ) * plan.factors["rate"]
     gcols = _group_columns(table, group_by, rows)
     if plan.deformation is not None and plan.deformation.index not in gcols:
@@ -264,8 +265,8 @@ def _split_rows(
     if rate is not None and rate_vals is not None and len(np.unique(rate_vals)) > 1:
         raise DataError(
             f"{src}, column {plan.rate.header!r}: holds {len(np.unique(rate_vals))} different "
-            f"rates but rate={rate!r} was given: drop rate= (command line: --rate) to get one "
-            "curve per rate"
+            f"rates but {setting(f'rate={rate!r}', f'--rate {rate}')} was given: drop "
+            + setting("rate=", "--rate") + " to get one curve per rate"
         )
     return _Groups(rows, rate_vals, len(gcols), key_cols, by_rate, members)
 
@@ -347,12 +348,13 @@ def _note_unused(table: _Table, plan: _Plan, unused: list[int]) -> None:
     if other:
         word = "true" if kind != "true" else "nominal"
         fitted = "true" if kind == "true" else "nominal"
-        flag = ("measure='true' (command line: --measure true)" if fitted == "nominal" else
-                "measure='engineering' (command line: --measure engineering)")
+        flag = (setting("measure='true'", "--measure true") if fitted == "nominal" else
+                setting("measure='engineering'", "--measure engineering"))
+        use = setting(f"columns={{'stress': {names[other[0]]!r}}}",
+                      f"--columns stress={names[other[0]]}")
         parts.append(
             f"the {fitted} stress {stress.header!r} is fitted, not the {word} stress "
-            f"{', '.join(repr(names[j]) for j in other)} (to fit that one: {flag} or "
-            f"columns={{'stress': {names[other[0]]!r}}}, --columns stress={names[other[0]]})")
+            f"{', '.join(repr(names[j]) for j in other)} (to fit that one: {flag} or {use})")
     if rest:
         parts.append(f"column{'s' if len(rest) > 1 else ''} "
                      f"{', '.join(repr(names[j]) for j in rest)} read and not used by the fit")
@@ -376,13 +378,13 @@ def _note_units(table: _Table, plan: _Plan, units: Mapping[str, str]) -> None:
         base = col.role.rstrip("2")
         given = units.get(col.role, units.get(base))
         if given is not None and col.unit and _norm_unit(given) != _norm_unit(col.unit):
-            _warn(f"{src}, column {col.header!r}: units={{{base!r}: {given!r}}} (command "
-                  f"line: --units {base}={given}) overrides the unit {col.unit!r} the "
+            override = setting(f"units={{{base!r}: {given!r}}}", f"--units {base}={given}")
+            _warn(f"{src}, column {col.header!r}: {override} overrides the unit {col.unit!r} the "
                   f"header states: read as {given}", stacklevel=2)
         elif role == "stress" and given is None and not col.unit and table.labels.word == "line":
             # a file's header only: arrays and mappings are documented as MPa
-            _warn(f"{src}, column {col.header!r}: no unit: read as MPa (another with "
-                  f"units={{'stress': 'kPa'}}, command line: --units stress=kPa)",
+            _warn(f"{src}, column {col.header!r}: no unit: read as MPa; another unit "
+                  "with " + setting("units={'stress': 'kPa'}", "--units stress=kPa"),
                   stacklevel=2)
 
 
@@ -397,14 +399,15 @@ def _note_levels(table: _Table, plan: _Plan, rows: np.ndarray) -> None:
         top = _largest(table, col.index, rows)
         if top > PERCENT_STRAIN:
             _warn(f"{src}, column {col.header!r}: the strain reaches {top:g} (a stretch of "
-                  f"{1 + top:g}) with no unit: is it in %? then say units={{'strain': '%'}} "
-                  "(command line: --units strain=%)", stacklevel=2)
+                  f"{1 + top:g}) with no unit: is it in %? then say "
+                  + setting("units={'strain': '%'}", "--units strain=%"), stacklevel=2)
     col = plan.stress
     top = _largest(table, col.index, rows) * plan.factors["stress"]
     if top >= SOFT_SOLID_MPA:
         _warn(f"{src}, column {col.header!r}: the stress reaches {top:g} MPa as read, "
-              "implausible for a soft solid: check its unit (units={'stress': 'Pa'} or "
-              "'kPa', command line: --units stress=Pa)", stacklevel=2)
+              "implausible for a soft solid: check its unit ("
+              + setting("units={'stress': 'Pa'} or 'kPa'", "--units stress=Pa or kPa") + ")",
+              stacklevel=2)
 
 
 def _largest(table: _Table, j: int, rows: np.ndarray) -> float:
@@ -424,8 +427,8 @@ def _rate_key(table: _Table, plan: _Plan, rows: np.ndarray, rate_vals: np.ndarra
             f"{table.source}, column {plan.rate.header!r}: {uniq.size} different rates in "
             f"{rows.size} rows, {table.label(int(rows[k]))} alone at {rate_vals[k]:g}: if "
             "this is a measured rate channel, not the nominal rate of each test, ignore "
-            "it with columns={'rate': None} (--columns rate=; and give rate= or a time "
-            "column); otherwise "
+            "it with " + setting("columns={'rate': None}", "--columns rate=") + " (and give "
+            + setting("rate=", "--rate") + " or a time column); otherwise "
             "give each rate at least 2 rows"
         )
     return np.array([f"{v:.12g}" for v in rate_vals], dtype=object)
@@ -505,15 +508,15 @@ def _curve_temperature(table: _Table, col: _Col, r: np.ndarray, cname: str,
     column's readings, which must lie within :data:`CURVE_TEMPERATURE_SPREAD` of each
     other (and of a '# temperature:' line, if the file has one)."""
     h = col.header
-    ignore = ("or ignore the column with columns={'temperature': None} (command line: "
-              "--columns temperature=)")
+    ignore = "or ignore the column with " + setting("columns={'temperature': None}",
+                                                    "--columns temperature=")
     T = table.floats(col.index, r, empty=f"the temperature is missing: fill it in, {ignore}")
     where = _Where(cname, table.source, None)()
     if T.max() - T.min() > CURVE_TEMPERATURE_SPREAD:
         raise DataError(
             f"{where}, column {h!r}: the temperature goes from {T.min():g} to {T.max():g} "
             f"within one curve: a test is at one temperature; give each its own curve (a "
-            f"'test' column, or group_by= / --group-by COLUMN), {ignore}")
+            f"'test' column, or {setting('group_by=COLUMN', '--group-by COLUMN')}), {ignore}")
     mean = float(np.mean(T))
     if line is not None:
         try:
@@ -539,8 +542,10 @@ def _group_deformation(table: _Table, opts: _Options, r: np.ndarray, cname: str)
         if given is not None and _deformation_name(given) not in (None, dfm):
             raise DataError(
                 f"{_Where(cname, table.source, None)()}: column {plan.deformation.header!r} "
-                f"says {text!r} but deformation={given!r} was given: drop deformation= "
-                "(command line: --deformation; the column names each row's test)"
+                f"says {text!r} but "
+                f"{setting(f'deformation={given!r}', f'--deformation {given}')} was given: "
+                f"drop {setting('deformation=', '--deformation')} (the column names each "
+                "row's test)"
             )
         return dfm
     if opts.deformation is not None:

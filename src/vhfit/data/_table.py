@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data._errors import DataError, _Labels, _norm_key, _short
 
 
@@ -172,7 +173,8 @@ def _decode(raw: bytes, src: str, encoding: str | None) -> tuple[str, str]:
             return raw.decode(encoding), ""
         except (UnicodeDecodeError, LookupError) as exc:
             raise DataError(
-                f"{src}: cannot decode as {encoding!r} ({exc}): check encoding="
+                f"{src}: cannot decode as {encoding!r} ({exc}): check "
+                + setting("encoding=", "the file's encoding (save it as UTF-8)")
             ) from None
     if raw.startswith(b"PK\x03\x04") or raw.startswith(b"\xd0\xcf\x11\xe0"):
         raise DataError(
@@ -229,7 +231,8 @@ def _read_table(
         if names is None:
             raise DataError(
                 f"{src}, line {header_no}: the first line holds numbers, not column names: add "
-                "a header row (e.g. 'strain,stress_MPa') or pass names=[...]"
+                "a header row (e.g. 'strain,stress_MPa')"
+                + setting(" or pass names=[...]", "")
             )
         data = [header, *data]
         numbers = np.concatenate([[header_no], np.asarray(numbers, dtype=np.int64)])
@@ -383,7 +386,8 @@ def _table_from_data(data: Any, names: Sequence[str] | None, source: str | None)
                             "np.column_stack([strain, stress])")
         else:
             raise DataError(f"{src}: {arr.shape[1]} unnamed columns: name them with "
-                            "names=['time_s', 'strain', 'stress_MPa', ...]")
+                            + setting("names=['time_s', 'strain', 'stress_MPa', ...]",
+                                      "a header row ('time_s,strain,stress_MPa,...')"))
     if len(head) != arr.shape[1]:
         raise DataError(f"{src}: {len(head)} names for {arr.shape[1]} columns: give one name per "
                         "column")

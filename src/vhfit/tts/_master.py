@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data import DataError, FrequencySweep, Relaxation
 from vhfit.tts._laws import fit_shift_law
 
@@ -222,9 +223,10 @@ def _propagate(sets, known, names, domain: str) -> list[float]:
             except ValueError as exc:
                 raise DataError(
                     f"{names[k]}: no shift factor for T = {Tb:g} and its moduli do not "
-                    f"overlap those at T = {Ta:g} ({exc}): give shift factors for it "
-                    "(vhfit.tts, shift_factors= a law or a table) or sweeps that overlap "
-                    "their neighbours") from None
+                    f"overlap those at T = {Ta:g} ({exc}): give shift factors for it, "
+                    + setting("shift_factors= a law or a table (vhfit.tts)",
+                              "--shift wlf:C1,C2 --tref T")
+                    + ", or sweeps that overlap their neighbours") from None
             L[k] = sign * d
     return [float(v) for v in L]
 
@@ -336,11 +338,14 @@ def sweeps_from_columns(temperature, *, frequency=None, storage=None, loss=None,
     """
     if frequency is not None:
         if storage is None or loss is None:
-            raise DataError("sweeps: frequency columns need storage= and loss=")
+            raise DataError("sweeps: frequency columns need "
+                            + setting("storage= and loss=", "storage and loss columns"))
         return [_Set(T, frequency=f, storage=e1, loss=e2) for T, f, e1, e2 in
                 group_by_temperature(temperature, frequency, storage, loss, tolerance=tolerance)]
     if time is None or modulus is None:
-        raise DataError("sweeps: give frequency=, storage=, loss= or time=, modulus=")
+        raise DataError("sweeps: give " + setting("frequency=, storage=, loss= or time=, "
+                                                  "modulus=", "frequency, storage and loss "
+                                                  "columns, or time and modulus columns"))
     return [_Set(T, time=t, modulus=e) for T, t, e in
             group_by_temperature(temperature, time, modulus, tolerance=tolerance)]
 
@@ -404,10 +409,11 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
     if T_ref is None and getattr(shift_factors, "T_ref", None) is None and None in temps:
         k = temps.index(None)
         raise DataError(f"{_label(items[k], k)}: no temperature, beside tests at "
-                        f"{len(known)} temperatures: say which is the reference "
-                        "(vhfit.tts.reduce_to_reference(items, T_ref=...)) or give every "
-                        "test its temperature (command line: a '# temperature: T' line in "
-                        "its file)")
+                        f"{len(known)} temperatures: "
+                        + setting("say which is the reference (vhfit.tts.reduce_to_reference"
+                                  "(items, T_ref=...)) or give every test its temperature",
+                                  "give every test its temperature (a '# temperature: T' "
+                                  "line in its file)"))
     source = shift_factors
     if shift_factors is None:
         moduli = [it for it, T in zip(items, temps) if T is not None
@@ -418,8 +424,10 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
         if not moduli:
             k = next(i for i, T in enumerate(temps) if T is not None)
             raise DataError(f"{_label(items[k], k)}: tests at {len(known)} temperatures and "
-                            "no shift factors: give shift_factors= (a WLF law or a table) or "
-                            "DMA sweeps at those temperatures")
+                            "no shift factors: give "
+                            + setting("shift_factors= a WLF law or a table",
+                                      "--shift wlf:C1,C2 --tref T")
+                            + " or DMA sweeps at those temperatures")
         source = master_curve(moduli, T_ref=T_ref, tolerance=tolerance)
         shift_factors = (source.temperatures, source.log_aT)
     law = shift_factors if hasattr(shift_factors, "log_aT") else None
@@ -434,6 +442,8 @@ def reduce_to_reference(items, *, shift_factors=None, T_ref: float | None = None
         if L is None:
             raise DataError(f"{_label(it, k)}: no shift factor for T = {T:g} (none within "
                             f"{tolerance:g} of it, and no sweep overlapping its neighbours):"
-                            " give shift_factors= a law or a table that covers it")
+                            " give " + setting("shift_factors= a law or a table",
+                                               "--shift wlf:C1,C2 --tref T")
+                            + " that covers it")
         out.append(it.shifted(10.0 ** L))
     return out, source

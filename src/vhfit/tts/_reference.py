@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit._words import setting
 from vhfit.data import DataError, FrequencySweep, Relaxation
 from vhfit.tts._laws import choose_shift_law
 from vhfit.tts._master import MasterCurve, _temperature_of, reduce_to_reference
@@ -140,8 +141,10 @@ def shift_to_reference(items, *, shift_factors=None, T_ref: float | None = None
         source = "table"
         if not known:
             raise DataError("shift_factors: a table of log10 a_T, but no test has a "
-                            "temperature: give each test its temperature (temperature=, "
-                            "metadata={'temperature': T}) or drop shift_factors")
+                            "temperature: give each test its temperature with "
+                            + setting("temperature=, metadata={'temperature': T}",
+                                      "a '# temperature: T' line in its file")
+                            + ", or drop shift_factors")
     out, _ = reduce_to_reference(items, shift_factors=shift_factors,
                                  T_ref=T_ref if source == "law" else given_T,
                                  tolerance=TOLERANCE)
