@@ -82,6 +82,15 @@ def cmd_fit(args, argv: Sequence[str] = ()) -> int:
     if args.bounds:  # checked with each law before anything is read or written
         for law in laws or [resolve_model_name(args.model)]:
             cli_bounds(args, law)
+    if getattr(args, "each", None):
+        from vhfit.cli._each import run_each
+
+        return run_each(args, lambda a: _fit_data(a, argv, laws))
+    return _fit_data(args, argv, laws)
+
+
+def _fit_data(args, argv: Sequence[str], laws: list[str] | None) -> int:
+    """Read the data of ``args``, then fit them into ``--out`` (one material)."""
     with warnings.catch_warnings(record=True) as caught:  # what the readers assumed
         warnings.simplefilter("always")
         curves, inputs = read_curves(args.curves, args)  # bad data: nothing written

@@ -236,8 +236,9 @@ def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
                         "one, e.g. stress=kPa (repeatable)")
     p.add_argument("--group-by", type=_column("--group-by"), action="append",
                    metavar="COLUMN", default=default,
-                   help="split each file into one curve per value of this column, e.g. "
-                        "--group-by region (repeatable)")
+                   help="split each file into one curve per value of this column, fitted "
+                        "together as one material, e.g. --group-by region (repeatable; "
+                        "--each COLUMN fits each value separately)")
     p.add_argument("--select", type=_pair("--select", "COLUMN=VALUE, e.g. region=cortex"),
                    action="append", metavar="COLUMN=VALUE", default=default,
                    help="keep only the rows where COLUMN holds VALUE (repeatable; the same "
@@ -432,6 +433,10 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
                             "several, comma-separated (mooney_rivlin,yeoh,ogden2), or 'all': "
                             "each fitted side by side, ranked, the best written as the result "
                             "and the others under laws/LAW/")
+        p.add_argument("--each", type=_column("--each"), metavar="COLUMN", default=None,
+                       help="fit each value of this column separately (one material each): "
+                            "one output folder each under --out, and each.txt / each.csv "
+                            "side by side; --group-by instead fits the groups as one material")
     p.add_argument("--prony", type=_prony, default=DEMO_PRONY if demo else None,
                    metavar="N|auto",
                    help="number of Prony terms, or 'auto' to scan N = 1, 2, ... while a term "

@@ -482,6 +482,8 @@ def _group_spec(
     cmeta = dict(opts.meta)
     if parts:
         cmeta["group"] = ", ".join(parts)
+    if grp.n_named:  # the group_by columns' own values, in their order
+        cmeta["group_values"] = parts[: grp.n_named]
     cmeta["columns"] = {
         "strain": plan.deform.header, "stress": plan.stress.header,
         "time": None if plan.time is None else plan.time.header,
