@@ -245,3 +245,23 @@ def test_the_drifting_temperature_hint_names_the_nominal_column_and_says_why(tmp
 
     items = vhfit.read_csv(path, columns={"temperature": "nominal_temperature_C"})
     assert sorted(i.temperature for i in items) == [25.0, 50.0]
+
+
+def test_prony_terms_on_rate_free_data_name_the_files_and_the_flag(tmp_path, capsys):
+    path = tmp_path / "equilibrium.csv"
+    path.write_text("strain,stress_MPa\n0,0\n0.1,0.3\n0.2,0.7\n0.3,1.2\n")
+    msg = _refusal([str(path), "--prony", "1", "--out", str(tmp_path / "out")], capsys)
+    assert f"the equilibrium (rate-free) curves ({path}) carry no viscous response" in msg, msg
+    assert msg.endswith("fit --prony 0"), msg
+
+
+@pytest.mark.parametrize("gap, levels", [(0.3, 1), (0.8, 2)])
+def test_sweeps_are_one_temperature_level_within_half_a_degree(tmp_path, gap, levels):
+    # the documented rule: a reading within 0.5 degrees of a level's first joins it
+    import vhfit
+
+    rows = [(f, 10.0 + f, 1.0, T) for T in (25.0, 25.0 + gap) for f in (0.1, 1.0, 10.0)]
+    path = tmp_path / "dma.csv"
+    path.write_text("frequency_Hz,storage_MPa,loss_MPa,temperature_C\n"
+                    + "".join(f"{f:g},{e:g},{lo:g},{T:.2f}\n" for f, e, lo, T in rows))
+    assert len(vhfit.read_csv(path)) == levels

@@ -14,6 +14,8 @@ import pkgutil
 import re
 from pathlib import Path
 
+import pytest
+
 import vhfit
 
 TESTS = Path(__file__).resolve().parent
@@ -53,3 +55,35 @@ def test_every_public_name_appears_in_a_test():
     missing = {name: modules for name, modules in public_names().items()
                if not re.search(rf"\b{re.escape(name)}\b", text)}
     assert not missing, f"public names no test refers to: {missing}"
+
+
+def test_a_lazy_submodule_that_misses_a_dependency_says_which(monkeypatch):
+    import importlib
+
+    import vhfit
+
+    real = importlib.import_module
+
+    def fake(name, package=None):
+        if name == "vhfit.brokenmod":  # a submodule whose own import needs a missing package
+            raise ModuleNotFoundError("No module named 'somedep'", name="somedep")
+        return real(name, package)
+
+    monkeypatch.setattr(importlib, "import_module", fake)
+    with pytest.raises(ModuleNotFoundError, match="somedep"):
+        vhfit.brokenmod  # noqa: B018
+    with pytest.raises(AttributeError, match="no attribute 'nosuchname'"):
+        vhfit.nosuchname  # noqa: B018
+
+
+def test_the_fit_loaded_on_demand_brings_the_report_writer():
+    # Calibration.report needs vhfit.report's writer; a fresh process that asks only for
+    # vhfit.calibrate must have it registered
+    import subprocess
+    import sys
+
+    code = ("import sys, vhfit; vhfit.calibrate; "
+            "print('vhfit.report' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "True"
