@@ -17,6 +17,7 @@ import numpy as np
 
 from vhfit._kirchhoff import principal_kirchhoff
 from vhfit.hyperelastic import Hyperelastic
+from vhfit.hyperelastic._fixed import cannot_change, remembered
 
 
 class Deformation:
@@ -112,7 +113,21 @@ class Deformation:
         return np.asarray(self._stretches(x1, x2)[direction - 1], dtype=np.float64)
 
     def _stretches(self, x1, x2):
-        return self.stretches(np.asarray(x1, dtype=np.float64), x2)
+        """:meth:`stretches`; for data that cannot change (an evaluation plan's samples)
+        computed once and kept read-only, so that what a law derives from them is kept
+        too (:mod:`vhfit.hyperelastic._fixed`)."""
+        x1 = np.asarray(x1, dtype=np.float64)
+        data = (x1,) if x2 is None else (x1, np.asarray(x2, dtype=np.float64))
+
+        def stretches():
+            out = tuple(np.asarray(v, dtype=np.float64) for v in self.stretches(*data))
+            for v in out:
+                v.flags.writeable = False
+            return out
+
+        if not all(cannot_change(v) for v in data):
+            return self.stretches(x1, x2)
+        return remembered(f"stretches of {self.name}", data, stretches)
 
     # --------------------------------------------------------- its history
     #: The path variable at rest: λ1 = 1 (γ = 0 in shear).

@@ -447,3 +447,50 @@ def step_derivatives(f0, f1, sample_off, step_off, D) -> np.ndarray:
         for m in range(STRIDE + 1):  # the kernel's order of summation: the same bits
             out[:, 4 * k:4 * k + 4] += D[:, m][None, :] * f[base + m][:, None]
     return out
+
+
+# ------------------------------------------------ simple shear's factors, in one pass
+@_njit(cache=True, error_model="numpy")
+def _shear_factors(ta, tb, t3, gamma, la, la2, q, E, f0, f1):
+    """f0 = (τ12 − γ S22)/E∞, f1 = S22/E∞ from the principal τ (P, S): the arithmetic of
+    :func:`vhfit._kirchhoff.shear_kirchhoff` and the shear record's factors, in their
+    order (the same bits), without their (P, S) temporaries."""
+    P, S = ta.shape
+    for p in range(P):
+        e = E[p, 0]
+        for s in range(S):
+            a = ta[p, s]
+            b = tb[p, s]
+            t11 = (la2[s] * a + b) * q[s]
+            t22 = (a + la2[s] * b) * q[s]
+            t12 = (a - b) * la[s] * q[s]
+            s22 = (2.0 * t22 - t11 - t3[p, s]) / 3.0
+            f0[p, s] = (t12 - gamma[s] * s22) / e
+            f1[p, s] = s22 / e
+
+
+def shear_factors(ta, tb, t3, gamma, la, la2, q, E) -> tuple[np.ndarray, np.ndarray] | None:
+    """The factors of simple shear from the principal Kirchhoff stresses (compiled).
+
+    Parameters
+    ----------
+    ta, tb, t3 : (P, S) τ along λ, 1/λ and out of plane, per parameter set and sample.
+    gamma, la, la2, q : (S,) γ, λ, λ² and 1/(1 + λ²) (:func:`vhfit._kirchhoff.shear_frame`).
+    E : (P, 1) E∞ of each parameter set.
+
+    Returns
+    -------
+    (f0, f1), each (P, S), or None when the arrays are not of that layout (the caller's
+    numpy form handles every other shape).
+    """
+    P, S = np.shape(ta)[0] if np.ndim(ta) == 2 else -1, np.shape(gamma)[-1]
+    arrays = (ta, tb, t3)
+    if (P < 0 or any(not isinstance(v, np.ndarray) or v.shape != (P, S)
+                     or v.dtype != np.float64 for v in arrays)
+            or any(np.shape(v) != (S,) for v in (gamma, la, la2, q))
+            or np.shape(E) != (P, 1)):
+        return None
+    f0, f1 = np.empty((P, S)), np.empty((P, S))
+    compiled("_shear_factors")(ta, tb, t3, gamma, la, la2, q,
+                               np.asarray(E, dtype=np.float64), f0, f1)
+    return f0, f1

@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from vhfit import _kernels
 from vhfit._derivatives import invariant_gradient, outside_domain, stretch_gradient
 from vhfit.hyperelastic import Hyperelastic
+from vhfit.hyperelastic._fixed import remembered
 
 
 def constant_columns(model: Hyperelastic, params) -> list[np.ndarray]:
@@ -31,8 +33,9 @@ def principal_kirchhoff(model: Hyperelastic, cols, l1, l2, l3):
         I2 = a[0] * a[1] + a[1] * a[2] + a[2] * a[0]
         W1, W2 = invariant_gradient(model.energy, model.derivatives, I1, I2, cols)
         return tuple(2.0 * W1 * ak + 2.0 * W2 * (I1 * ak - ak * ak) for ak in a)
-    t = stretch_gradient(model.energy, l1, l2, l3, cols, closed_form=model.derivatives)
-    if model.derivatives is not None:  # the closed form is used as it is
+    closed = model.kirchhoff_derivatives
+    t = stretch_gradient(model.energy, l1, l2, l3, cols, closed_form=closed)
+    if closed is not None:  # the closed form is used as it is
         return tuple(t)
     bad = outside_domain(model.energy, l1, l2, l3, *cols)
     return tuple(np.where(bad, np.nan, x) for x in t)
@@ -66,13 +69,52 @@ def shear_kirchhoff(model: Hyperelastic, cols, gamma):
         b11 = 1.0 + g * g
         return (A * b11 - 2.0 * W2 * (b11 * b11 + g * g), A - 2.0 * W2 * b11, A - 2.0 * W2,
                 2.0 * g * (W1 + W2))
-    # principal values rotated into the (1, 2) frame: the eigenvector of B for λ² is
-    # (1, 1/λ), so cos²θ = λ²/(1 + λ²) and sin²θ = 1/(1 + λ²), no division by γ
-    a = np.arcsinh(0.5 * g)  # ln λ, exact for either sign of γ (no cancellation)
-    la, lb, one = np.exp(a), np.exp(-a), np.ones_like(g)
+    la, lb, one, la2, q = shear_frame(g)
     ta, tb, t3 = principal_kirchhoff(model, cols, la, lb, one)
-    q = 1.0 / (1.0 + la * la)
-    return ((la * la * ta + tb) * q, (ta + la * la * tb) * q, t3, (ta - tb) * la * q)
+    return ((la2 * ta + tb) * q, (ta + la2 * tb) * q, t3, (ta - tb) * la * q)
+
+
+def shear_factors(model: Hyperelastic, cols, E, gamma):
+    """f = ((S12 − γ S22), S22)/E∞ of simple shear, S = dev τ, for a law in principal
+    stretches: its τ at the stretches of the frame (:func:`shear_frame`), combined by a
+    compiled pass (:func:`vhfit._kernels.shear_factors`) when they are a population's
+    (P, m) arrays, by numpy otherwise; the same arithmetic either way."""
+    g = np.asarray(gamma, dtype=np.float64)
+    if model.kind != "invariant":
+        la, lb, one, la2, q = shear_frame(g)
+        ta, tb, t3 = principal_kirchhoff(model, cols, la, lb, one)
+        fused = _kernels.shear_factors(ta, tb, t3, g, la, la2, q, E)
+        if fused is not None:
+            return fused
+    t11, t22, t33, t12 = shear_kirchhoff(model, cols, g)
+    s22 = (2.0 * t22 - t11 - t33) / 3.0
+    return (t12 - g * s22) / E, s22 / E
+
+
+def shear_frame(gamma: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Principal stretches λ, 1/λ, 1 of simple shear and the rotation into its (1, 2)
+    frame (λ², 1/(1 + λ²)).
+
+    The eigenvector of B for λ² is (1, 1/λ), so cos²θ = λ²/(1 + λ²) and
+    sin²θ = 1/(1 + λ²): no division by γ. They depend on the data alone: for a γ that
+    cannot change (an evaluation plan's samples) they are computed once and kept,
+    read-only, so that what the law derives from them is kept too
+    (:mod:`vhfit.hyperelastic._fixed`: the Ogden sums' logarithms).
+
+    Examples
+    --------
+    >>> [round(float(v[0]), 12) for v in shear_frame(np.array([1.5]))]
+    [2.0, 0.5, 1.0, 4.0, 0.2]
+    """
+    def frame():
+        a = np.arcsinh(0.5 * gamma)  # ln λ, exact for either sign of γ (no cancellation)
+        la, lb, one = np.exp(a), np.exp(-a), np.ones_like(gamma)
+        out = tuple(np.asarray(v) for v in (la, lb, one, la * la, 1.0 / (1.0 + la * la)))
+        for v in out:
+            v.flags.writeable = False
+        return out
+
+    return remembered("shear frame", (gamma,), frame)
 
 
 def shear_kirchhoff_stress(model: Hyperelastic, params, gamma):

@@ -32,6 +32,15 @@ def _groups(keys: list, parts: list[np.ndarray]) -> dict:
     return {k: np.concatenate(v) for k, v in out.items()}
 
 
+def _frozen(a: np.ndarray) -> np.ndarray:
+    """A read-only float64 copy: what the law derives from it alone (the stretches of
+    the test, the Ogden sums' logarithms) is computed once per plan, not per call
+    (:mod:`vhfit.hyperelastic._fixed`)."""
+    out = np.array(a, dtype=np.float64)
+    out.flags.writeable = False
+    return out
+
+
 def _x2(deformation: str, x2):
     """The second stretch of a test that prescribes one, else None."""
     return x2 if modes.get_deformation(deformation).second_stretch else None
@@ -87,7 +96,7 @@ class GeneralPlan:
                 k_off.append(k_off[-1] + t.size - 1)
         if not self.jobs:
             return
-        self.x1, self.x2 = np.concatenate(x1), np.concatenate(x2)
+        self.x1, self.x2 = _frozen(np.concatenate(x1)), _frozen(np.concatenate(x2))
         self.w = np.ascontiguousarray(np.concatenate(w))
         self.step = np.concatenate(steps)
         self.sample_off = np.array(s_off, dtype=np.int64)
@@ -96,12 +105,11 @@ class GeneralPlan:
         self.gather_sample = np.concatenate(gsample)
         self.pos = np.concatenate(pos)
         self.sample_groups = _groups(keys, samples)
+        # each group's data, fixed: one array per group and plan, not per call
+        self.sample_data = self._data(self.sample_groups)
         # the kinematic part of the factors (of invariant laws, hereditary), once per plan
-        self.coefficients = {
-            (deformation, d): formulation.prepare(
-                deformation, self.x1[idx], _x2(deformation, self.x2[idx]), d)
-            for (deformation, d), idx in self.sample_groups.items()
-        }
+        self.coefficients = {(deformation, d): formulation.prepare(deformation, x1, x2, d)
+                             for (deformation, d), (x1, x2) in self.sample_data.items()}
         if formulation.kinematic:  # the same factors for every parameter set: once
             self.kinematic_factors = self._factors(None, None, None)[:2]
             f0, f1 = (f[0] for f in self.kinematic_factors)
@@ -109,8 +117,19 @@ class GeneralPlan:
                                                    _kernels.DERIV)
         self.out_groups = _groups(keys, gsample)  # sample index of each output, by key
         self.out_pos = _groups(keys, pos)
-        self.out_coefficients = {key: _long_term_coefficients(key, self.x1[idx], self.x2[idx])
-                                 for key, idx in self.out_groups.items()}
+        self.out_data = self._data(self.out_groups)
+        self.out_coefficients = {key: _long_term_coefficients(key, *self.out_data[key])
+                                 for key in self.out_groups}
+
+    def _data(self, groups: dict) -> dict:
+        """(deformation, direction) -> (x1, x2 or None) at the samples ``groups`` index."""
+        if len(groups) == 1 and all(idx.size == self.x1.size and np.array_equal(
+                idx, np.arange(idx.size)) for idx in groups.values()):
+            ((deformation, d),) = groups
+            return {(deformation, d): (self.x1, _x2(deformation, self.x2))}
+        return {(deformation, d): (_frozen(self.x1[idx]),
+                                   _x2(deformation, _frozen(self.x2[idx])))
+                for (deformation, d), idx in groups.items()}
 
     def _factors(self, hm, hyper, E_inf):
         """f0, f1 (P, S) at every sample, and which parameter sets gave finite values.
@@ -121,19 +140,17 @@ class GeneralPlan:
         rows = 1 if hyper is None else hyper.shape[0]
         with np.errstate(all="ignore"):
             if len(self.sample_groups) == 1:  # one test and direction: no scatter
-                ((deformation, d),) = self.sample_groups
-                f0, f1 = form.factors(
-                    hm, hyper, E_inf, deformation, self.x1,
-                    _x2(deformation, self.x2), d,
-                    self.coefficients[deformation, d])
+                ((deformation, d), (x1, x2)), = self.sample_data.items()
+                f0, f1 = form.factors(hm, hyper, E_inf, deformation, x1, x2, d,
+                                      self.coefficients[deformation, d])
                 f0, f1 = (np.broadcast_to(f, (rows, self.x1.size)) for f in (f0, f1))
             else:
                 f0 = np.empty((rows, self.x1.size))
                 f1 = np.empty((rows, self.x1.size))
                 for (deformation, d), idx in self.sample_groups.items():
-                    x2 = _x2(deformation, self.x2[idx])
+                    x1, x2 = self.sample_data[deformation, d]
                     f0[:, idx], f1[:, idx] = form.factors(
-                        hm, hyper, E_inf, deformation, self.x1[idx], x2, d,
+                        hm, hyper, E_inf, deformation, x1, x2, d,
                         self.coefficients[deformation, d])
             # a sum is finite exactly when every term is (short of overflow near 1e308)
             ok = np.isfinite(np.sum(f0, axis=1) + np.sum(f1, axis=1))
@@ -146,10 +163,9 @@ class GeneralPlan:
     def _long_term(self, hm, hyper, scale, out) -> np.ndarray:
         ok = np.ones(hyper.shape[0], dtype=bool)
         with np.errstate(all="ignore"):
-            for key, sidx in self.out_groups.items():
+            for key, (x1, x2) in self.out_data.items():
                 deformation, d = key
-                x2 = _x2(deformation, self.x2[sidx])
-                s = modes.long_term_stress(hm, hyper, deformation, self.x1[sidx], x2, d,
+                s = modes.long_term_stress(hm, hyper, deformation, x1, x2, d,
                                            self.out_coefficients[key])
                 s = s * scale
                 out[:, self.out_pos[key]] = s
@@ -206,7 +222,9 @@ class EquilibriumPlan:
                     g[0].append(x1[sel])
                     g[1].append(x2[sel] if x2 is not None else np.ones(sel.size))
                     g[2].append(sl.start + sel)
-        self.groups = {k: tuple(np.concatenate(p) for p in v) for k, v in self.groups.items()}
+        self.groups = {k: (_frozen(np.concatenate(x1)), _frozen(np.concatenate(x2)),
+                           np.concatenate(pos))
+                       for k, (x1, x2, pos) in self.groups.items()}
         self.coefficients = {k: _long_term_coefficients(k, x1, x2)
                              for k, (x1, x2, _) in self.groups.items()}
 

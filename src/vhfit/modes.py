@@ -53,6 +53,7 @@ from vhfit._derivatives import invariant_gradient
 from vhfit._kirchhoff import (
     constant_columns,
     kirchhoff_stress,
+    shear_factors,
     shear_kirchhoff,
     shear_kirchhoff_stress,
 )
@@ -187,9 +188,7 @@ class SimpleShear(Deformation):
 
     def kirchhoff_factors(self, model, cols, E, x1, x2=None, direction=1):
         """f = ((S12 − γ S22), S22)/E∞ with S = dev τ."""
-        t11, t22, t33, t12 = shear_kirchhoff(model, cols, x1)
-        s22 = (2.0 * t22 - t11 - t33) / 3.0
-        return (t12 - x1 * s22) / E, s22 / E
+        return shear_factors(model, cols, E, x1)
 
     def green_factors(self, x1, x2=None, direction=1, deviatoric=False):
         """E = (FᵀF − I)/2: E12 = γ/2, E22 = γ²/2 and tr E = γ²/2; the weights (1, γ)

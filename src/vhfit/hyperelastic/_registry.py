@@ -62,6 +62,12 @@ class Hyperelastic:
         Closed form of the derivatives: for invariant models (I1, I2, *c) ->
         (∂W/∂I1, ∂W/∂I2); for stretch models (l1, l2, l3, *c) ->
         (λ1 ∂W/∂λ1, λ2 ∂W/∂λ2, λ3 ∂W/∂λ3). None: the complex step.
+    general_derivatives : callable or None
+        A stretch model's closed form (as :attr:`derivatives`) for every test but the
+        uniaxial stress (:meth:`stress`), when :attr:`derivatives` is None: a law whose
+        recorded uniaxial calibrations keep the complex step bit for bit (the one-term
+        Ogden law) still evaluates the other tests, simple shear among them, by its
+        closed form and compiled sums (:attr:`kirchhoff_derivatives`).
     linear : bool
         Whether σ_h is linear in all of the constants (``basis`` gives its columns).
     linear_params : tuple of str
@@ -99,10 +105,17 @@ class Hyperelastic:
     fewer: str | None = None
     term: int = 0
     compressible: bool = False
+    general_derivatives: Callable | None = None
 
     @property
     def n_params(self) -> int:
         return len(self.param_names)
+
+    @property
+    def kirchhoff_derivatives(self) -> Callable | None:
+        """The closed form the tests other than uniaxial use (:attr:`derivatives`, else
+        :attr:`general_derivatives`); None: the complex step."""
+        return self.derivatives if self.derivatives is not None else self.general_derivatives
 
     @property
     def linear_index(self) -> tuple[int, ...]:
@@ -264,6 +277,7 @@ def register(
     linear_params: Sequence[str] | None = None,
     fewer: str | None = None,
     term: int = 0,
+    general_derivatives: Callable | None = None,
 ) -> Callable[[Callable], Callable]:
     """Register a strain energy W by name (decorator).
 
@@ -296,6 +310,9 @@ def register(
         Constants per term when W is a sum of like terms, each linear in its first
         constant (needs ``fewer``); two terms whose other constants coincide are then
         merged into one by a fit.
+    general_derivatives : callable, optional
+        A stretch model's closed form (λa ∂W/∂λa) for the tests other than uniaxial
+        only, when ``derivatives`` is not given (see :class:`Hyperelastic`).
 
     Returns
     -------
@@ -334,6 +351,9 @@ def register(
                 f"{name!r}: units, bounds and example need one entry per constant {list(params)}"
             )
         lp = _linear_names(name, params, u, linear, linear_params)
+        if general_derivatives is not None and kind != "stretch":
+            raise ValueError(f"{name!r}: general_derivatives is a principal-stretch law's "
+                             "closed form; an invariant law gives derivatives= instead")
         if term and (isinstance(term, bool) or not isinstance(term, int) or term < 1
                      or n % term or n == term or fewer is None):
             raise ValueError(f"{name!r}: term = {term!r} must divide its {n} constants into "
@@ -344,7 +364,7 @@ def register(
             derivatives=derivatives, example=ex,
             linear=bool(linear) or (linear_params is not None and lp == params),
             mu0=mu0, doc=inspect.getdoc(fn) or "", linear_params=lp,
-            fewer=fewer, term=int(term),
+            fewer=fewer, term=int(term), general_derivatives=general_derivatives,
         )
         declared = bool(linear) or linear_params is not None
         if name not in _UNCHECKED and not _validate(model, strict=example is not None,
