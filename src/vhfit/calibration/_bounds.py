@@ -12,7 +12,8 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
-           "bound_hit_headlines", "pinned_headlines", "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG"]
+           "bound_hit_headlines", "pinned_headlines", "enforced_bounds", "HIT_MARGIN", "WIDEN",
+           "MAX_EXPONENT_LOG"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -186,6 +187,40 @@ def search_bounds(model: ViscoHyperelastic, curves, tau_strategy, decades_below:
     elif bounds != "auto":
         raise ValueError(f"bounds = {bounds!r}: give 'auto' or a dict name -> (low, high)")
     return np.asarray(tau_b, dtype=np.float64), auto
+
+
+def enforced_bounds(prob, box: bool) -> dict[str, tuple[float, float]]:
+    """The box the fit held each constant to (``Calibration.bounds``): name -> (low, high).
+
+    * bounds the user gave: as given (within the law's physical limits);
+    * the law's nonlinear constants (α, λm, Jm, ...): their search range (after any
+      widening), which the search and the polish keep;
+    * moduli (the law's constants in MPa, the G_i) without bounds of the user: the law's
+      physical limits (G_i >= 0). Their automatic ranges (:func:`auto_bounds`) are where
+      the all-parameter search draws them; the separable search solves them by least
+      squares and the polish refines them with no upper limit, so only the full method
+      without polish holds them to those ranges (``box`` True: its box, the moduli
+      non-negative as :class:`vhfit.calibration._space.FullSpace` draws them).
+
+    τ_i: the τ range of the fit (s).
+    """
+    hm, model = prob.hm, prob.model
+    out: dict[str, tuple[float, float]] = {}
+    for k, name in enumerate(hm.param_names):
+        lo, hi = (float(v) for v in prob.bounds[name])
+        plo, phi = (float(v) for v in hm.bounds[k])
+        if name in prob.user_bounds:
+            out[name] = (max(lo, plo), min(hi, phi))
+        elif hm.units[k] != "MPa":
+            out[name] = (lo, hi)
+        else:
+            out[name] = (max(lo, 0.0), hi) if box else (plo, phi)
+    for i in range(model.n_prony):
+        g = f"G{i + 1}"
+        lo, hi = (float(v) for v in prob.bounds[g])
+        out[g] = (max(lo, 0.0), hi) if g in prob.user_bounds or box else (0.0, math.inf)
+        out[f"tau{i + 1}"] = tuple(float(10.0 ** v) for v in prob.tau_b[i])
+    return out
 
 
 #: A searched constant within this fraction of its search range from a bound "sits on" it.

@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 
 from vhfit.calibration._admissible import data_stability_range
+from vhfit.calibration._bounds import enforced_bounds
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
@@ -448,9 +449,10 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
         msgs.append(stab.describe())
     for m in msgs:
         warnings.warn(m, CalibrationWarning, stacklevel=3)
-    tb = {f"tau{i + 1}": tuple(10.0 ** prob.tau_b[i]) for i in range(model.n_prony)}
-    bounds = {**prob.bounds, **tb}
-    bounds = {k: v for k, v in bounds.items() if k in model.param_names}
+    # the full search without polish holds the moduli to its box; every other route
+    # (least squares of the moduli, the polish, the spectrum route) to the law's limits
+    bounds = enforced_bounds(prob, settings.method == "full" and not settings.polish
+                             and "route" not in options)
     return Calibration._make(
         model, x, rmsape=err,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
