@@ -637,7 +637,9 @@ def _i1_minus_3(lam):
 
 
 @pytest.mark.parametrize("lam, kw, hi, fix", [
-    (12.0, {}, 100.0, 1000.0),  # I1 - 3 = 141 at λ = 12: past Jm's default search range
+    # I1 - 3 = 141 at λ = 12: past the Jm range given (the automatic one is widened:
+    # test_gent_past_its_automatic_range_is_widened_to_a_stable_law)
+    (12.0, dict(bounds={"Jm": (0.1, 100.0)}), 100.0, 1000.0),
     (5.0, dict(bounds={"Jm": (0.1, 10.0)}), 10.0, 100.0),  # I1 - 3 = 22.4 > the Jm given
     (5.0, dict(n_prony=1, bounds={"Jm": (0.1, 10.0)}), 10.0, 100.0),  # with a Prony term
 ])
@@ -694,6 +696,18 @@ def test_a_law_undefined_on_the_data_for_any_constant_says_so(monkeypatch):
         vhfit.hyperelastic.unregister(name)
 
 
+def test_gent_past_its_automatic_range_is_widened_to_a_stable_law():
+    """λ = 12 (range to 13.2): Jm must exceed I1 − 3 = 13.2² + 2/13.2 − 3 = 171.4 of
+    uniaxial tension at 13.2; doublings of 100 reach 200, the bound goes to 300."""
+    # a neo-Hooke solid's data: Jm runs to that end, the usual widening follows
+    cal = calibrate(stretched(12.0), hyperelastic="gent", seed=0, maxiter=50)
+    b = cal.options["stability_range"][1]
+    assert b == pytest.approx(13.2)
+    assert cal.options["widened_for_stability"] == {"Jm": [0.1, 300.0]}
+    assert _i1_minus_3(b) < cal.params["Jm"] <= cal.bounds["Jm"][1]
+    assert cal.stability.stable
+
+
 def test_interrupted_before_anything_finite_keeps_the_checkpoint_and_resumes_to_the_error(
         tmp_path):
     """Ctrl-C while every individual is still infinite: no Calibration (KeyboardInterrupt
@@ -707,13 +721,14 @@ def test_interrupted_before_anything_finite_keeps_the_checkpoint_and_resumes_to_
             raise KeyboardInterrupt
         return False
 
+    given = {"Jm": (0.1, 100.0)}  # (the automatic range would be widened to the data)
     with pytest.raises(KeyboardInterrupt):
         calibrate(curves, hyperelastic="gent", seed=0, checkpoint=ck, checkpoint_every=0.0,
-                  callback=stop_at_3)
+                  callback=stop_at_3, bounds=given)
     assert ck.exists() and json.loads(ck.read_text())["done"] is None
     with pytest.raises(vhfit.CalibrationError, match=r"Jm <= 100\)"):
         calibrate(curves, hyperelastic="gent", seed=0, checkpoint=ck, checkpoint_every=0.0,
-                  resume=True)
+                  resume=True, bounds=given)
     assert not ck.exists()
 
 

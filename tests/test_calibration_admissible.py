@@ -46,11 +46,22 @@ def mr_difference(C10, C01, mode, lam):
     return 2 * (lam**2 - lam**-2) * (C10 + C01)
 
 
+def mode_lams(stretch_range, mode, n):
+    """Loaded stretches of a mode whose principal stretches stay in [a, b] (by hand:
+    uniaxial λ^-1/2, equibiaxial λ^-2, planar 1/λ), log-spaced."""
+    a, b = stretch_range
+    lo, hi = {"uniaxial": (max(a, b**-2), min(b, a**-2)),
+              "equibiaxial": (max(a, b**-0.5), min(b, a**-0.5)),
+              "planar": (max(a, 1 / b), min(b, 1 / a))}[mode]
+    return np.exp(np.linspace(np.log(lo), np.log(hi), n))
+
+
 def mr_stable(C10, C01, stretch_range, n=2001):
-    """dσ/d ln λ > 0 on a dense grid of every mode (central differences)."""
-    lam = np.exp(np.linspace(np.log(stretch_range[0]), np.log(stretch_range[1]), n))
+    """dσ/d ln λ > 0 on a dense grid of every mode (central differences), over the
+    stretches whose principal stretches stay within the range."""
     d = 1e-5
     for mode in ("uniaxial", "equibiaxial", "planar"):
+        lam = mode_lams(stretch_range, mode, n)
         t = (mr_difference(C10, C01, mode, lam * np.exp(d))
              - mr_difference(C10, C01, mode, lam * np.exp(-d))) / (2 * d)
         if not np.all(t > 0):
@@ -60,7 +71,6 @@ def mr_stable(C10, C01, stretch_range, n=2001):
 
 def ogden_stable(mu, alpha, stretch_range, n=2001):
     """Ogden (Abaqus form) in the three modes: σ1 − σ3 = Σ 2μ/α (λ1^α − λ3^α)."""
-    lam = np.exp(np.linspace(np.log(stretch_range[0]), np.log(stretch_range[1]), n))
     kin = {"uniaxial": lambda x: (x, x**-0.5), "equibiaxial": lambda x: (x, x**-2.0),
            "planar": lambda x: (x, 1 / x)}
     d = 1e-5
@@ -68,7 +78,8 @@ def ogden_stable(mu, alpha, stretch_range, n=2001):
         l1, l3 = f(x)
         return sum(2 * m / a * (l1**a - l3**a) for m, a in zip(mu, alpha))
 
-    for f in kin.values():
+    for mode, f in kin.items():
+        lam = mode_lams(stretch_range, mode, n)
         if not np.all((diff(f, lam * np.exp(d)) - diff(f, lam * np.exp(-d))) / (2 * d) > 0):
             return False
     return sum(mu) > 0
@@ -336,7 +347,7 @@ def test_ogden2_with_a_negative_mu_is_recovered_from_three_modes(seed):
 
 
 @pytest.mark.parametrize("seed, ends", [
-    (5, "converged: population gathered"),  # rescued: a polish from another basin
+    (2, "converged: population gathered"),  # rescued: a polish from another basin
     (1, "target reached by a polish"),  # a polish of the best member at a level
 ])
 def test_a_search_resumed_after_it_ended_ends_where_it_did(tmp_path, seed, ends):

@@ -313,18 +313,23 @@ def drucker_msgs(cal):
 
 
 def test_report_carries_the_equibiaxial_instability_of_the_fitted_law():
-    # C10 = 17c, C01 = -5c: uniaxially unstable for λ <= 1/2 only, equibiaxially for
-    # λ >= √2 (tests/test_stability.py derives both): over 0.6..5 only equibiaxial fails
-    cal = report([0.17, -0.05, 1.0, 0.01], stability_range=(0.6, 5.0))
-    assert set(cal.stability.unstable) == {"equibiaxial"}
-    (m,) = drucker_msgs(cal)
-    got = re.fullmatch(rf"Drucker-UNSTABLE in equibiaxial: {NUM} <= λ <= {NUM}", m)
-    assert got, m
-    assert float(got.group(1)) == pytest.approx(math.sqrt(2), abs=0.02)
-    assert float(got.group(2)) == pytest.approx(5.0)
-    # below 1/2 the uniaxial mode fails too
-    cal = report([0.17, -0.05, 1.0, 0.01], stability_range=(0.3, 5.0))
+    # C10 = 17c, C01 = -5c: uniaxially unstable for λ <= 1/2, equibiaxially for λ >= √2
+    # (tests/test_stability.py derives both): the same states (equibiaxial tension at λ
+    # is uniaxial compression at λ⁻² along the third axis). The stated range bounds every
+    # principal stretch: over 0.4..5 the equibiaxial mode is checked up to 0.4^(-1/2)
+    cal = report([0.17, -0.05, 1.0, 0.01], stability_range=(0.4, 5.0))
     assert set(cal.stability.unstable) == {"uniaxial", "equibiaxial"}
+    (m,) = drucker_msgs(cal)
+    got = re.fullmatch(rf"Drucker-UNSTABLE in uniaxial: {NUM} <= λ <= {NUM}; "
+                       rf"equibiaxial: {NUM} <= λ <= {NUM}", m)
+    assert got, m
+    assert float(got.group(1)) == pytest.approx(0.4, abs=0.0005)
+    assert float(got.group(2)) == pytest.approx(0.5, abs=0.01)
+    assert float(got.group(3)) == pytest.approx(math.sqrt(2), abs=0.02)
+    assert float(got.group(4)) == pytest.approx(0.4**-0.5, abs=0.005)  # (3 digits)
+    # principal stretches within 0.6..5 never reach λ3 = 1/2: stable there
+    cal = report([0.17, -0.05, 1.0, 0.01], stability_range=(0.6, 5.0))
+    assert cal.stability.stable and not drucker_msgs(cal)
 
 
 def test_report_is_silent_for_a_stable_law():
@@ -333,23 +338,24 @@ def test_report_is_silent_for_a_stable_law():
 
 
 def test_calibrate_returns_a_law_stable_over_the_range_and_says_so():
-    # compression data to λ = 0.6 from a law unstable in equibiaxial tension above
-    # λ ≈ 1.42: over (0.6, 5) the fit is the best stable law, not the truth; over a range
-    # where the truth is stable it is recovered; the summary states the range either way
+    # compression data to λ = 0.6 from a law unstable in uniaxial compression below 1/2
+    # (equibiaxial tension above √2): over principal stretches (0.4, 5) the fit is the
+    # best stable law, not the truth; over a range where the truth is stable it is
+    # recovered; the summary states the range either way
     truth = dict(C10=0.17, C01=-0.05, G1=1.0, tau1=0.01)
     eps = np.linspace(-0.04, -0.4, 10)
     curves = [vhfit.Curve(strain=eps, stress=MR1.stress(truth, strain=eps, strain_rate=r,
                                                         measure="engineering"), strain_rate=r)
               for r in RATES]
     hm = MR1.hyperelastic
-    assert set(vhfit.stability.drucker(hm, [0.17, -0.05], (0.6, 5.0)).unstable) == {
-        "equibiaxial"}
+    assert set(vhfit.stability.drucker(hm, [0.17, -0.05], (0.4, 5.0),
+                                       principal=True).unstable) == {"uniaxial", "equibiaxial"}
     cal = calibrate(curves, n_prony=1, seed=0, uncertainty=False, maxiter=60,
                     bounds={"C10": (0.0, 1.0), "C01": (-0.2, 0.2)},
-                    stability_range=(0.6, 5.0))
-    assert cal.stability.stable and cal.stability.stretch_range == (0.6, 5.0)
+                    stability_range=(0.4, 5.0))
+    assert cal.stability.stable and cal.stability.stretch_range == (0.4, 5.0)
     assert vhfit.stability.drucker(hm, [cal.params["C10"], cal.params["C01"]],
-                                   (0.6, 5.0), n=4000).stable
+                                   (0.4, 5.0), n=4000, principal=True).stable
     assert drucker_msgs(cal) == []
     near = calibrate(curves, n_prony=1, seed=0, uncertainty=False, maxiter=60,
                      bounds={"C10": (0.0, 1.0), "C01": (-0.2, 0.2)},

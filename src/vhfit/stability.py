@@ -9,10 +9,18 @@ against ln λ1: d(σ1 − σ3)/d ln λ1 > 0, with the principal stretches of the
 
 Scaling all moduli by a positive factor does not change stability, so the long-term
 and instantaneous (= long-term / g∞) laws of a Prony model are stable together.
+
+The range checked is either the loaded stretch λ of every mode (``principal=False``)
+or, as a calibration states it, a range of *principal* stretches: each mode is checked
+over the loaded stretches whose principal stretches all stay inside it
+(:func:`mode_range`; equibiaxial tension at λ has λ3 = λ⁻², so principal stretches in
+[0.3, 8.8] bound it to 0.34 <= λ <= 1.83). A law undefined somewhere in the range (past
+a locking stretch) has no positive tangent there: unstable.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -21,7 +29,7 @@ from vhfit._derivatives import invariant_gradient, stretch_gradient
 from vhfit.hyperelastic import Hyperelastic
 from vhfit.modes import constant_columns, get_deformation, registered_deformations
 
-__all__ = ["drucker", "StabilityReport"]
+__all__ = ["drucker", "StabilityReport", "mode_range"]
 
 
 def modes_checked() -> tuple[str, ...]:
@@ -58,6 +66,44 @@ def principal_difference(model: Hyperelastic, params, l1, l2, l3) -> np.ndarray:
     return d1 - d3
 
 
+def mode_range(mode: str, stretch_range) -> tuple[float, float]:
+    """The loaded stretches λ of a test whose principal stretches all lie in a range.
+
+    The widest interval around λ = 1 over which every principal stretch of the test's
+    record (:meth:`vhfit.modes.Deformation.stretches`) stays within ``stretch_range``,
+    found by bisection in ln λ (the principal stretches of a one-stretch test move
+    monotonically away from 1 with |ln λ|).
+
+    Examples
+    --------
+    >>> lo, hi = mode_range("equibiaxial", (0.25, 4.0))   # λ3 = λ⁻² reaches 1/4 at λ = 2
+    >>> round(lo, 9), round(hi, 9)
+    (0.5, 2.0)
+    >>> [round(v, 9) for v in mode_range("uniaxial", (0.25, 4.0))]  # λ2 = λ^(-1/2)
+    [0.25, 4.0]
+    """
+    lo, hi = map(float, stretch_range)
+    stretches = get_deformation(mode).stretches
+
+    def inside(u: float) -> bool:
+        with np.errstate(all="ignore"):
+            ls = stretches(np.array([math.exp(u)]), None)
+        return all(lo * (1 - 1e-12) <= float(np.reshape(v, -1)[0]) <= hi * (1 + 1e-12)
+                   for v in ls)
+
+    ends = []
+    for edge in (math.log(lo), math.log(hi)):  # λ1 itself is a principal stretch
+        if inside(edge):
+            ends.append(math.exp(edge))
+            continue
+        a, b = 0.0, edge  # inside at a, outside at b
+        for _ in range(60):
+            m = 0.5 * (a + b)
+            a, b = (m, b) if inside(m) else (a, m)
+        ends.append(math.exp(a))
+    return ends[0], ends[1]
+
+
 @dataclass(frozen=True)
 class StabilityReport:
     """Where a hyperelastic law violates Drucker's condition.
@@ -70,11 +116,15 @@ class StabilityReport:
         The checked range of λ.
     unstable : dict
         Mode -> list of (λ_lo, λ_hi) intervals where the tangent is not positive.
+    principal : bool
+        Whether ``stretch_range`` bounds every principal stretch (each mode checked over
+        :func:`mode_range`) rather than the loaded stretch of each mode.
     """
 
     stable: bool
     stretch_range: tuple[float, float]
     unstable: dict
+    principal: bool = False
 
     def describe(self) -> str:
         """One line: stable over the checked range, or the unstable intervals per mode.
@@ -98,7 +148,8 @@ class StabilityReport:
         return "Drucker-UNSTABLE in " + "; ".join(parts)
 
 
-def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400) -> StabilityReport:
+def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400,
+            principal: bool = False) -> StabilityReport:
     """Check Drucker stability of a hyperelastic law over a stretch range.
 
     Parameters
@@ -110,7 +161,11 @@ def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400)
         λ range checked in every mode (λ = 1 excluded from nothing: the tangent there
         is the initial modulus).
     n : int
-        Number of stretches, log-spaced.
+        Number of stretches, log-spaced (per mode).
+    principal : bool
+        ``stretch_range`` bounds every principal stretch: each mode is checked over its
+        :func:`mode_range` (a calibration's statement); else it is the loaded stretch of
+        every mode.
 
     Returns
     -------
@@ -127,10 +182,11 @@ def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400)
     lo, hi = map(float, stretch_range)
     if not 0 < lo < 1 < hi:
         raise ValueError(f"stretch_range = {stretch_range!r} must satisfy 0 < lo < 1 < hi")
-    lam = np.exp(np.linspace(np.log(lo), np.log(hi), n))
     d = 1e-4
     unstable: dict[str, list[tuple[float, float]]] = {}
     for mode in modes_checked():
+        a, b = mode_range(mode, (lo, hi)) if principal else (lo, hi)
+        lam = np.exp(np.linspace(np.log(a), np.log(b), n))
         stretches = get_deformation(mode).stretches
         with np.errstate(all="ignore"):
             up = principal_difference(model, params, *stretches(lam * np.exp(d), None))
@@ -142,4 +198,4 @@ def drucker(model: Hyperelastic, params, stretch_range=(0.2, 5.0), n: int = 400)
             unstable[mode] = [
                 (float(lam[a]), float(lam[b - 1])) for a, b in zip(edges[::2], edges[1::2])
             ]
-    return StabilityReport(not unstable, (lo, hi), unstable)
+    return StabilityReport(not unstable, (lo, hi), unstable, principal)

@@ -25,9 +25,9 @@ import numpy as np
 
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation, principal_stretches
-from vhfit.stability import modes_checked, principal_difference
+from vhfit.stability import mode_range, modes_checked, principal_difference
 
-__all__ = ["Admissible", "data_stability_range", "admissible", "lsi",
+__all__ = ["Admissible", "data_stability_range", "admissible", "defined", "lsi",
            "angle_range", "arcs", "STABILITY_MARGIN", "GRID_POINTS"]
 
 #: The default stretch range reaches this factor beyond the data's smallest and largest
@@ -52,8 +52,12 @@ def data_stability_range(curves) -> tuple[float, float]:
 
     The smallest and the largest principal stretch the curves reach (in their own modes;
     small-strain tests reach none), each :data:`STABILITY_MARGIN` further from 1 (and at
-    least 1/1.1 and 1.1), give [λ_lo, λ_hi], checked in each mode: a uniaxial tension
-    to λ = 17 reaches 17 and 17^(-1/2) = 0.243, so [0.22, 18.7].
+    least 1/1.1 and 1.1), give [λ_lo, λ_hi], a bound on every principal stretch of the
+    states checked: each mode is checked over the loaded stretches whose principal
+    stretches all stay inside it (:func:`vhfit.stability.mode_range`), so no checked
+    state stretches any direction further than the data do, with the margin. A uniaxial
+    tension to λ = 17 reaches 17 and 17^(-1/2) = 0.243, so [0.22, 18.7]: uniaxial from
+    0.22 to 18.7, equibiaxial from 18.7^(-1/2) = 0.23 to 0.22^(-1/2) = 2.13.
 
     Examples
     --------
@@ -78,15 +82,18 @@ def data_stability_range(curves) -> tuple[float, float]:
             max(hi * STABILITY_MARGIN, MIN_STRETCH_RANGE))
 
 
-def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Per test of the Drucker check (:func:`vhfit.stability.modes_checked`): its
-    principal stretches half a step above each grid stretch, then half a step below (one
-    array each: one evaluation of the law per test)."""
-    lo, hi = map(float, stretch_range)
-    lam = np.exp(np.linspace(math.log(lo), math.log(hi), GRID_POINTS))
-    both = np.concatenate([lam * math.exp(_D), lam * math.exp(-_D)])
+def _grid(stretch_range, points: int = GRID_POINTS
+          ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Per test of the Drucker check (:func:`vhfit.stability.modes_checked`), over the
+    loaded stretches whose principal stretches stay within ``stretch_range``
+    (:func:`vhfit.stability.mode_range`): its principal stretches half a step above each
+    grid stretch, then half a step below (one array each: one evaluation of the law per
+    test)."""
     out = []
     for m in modes_checked():
+        lo, hi = mode_range(m, stretch_range)  # every principal stretch within the range
+        lam = np.exp(np.linspace(math.log(lo), math.log(hi), points))
+        both = np.concatenate([lam * math.exp(_D), lam * math.exp(-_D)])
         arrays = []
         for v in get_deformation(m).stretches(both, None):
             v = np.array(v, dtype=np.float64)  # its own data, read-only: a law may
@@ -99,10 +106,11 @@ def _grid(stretch_range) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
 class Admissible:
     """The admissible set of one law over one stretch range (grid built once)."""
 
-    def __init__(self, hm, stretch_range):
+    def __init__(self, hm, stretch_range, points: int = GRID_POINTS):
         self.hm = hm
         self.stretch_range = (float(stretch_range[0]), float(stretch_range[1]))
-        self.grid = _grid(self.stretch_range)
+        # points = the final check's (vhfit.stability.drucker's n): the same stretches
+        self.grid = _grid(self.stretch_range, points)
         self.amp = list(hm.linear_index)
 
     def tangents(self, X: np.ndarray) -> np.ndarray:
@@ -121,14 +129,14 @@ class Admissible:
         with np.errstate(all="ignore"):
             mu0 = np.asarray(self.hm.initial_shear_modulus(X), dtype=np.float64).reshape(-1)
             t = self.tangents(X)
-        # where the law is undefined (past a locking stretch: Gent, Van der Waals) it has
-        # no tangent to be negative; the data's own points are judged by the objective
-        return (mu0 > 0) & ~np.any(t <= 0, axis=-1)
+        # a law undefined within the range (past a locking stretch: Gent, Van der Waals)
+        # has no positive tangent there: not admissible, as the final check says
+        return (mu0 > 0) & np.all(t > 0, axis=-1)
 
     def rows(self, X: np.ndarray) -> np.ndarray:
         """The inequalities on the linear constants of laws X (P, n_h), their nonlinear
         constants as given: (P, 3 n + 1, m), tangent rows then the μ0 row (each ≥ 0);
-        NaN rows where the law is undefined (no constraint there)."""
+        NaN rows where the law is undefined (no admissible law: :func:`defined`)."""
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))
         P, m = X.shape[0], len(self.amp)
         U = np.repeat(X[:, None, :], m, axis=1)
@@ -142,6 +150,12 @@ class Admissible:
             mu = (np.asarray(self.hm.initial_shear_modulus(U), dtype=np.float64).reshape(P, m)
                   - np.asarray(self.hm.initial_shear_modulus(Z), dtype=np.float64).reshape(P, 1))
         return np.concatenate([T.transpose(0, 2, 1), mu[:, None, :]], axis=1)
+
+
+def defined(G: np.ndarray) -> np.ndarray:
+    """Whether the inequality rows G (P, rows, m) of :meth:`Admissible.rows` are all finite:
+    a law undefined somewhere in the stability range has no admissible linear constants."""
+    return np.all(np.isfinite(G), axis=(1, 2))
 
 
 def admissible(adm: Admissible | None, X: np.ndarray) -> np.ndarray:
@@ -209,7 +223,8 @@ def arcs(adm: Admissible, X: np.ndarray, nonneg=(False, False), nonpos=(False, F
     Every inequality g · (cos θ, sin θ) ≥ 0 is an arc of length π; their intersection is
     one arc, measured from the direction of the μ0 row (the same for every law: μ0 is
     linear in the linear constants alone), kept :data:`ANGLE_MARGIN` inside its ends (a
-    direction on an end has a zero tangent somewhere). Empty: NaN at both ends.
+    direction on an end has a zero tangent somewhere). Empty (also where the law is
+    undefined somewhere in the range): NaN at both ends.
     """
     X = np.atleast_2d(np.asarray(X, dtype=np.float64))
     G = adm.rows(X)  # (P, 3n + 1, 2), the μ0 row last
@@ -222,11 +237,11 @@ def arcs(adm: Admissible, X: np.ndarray, nonneg=(False, False), nonpos=(False, F
     with np.errstate(invalid="ignore"):
         c = np.arctan2(G[..., 1], G[..., 0]) - theta0
         c = (c + math.pi) % (2 * math.pi) - math.pi
-        # rows where the law is undefined (NaN) or vanishing bound nothing
+        # vanishing rows bound nothing (a law undefined anywhere: no arc, below)
         bind = np.isfinite(c) & (np.hypot(G[..., 0], G[..., 1]) > 0)
         lo = np.max(np.where(bind, c - math.pi / 2, -math.pi / 2), axis=1) + ANGLE_MARGIN
         hi = np.min(np.where(bind, c + math.pi / 2, math.pi / 2), axis=1) - ANGLE_MARGIN
-    empty = ~(lo < hi)
+    empty = ~(lo < hi) | ~defined(G)
     lo[empty], hi[empty] = np.nan, np.nan
     return theta0 + lo, theta0 + hi
 

@@ -13,7 +13,8 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
-           "bound_hit_headlines", "pinned_headlines", "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG"]
+           "bound_hit_headlines", "pinned_headlines", "enforced_bounds", "stable_box",
+           "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG", "STABLE_SAMPLES", "STABLE_PROBES"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
 #: are open-ended: λm > 1 (Arruda–Boyce: λm → ∞ is neo-Hooke, 10 is within 1 % of it),
@@ -193,6 +194,47 @@ def search_bounds(model: ViscoHyperelastic, curves, tau_strategy, decades_below:
     return np.asarray(tau_b, dtype=np.float64), auto
 
 
+def enforced_bounds(prob, box: bool) -> dict[str, tuple[float, float]]:
+    """The box the fit held each constant to (``Calibration.bounds``): name -> (low, high).
+
+    * bounds the user gave: as given (within the law's physical limits);
+    * the law's nonlinear constants (α, λm, Jm, ...): their search range (after any
+      widening), which the search and the polish keep;
+    * moduli (the law's constants in MPa, the G_i) without bounds of the user: the law's
+      physical limits (G_i >= 0). Their automatic ranges (:func:`auto_bounds`) are where
+      the all-parameter search draws them; the separable search solves them by least
+      squares and the polish refines them with no upper limit, so only the full method
+      without polish holds them to those ranges (``box`` True: its box, the moduli
+      non-negative as :class:`vhfit.calibration._space.FullSpace` draws them).
+
+    τ_i: the τ range of the fit (s).
+    """
+    hm, model = prob.hm, prob.model
+    out: dict[str, tuple[float, float]] = {}
+    for k, name in enumerate(hm.param_names):
+        plo, phi = (float(v) for v in hm.bounds[k])
+        if name not in prob.bounds:  # (a problem built with some bounds only)
+            if hm.units[k] == "MPa" and not box:
+                out[name] = (plo, phi)
+            continue
+        lo, hi = (float(v) for v in prob.bounds[name])
+        if name in prob.user_bounds:
+            out[name] = (max(lo, plo), min(hi, phi))
+        elif hm.units[k] != "MPa":
+            out[name] = (lo, hi)
+        else:
+            out[name] = (max(lo, 0.0), hi) if box else (plo, phi)
+    for i in range(model.n_prony):
+        g = f"G{i + 1}"
+        if g in prob.bounds and (g in prob.user_bounds or box):
+            lo, hi = (float(v) for v in prob.bounds[g])
+            out[g] = (max(lo, 0.0), hi)
+        elif not box:
+            out[g] = (0.0, math.inf)
+        out[f"tau{i + 1}"] = tuple(float(10.0 ** v) for v in prob.tau_b[i])
+    return out
+
+
 #: A searched constant within this fraction of its search range from a bound "sits on" it.
 HIT_MARGIN = 1e-3
 
@@ -274,6 +316,92 @@ def bound_hit_headlines(prob, x: np.ndarray, hits: dict[str, str], widened: dict
             f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
             f"{name}={sug[0]:g}:{sug[1]:g})")
     return out
+
+
+#: Laws of the search box tried for a Drucker-stable one (with the law's example, the
+#: corners of the box).
+STABLE_SAMPLES = 256
+
+#: Doublings beyond a bound tried for a stable law (2^12: a Jm bound of 100 up to 4e5).
+STABLE_PROBES = 12
+
+
+def stable_box(prob) -> tuple[dict, dict, bool]:
+    """Search bounds whose box holds a Drucker-stable law: (bounds, widened, found).
+
+    A law with one linear constant (Gent, Arruda–Boyce, Van der Waals, Ogden-1, ...) is
+    admissible or not by its nonlinear constants alone (the admissible set is invariant
+    under a positive scale). When no law of a sample of the box (:data:`STABLE_SAMPLES`
+    laws, the example and the corners) is admissible over the stability range, each
+    automatic bound of a nonlinear constant is moved out by doublings
+    (:data:`STABLE_PROBES`, within the law's physical limits), the other constants at
+    the example's values: the first that reaches a stable law (Gent's Jm beyond
+    I1 − 3 of the range, a λm beyond its largest stretch) is widened to twice that far,
+    so that the stable laws fill half of the widened side. ``widened``: name -> the new
+    (low, high); ``found`` False: no stable law in reach (the bounds the user gave, or
+    none of the law's). Laws with several linear constants are left to the search's arcs
+    (``found`` True, nothing widened); so is a fit without an admissible set.
+    """
+    hm, adm = prob.hm, prob.adm
+    bounds = dict(prob.bounds)
+    if adm is None or len(hm.linear_index) != 1:
+        return bounds, {}, True
+    shape = _searched_shape(prob)
+    ex = np.array(hm.example, dtype=np.float64)
+    box = np.array([[float(v) for v in prob.bounds[hm.param_names[k]]] for k in shape]
+                   ).reshape(-1, 2)
+    ex[shape] = np.clip(ex[shape], box[:, 0], box[:, 1])
+    rng = np.random.default_rng(0)
+    X = np.repeat(ex[None, :], STABLE_SAMPLES + 2 ** min(len(shape), 8) + 1, axis=0)
+    if shape:
+        X[1:STABLE_SAMPLES + 1, shape] = box[:, 0] + rng.random((STABLE_SAMPLES, len(shape))
+                                                                 ) * (box[:, 1] - box[:, 0])
+        corners = np.array(np.meshgrid(*box[:8], indexing="ij")).reshape(min(len(shape), 8),
+                                                                          -1).T
+        X[STABLE_SAMPLES + 1:, shape[:8]] = corners
+    if adm(X).any():
+        return bounds, {}, True
+    for j, k in enumerate(shape):
+        name = hm.param_names[k]
+        if name in prob.user_bounds:
+            continue
+        lo, hi = box[j]
+        plo, phi = (float(v) for v in hm.bounds[k])
+        for side in ("high", "low"):
+            b = hi if side == "high" else lo
+            if side == "high":
+                values = (hi * 2.0 ** np.arange(1, STABLE_PROBES + 1) if hi > 0 else
+                          hi + max(hi - lo, 1.0) * 2.0 ** np.arange(STABLE_PROBES))
+            else:
+                values = (lo / 2.0 ** np.arange(1, STABLE_PROBES + 1) if lo > 0 else
+                          lo - max(hi - lo, 1.0) * 2.0 ** np.arange(STABLE_PROBES))
+            values = values[(values > plo) & (values < phi)]
+            P = np.repeat(ex[None, :], values.size, axis=0)
+            P[:, k] = values
+            ok = np.flatnonzero(adm(P)) if values.size else []
+            if len(ok):
+                v = float(values[ok[0]])
+                far = b + 2.0 * (v - b)  # the stable laws fill half of the new side
+                far = far if plo < far < phi else v
+                new = (lo, far) if side == "high" else (far, hi)
+                bounds[name] = new
+                return bounds, {name: [float(new[0]), float(new[1])]}, True
+    return bounds, {}, False
+
+
+def no_stable_headline(prob) -> str:
+    """The first warning of a fit that found no Drucker-stable law: why, what to change."""
+    hm = prob.hm
+    lo, hi = prob.stability_range
+    shape = [hm.param_names[k] for k in _searched_shape(prob)]
+    given = [n for n in shape if n in prob.user_bounds]
+    how = (f"widen the bounds given on {', '.join(given)} (bounds= keyword, command line "
+           "--bounds), " if given else "")
+    return (f"NO STABLE LAW: no {hm.name} law within the search bounds is Drucker-stable "
+            f"over {lo:.3g} <= λ <= {hi:.3g} (every principal stretch): the fit below is "
+            f"UNSTABLE; {how}give a narrower stability_range= (command line: "
+            "--stability-range LO:HI) if the material is not loaded beyond the data, or "
+            "choose another law")
 
 
 def _suggest(name: str, lo: float, hi: float, side: str, log: bool) -> tuple[float, float]:

@@ -45,6 +45,8 @@ def fit_key(prob, layout, seed, popsize, tol, target, de_options) -> str:
         h.update(repr(("formulation", form)).encode())
     # the admissible set searched (docs/theory.md §11): another range, another search
     h.update(repr(("stability_range", prob.stability_range)).encode())
+    if not prob.constrained:  # (no admissible set: a search of its own)
+        h.update(b"unconstrained")
     return h.hexdigest()
 
 

@@ -16,8 +16,9 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
     """Bounded least squares on all parameters (τ in log10); never raises the error.
 
     Bounds the user gave hold exactly (the law's constants and the G_i); the automatic
-    search ranges bound a constant only on the side the result is within (a modulus's
-    upper one not at all), the admissible set keeps the law stable.
+    search ranges bound a nonlinear constant only on the side the result is within, a
+    modulus not at all (the law's limits only: the admissible set keeps the law stable;
+    :func:`vhfit.calibration._bounds.enforced_bounds` is the resulting box).
     """
     model, nh = prob.model, prob.hm.n_params
     lo = np.empty(model.n_params)
@@ -28,8 +29,10 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
         if name in prob.user_bounds:
             lo[k], hi[k] = max(plo, blo), min(phi, bhi)
             continue
-        lo[k] = max(plo, min(blo, x0[k]))
-        hi[k] = phi if prob.hm.units[k] == "MPa" else max(bhi, x0[k])
+        if prob.hm.units[k] == "MPa":  # a modulus: the law's limits (enforced_bounds)
+            lo[k], hi[k] = plo, phi
+            continue
+        lo[k], hi[k] = max(plo, min(blo, x0[k])), max(bhi, x0[k])
     lo[nh::2], hi[nh::2] = 0.0, np.inf
     for i in range(model.n_prony):
         if f"G{i + 1}" in prob.user_bounds:

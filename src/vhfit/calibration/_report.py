@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 
 from vhfit.calibration._admissible import data_stability_range
+from vhfit.calibration._bounds import enforced_bounds
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
@@ -347,7 +348,8 @@ def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
         bounds = {**dict(zip(fewer.hyperelastic.param_names, fewer.hyperelastic.bounds)),
                   **prob.bounds}
         prob2 = Problem(fewer, curves, prob.tau_b, bounds, prob.g_inf_min,
-                        prob.objective_spec, prob.stability_range, prob.user_bounds)
+                        prob.objective_spec, prob.stability_range, prob.user_bounds,
+                        prob.constrained)
         s1 = prob.batch(x[None, :])[0]
         same = _same_stresses(s1, prob2.batch(x2[None, :])[0], model.rtol)
         if not same:  # the merged constants as they are change the fit: polish them
@@ -396,7 +398,7 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
                    prob.g_inf_min, prob.objective_spec, prob.stability_range,
-                   prob.user_bounds)
+                   prob.user_bounds, prob.constrained)
     return prob, reduced, x2, float(prob.errors(x2[None, :])[0])
 
 
@@ -443,14 +445,15 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     msgs += slack_warnings(prob.objective.split(stress), curves)
     # the range the search's admissible set used (a bare Problem has none: the settings')
     sr = prob.stability_range or settings.stability_range or data_stability_range(curves)
-    stab = drucker(model.hyperelastic, x[:model.hyperelastic.n_params], sr)
+    stab = drucker(model.hyperelastic, x[:model.hyperelastic.n_params], sr, principal=True)
     if not stab.stable:
         msgs.append(stab.describe())
     for m in msgs:
         warnings.warn(m, CalibrationWarning, stacklevel=3)
-    tb = {f"tau{i + 1}": tuple(10.0 ** prob.tau_b[i]) for i in range(model.n_prony)}
-    bounds = {**prob.bounds, **tb}
-    bounds = {k: v for k, v in bounds.items() if k in model.param_names}
+    # the full search without polish holds the moduli to its box; every other route
+    # (least squares of the moduli, the polish, the spectrum route) to the law's limits
+    bounds = enforced_bounds(prob, settings.method == "full" and not settings.polish
+                             and "route" not in options)
     return Calibration._make(
         model, x, rmsape=err,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],

@@ -359,6 +359,12 @@ class Calibration:
         worst = self.worst_curve()
         if worst is not None:
             text += f"; worst curve {worst[0]} ({_g(worst[1])} %)"
+        stab = self.stability
+        if stab is not None and not stab.stable:  # before anything else: not usable as is
+            lo, hi = stab.stretch_range
+            text = (f"NO STABLE LAW: {stab.describe()} within the stated {lo:.3g} <= λ <= "
+                    f"{hi:.3g}; give a narrower stability_range (--stability-range), wider "
+                    "bounds (--bounds) or another law. " + text)
         if status == "interrupted":
             text = "INTERRUPTED (best so far, not converged): " + text
         return text
@@ -480,6 +486,7 @@ class Calibration:
             "stability": None if self.stability is None else {
                 "stable": self.stability.stable,
                 "stretch_range": list(self.stability.stretch_range),
+                "principal": self.stability.principal,
                 "unstable": {k: [list(i) for i in v] for k, v in self.stability.unstable.items()},
             },
             "order_scan": self.order_scan,
@@ -663,7 +670,7 @@ class Calibration:
         x = model.check(params)
         lo_hi = options.get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],
-                       tuple(lo_hi) if lo_hi else (0.2, 5.0))
+                       tuple(lo_hi) if lo_hi else (0.2, 5.0), principal=bool(lo_hi))
         return cls._make(
             model, x, rmsape=float(res["rmsape"]),
             per_curve_rmsape=list(res.get("per_curve_rmsape", [])),

@@ -24,7 +24,14 @@ import copy
 import numpy as np
 
 from vhfit._nnls import nnls
-from vhfit.calibration._admissible import Admissible, admissible, angle_range, arcs, lsi
+from vhfit.calibration._admissible import (
+    Admissible,
+    admissible,
+    angle_range,
+    arcs,
+    defined,
+    lsi,
+)
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 
@@ -40,7 +47,8 @@ class Problem:
     """Model, targets and the weighted residuals whose norm is the objective (Eq. 20)."""
 
     def __init__(self, model: ViscoHyperelastic, curves, tau_b, bounds, g_inf_min,
-                 objective="rmsape", stability_range=None, user_bounds=()):
+                 objective="rmsape", stability_range=None, user_bounds=(),
+                 constrained: bool = True, grid_points: int | None = None):
         self.model = model
         self.hm = model.hyperelastic
         self.batch = model.batch(curves)
@@ -53,9 +61,15 @@ class Problem:
         self.tau_b = tau_b  # (N, 2) log10 τ
         self.bounds = bounds  # name -> (lo, hi) for hyperelastic constants and G
         self.g_inf_min = float(g_inf_min)
-        # the admissible set (Drucker-stable over this range, μ0 > 0); None: no check
+        # the admissible set (Drucker-stable over this range, μ0 > 0); None: no check.
+        # constrained=False: the range is stated (the final check), but no law of the
+        # bounds is stable there and the search is not confined to the admissible set
         self.stability_range = stability_range
-        self.adm = None if stability_range is None else Admissible(self.hm, stability_range)
+        self.constrained = bool(constrained)
+        # grid_points: stretches of the admissible grid per mode (None: its default)
+        self.adm = (None if stability_range is None or not constrained
+                    else Admissible(self.hm, stability_range,
+                                    *(() if grid_points is None else (grid_points,))))
         self.user_bounds = frozenset(user_bounds)  # names whose bounds the user gave
         self.coarse = False  # a search's coarser model (and fewer points of long records)
 
@@ -469,7 +483,9 @@ class SeparableSpace:
             A = cols[p].T
             if not np.all(np.isfinite(A)):
                 continue
-            G = rows[p][np.all(np.isfinite(rows[p]), axis=1)]
+            if not defined(rows[p:p + 1])[0]:
+                continue  # undefined within the stability range: not admissible
+            G = rows[p]
             # strictly inside the tangent inequalities, by a hair of the data's scale
             c0, *_ = np.linalg.lstsq(A, ys, rcond=None)
             h = np.concatenate([STRICT * np.linalg.norm(G, axis=1) * np.linalg.norm(c0),

@@ -18,11 +18,14 @@ from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
     bound_hit_headlines,
     bound_hits,
+    no_stable_headline,
     pinned_headlines,
     search_bounds,
+    stable_box,
     widen_bounds,
 )
 from vhfit.calibration._identify import DEFAULT_N_PRONY, viscous_evidence
+from vhfit.calibration._polish import polish
 from vhfit.calibration._report import finish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._scan import order_scan
@@ -49,6 +52,10 @@ from vhfit.modes import refusal_for
 from vhfit.tts import shift_to_reference
 
 __all__ = ["calibrate", "CalibrationError"]
+
+#: Stretches per mode of the final stability check (vhfit.stability.drucker's default):
+#: the admissible grid of a fit searched again where the search's grid missed a dip.
+CHECK_POINTS = 400
 
 
 def _as_curves(curves) -> list:
@@ -454,6 +461,12 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     given = bounds_for_terms(s.bounds, n_prony)
     user = set(given) if isinstance(given, dict) else set()
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user)
+    # a box without a stable law: widen the constant that limits stability (Jm, λm), or
+    # if none can, search the bounds as they are and say that the fit is unstable
+    auto, stable_widened, stable = stable_box(prob)
+    if stable_widened or not stable:
+        prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user,
+                       constrained=stable)
     found, x, err, nfev = _search_polish(prob, curves, s, n_prony, checkpoint, max_time, t0)
     hits = bound_hits(prob, x)
     widened: dict = {}
@@ -463,7 +476,8 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         widened = {k: [float(v) for v in wide[k]] for k in hits if k not in user}
         left = None if max_time is None else max_time - (time.perf_counter() - t0)
         if widened and (left is None or left > 0):
-            prob2 = Problem(model, curves, tau_b, wide, s.g_inf_min, s.objective, sr, user)
+            prob2 = Problem(model, curves, tau_b, wide, s.g_inf_min, s.objective, sr, user,
+                            constrained=stable)
             found2, x2, err2, nfev2 = _search_polish(
                 prob2, curves, s, n_prony, None if checkpoint is None else f"{checkpoint}.widened",
                 left, time.perf_counter())
@@ -471,9 +485,17 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
             if err2 <= err:
                 prob, found, x, err = prob2, found2, x2, err2
             hits = bound_hits(prob, x)
+    if stable:  # unstable between the search's grid stretches: again on the check's own
+        prob, x, err, n_fine = _on_check_grid(prob, curves, s, n_prony, x, err, max_time, t0)
+        nfev += n_fine
     heads = bound_hit_headlines(prob, x, hits, widened) + pinned_headlines(prob, x, hits)
+    if not stable:
+        heads.insert(0, no_stable_headline(prob))
+    notes = [f"no {model.hyperelastic.name} law of the automatic bounds is Drucker-stable "
+             f"over {sr[0]:.3g} <= λ <= {sr[1]:.3g}: widened {k} to ({v[0]:.6g}, {v[1]:.6g})"
+             for k, v in stable_widened.items()]
     free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
-            else None)
+            and stable else None)
     space = SPACES[s.method]
     return finish(prob, curves, model, x, err, found, nfev, s, dict(
         hyperelastic=model.hyperelastic.name, n_prony=n_prony,
@@ -482,8 +504,40 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
         rtol=s.rtol, stability_range=[float(v) for v in sr],
         **({"widened_bounds": widened} if widened else {}),
+        **({"widened_for_stability": stable_widened} if stable_widened else {}),
+        **({} if stable else {"no_stable_law": True}),
         **({"unconstrained_fit": free[0]} if free else {})),
-        headlines=heads, notes=[free[1]] if free else [])
+        headlines=heads, notes=notes + ([free[1]] if free else []))
+
+
+def _on_check_grid(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
+                   x: np.ndarray, err: float, max_time, t0):
+    """The fit again with the admissible set on the final check's stretches, where the
+    search's coarser grid let it be unstable between two of its stretches: without Prony
+    terms the linear constants solved again for the fit's nonlinear ones, then polished;
+    otherwise the search and polish again. Returns (prob, x, err, evaluations); the fit
+    as it was where the check already passes (or the second one finds nothing finite)."""
+    from vhfit.stability import drucker
+
+    nh = prob.hm.n_params
+    if drucker(prob.hm, x[:nh], prob.stability_range, principal=True).stable:
+        return prob, x, err, 0
+    fine = Problem(prob.model, curves, prob.tau_b, prob.bounds, prob.g_inf_min,
+                   prob.objective_spec, prob.stability_range, prob.user_bounds,
+                   grid_points=CHECK_POINTS)
+    if n_prony == 0 and prob.hm.linear_index:
+        X, e = SPACES["separable"](fine).solve_constants(x[None, :nh])
+        if not np.isfinite(e[0]):
+            return prob, x, err, 1
+        x1, e1, n = polish(fine, X[0]) if settings.polish else (X[0], float(e[0]), 0)
+        return fine, x1, float(e1), n + 1
+    left = None if max_time is None else max_time - (time.perf_counter() - t0)
+    try:
+        _, x1, e1, n = _search_polish(fine, curves, settings, n_prony, None, left,
+                                      time.perf_counter())
+    except CalibrationError:
+        return prob, x, err, 0
+    return fine, x1, e1, n
 
 
 def stability_range_of(settings: CalibrationSettings, curves) -> tuple[float, float]:
@@ -506,7 +560,7 @@ def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
     e_u = float(e[0])
     if not (np.isfinite(e_u) and e_u < err * (1 - 1e-6)):
         return None
-    rep = drucker(prob.hm, c[0], prob.stability_range)
+    rep = drucker(prob.hm, c[0], prob.stability_range, principal=True)
     if rep.stable:
         return None
     params = {n: float(v) for n, v in zip(prob.hm.param_names, c[0])}

@@ -427,6 +427,12 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         return EXIT_FAILED
     for f in out.glob(CHECKPOINT + "*"):  # finished: nothing left to resume
         f.unlink()
+    unstable = [c for c in fits.values() if c.stability is not None and not c.stability.stable]
+    if unstable:  # written, but not a law to use: the run failed
+        print(f"vhfit: error: no Drucker-stable law was found ({unstable[0].stability.describe()}"
+              "); give a narrower --stability-range, wider --bounds or another --model",
+              file=sys.stderr)
+        return EXIT_FAILED
     return EXIT_OK
 
 

@@ -144,6 +144,8 @@ def verdict_html(cal, status: str, check: dict, card_warnings: list[str],
     warns = important_warnings(cal, card_warnings)
     if warns and cls == "good":  # a good error with a warning that matters is not green
         cls = "fair"
+    if cal.stability is not None and not cal.stability.stable:
+        cls = "bad"  # an unstable law is no result to use, whatever its error
     parts = [f'<div class="verdict {cls}" id="verdict">',
              f'<p class="headline">{esc(headline(cal, status))}</p>',
              f"<p>{esc(cal.model.hyperelastic.name)} + {cal.n_prony} Prony term(s), "
