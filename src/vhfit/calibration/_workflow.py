@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from vhfit._blas import one_blas_thread
-from vhfit.calibration import _spectrum
+from vhfit.calibration import _nesting, _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
     bound_hit_headlines,
@@ -452,7 +452,10 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     given = bounds_for_terms(s.bounds, n_prony)
     user = set(given) if isinstance(given, dict) else set()
     prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user)
-    found, x, err, nfev = _search_polish(prob, curves, s, n_prony, checkpoint, max_time, t0)
+    # the fits of the laws this one contains: seeds of its search, and a floor of its error
+    nested = _nesting.nested_fits(curves, s, n_prony, _calibrate_n)
+    found, x, err, nfev, kept = _search_polish(prob, curves, s, n_prony, checkpoint,
+                                               max_time, t0, nested)
     hits = bound_hits(prob, x)
     widened: dict = {}
     # a fit already at the target needs no wider search; a cut one has no time for it
@@ -462,26 +465,30 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         left = None if max_time is None else max_time - (time.perf_counter() - t0)
         if widened and (left is None or left > 0):
             prob2 = Problem(model, curves, tau_b, wide, s.g_inf_min, s.objective, sr, user)
-            found2, x2, err2, nfev2 = _search_polish(
+            found2, x2, err2, nfev2, kept2 = _search_polish(
                 prob2, curves, s, n_prony, None if checkpoint is None else f"{checkpoint}.widened",
                 left, time.perf_counter())
             nfev += nfev2
             if err2 <= err:
-                prob, found, x, err = prob2, found2, x2, err2
+                prob, found, x, err, kept = prob2, found2, x2, err2, kept2
             hits = bound_hits(prob, x)
     heads = bound_hit_headlines(prob, x, hits, widened) + pinned_headlines(prob, x, hits)
     free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
             else None)
     space = SPACES[s.method]
-    return finish(prob, curves, model, x, err, found, nfev, s, dict(
+    nest = ({"nested": {n.law: n.rmsape for n in nested},
+             "nested_kept": kept or "search"} if nested else {})
+    cal = finish(prob, curves, model, x, err, found, nfev, s, dict(
         hyperelastic=model.hyperelastic.name, n_prony=n_prony,
         tau_strategy=str(s.tau_strategy), objective=prob.objective.kind, method=s.method,
         seed=s.seed, popsize=s.popsize or space.popsize, maxiter=s.maxiter or space.maxiter,
         tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
         rtol=s.rtol, stability_range=[float(v) for v in sr],
-        **({"widened_bounds": widened} if widened else {}),
+        **({"widened_bounds": widened} if widened else {}), **nest,
         **({"unconstrained_fit": free[0]} if free else {})),
         headlines=heads, notes=[free[1]] if free else [])
+    _nesting.remember(curves, s, n_prony, cal)  # the seed of a later fit that contains it
+    return cal
 
 
 def stability_range_of(settings: CalibrationSettings, curves) -> tuple[float, float]:
@@ -518,8 +525,11 @@ def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
 
 
 def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
-                   checkpoint, max_time, t0):
-    """The global search over the method's space, then the polish: (found, x, err, nfev)."""
+                   checkpoint, max_time, t0, nested=()):
+    """The global search over the method's space, then the polish: (found, x, err, nfev,
+    kept). ``nested``: the fits of contained laws (:mod:`._nesting`), members of the
+    first population; the result is the lowest of them where the search's is higher
+    (``kept``: that law's name, else None)."""
     space = SPACES[settings.method](prob)
     short = search_problem(prob, curves) if settings.method == "separable" else prob
     searched = space if short is prob else SPACES[settings.method](short)  # coarser
@@ -527,8 +537,11 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     # (not over a start population of the caller's own, e.g. a first fit's)
     x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
         curves, searched, settings, n_prony)
+    # the nested fits enter the first population where they beat the draw
+    seeds = _nesting.seed_rows(searched, list(nested)) or None
     found = run_search(searched, settings, n_prony=n_prony, checkpoint=checkpoint,
-                       max_time=max_time, t0=t0, x0=x0, full=None if short is prob else prob)
+                       max_time=max_time, t0=t0, x0=x0, full=None if short is prob else prob,
+                       seeds=seeds)
     x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err) and found.polished is not None:
@@ -550,7 +563,11 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     elif settings.polish and found.stop != "interrupted":
         x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
-    return found, x, err, nfev
+    kept = None
+    if nested and found.stop != "interrupted":
+        x, err, kept = _nesting.accept_if_lower(prob, space, list(nested), x, err,
+                                                settings.polish)
+    return found, x, err, nfev, kept
 
 
 def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
