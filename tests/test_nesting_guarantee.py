@@ -187,9 +187,24 @@ def test_the_order_scan_is_no_worse_at_each_n_than_the_contained_laws():
     curves = _nh_curves(noise=0.03, seed=5, rates=(0.01, 0.1, 1.0))
     kw = dict(n_prony="auto", max_prony=2, popsize=12, maxiter=20, scan_workers=1)
     small = {r["n_prony"]: r["rmsape"] for r in _fit(curves, "neo_hooke", **kw).order_scan}
-    big = {r["n_prony"]: r["rmsape"] for r in _fit(curves, "yeoh", **kw).order_scan}
+    cal = _fit(curves, "yeoh", **kw)
+    big = {r["n_prony"]: r["rmsape"] for r in cal.order_scan}
     for n in set(small) & set(big):
         assert big[n] <= small[n] * (1 + TOL)
+    # the chosen N was floored by neo-Hooke's fit at that N (not at another one)
+    chosen = cal.options["n_prony_chosen"]
+    assert cal.options["nested"]["neo_hooke"] == pytest.approx(small[chosen], rel=1e-12)
+
+
+def test_the_contained_fit_is_a_member_of_the_first_population():
+    # the all-parameter search compares the calibration's own problem: its first
+    # generation's best is at most the seed's error, the contained law's fit
+    curves = _nh_curves(noise=0.05, seed=3)
+    kw = dict(n_prony=1, method="full", popsize=8, maxiter=3, polish=False)
+    e_small = _fit(curves, "neo_hooke", **kw).rmsape
+    seen = []
+    _fit(curves, "mooney_rivlin", callback=lambda d: seen.append(d["best"]), **kw)
+    assert seen[0] <= e_small * (1 + 1e-9)
 
 
 def test_user_bounds_on_the_laws_own_constants_leave_the_fit_unseeded():
@@ -235,8 +250,11 @@ def test_a_seed_better_than_the_draw_replaces_its_highest_member():
 
 
 def test_a_seed_no_better_than_the_draw_changes_nothing():
-    plain, seeded = _solver(), _solver([[-1.0, -1.0]])
+    plain = _solver()
     plain._vh_initial()
+    # a seed in the middle of the draw: better than its highest member, not its lowest
+    mid = int(np.argsort(plain.population_energies)[4])
+    seeded = _solver([plain._scale_parameters(plain.population[mid])])
     seeded._vh_initial()
     np.testing.assert_array_equal(seeded.population, plain.population)
     np.testing.assert_array_equal(seeded.population_energies, plain.population_energies)

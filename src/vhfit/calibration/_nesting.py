@@ -43,7 +43,7 @@ _CACHE: OrderedDict = OrderedDict()
 #: those of the checkpoint and the user's callback, which a seeding fit runs without).
 _NOT_THE_FIT = {"hyperelastic", "n_prony", "max_prony", "order_tol", "callback",
                 "checkpoint", "checkpoint_every", "resume", "workers", "scan_workers",
-                "check_rates"}
+                "check_rates", "uncertainty"}
 
 
 @dataclass(frozen=True)
@@ -69,7 +69,9 @@ def _settings_for(settings: CalibrationSettings, smaller: str) -> CalibrationSet
         return None
     if isinstance(s.bounds, dict) and set(s.bounds) & set(law.param_names):
         return None
-    return replace(s, hyperelastic=smaller, callback=None, checkpoint=None, resume=False)
+    # (no intervals: the seed needs the constants only)
+    return replace(s, hyperelastic=smaller, callback=None, checkpoint=None, resume=False,
+                   uncertainty=False)
 
 
 def _key(curves, settings: CalibrationSettings, n_prony: int):
@@ -107,6 +109,12 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
         Empty for a law that contains none, or settings the guarantee does not cover.
     """
     law = get_law(settings.hyperelastic)
+    if (settings.method == "separable" and n_prony == 0
+            and len(law.linear_params) == law.n_params):
+        # no search at all: least squares under the stability inequalities solves every
+        # constant, a convex problem whose optimum is no higher than any stable point of
+        # the law, the contained laws' fits among them
+        return []
     out = []
     for smaller, _ in law.contains:
         s2 = _settings_for(settings, smaller)
