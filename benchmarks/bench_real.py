@@ -60,6 +60,19 @@ Per dataset (the table in ``DATASETS`` below, with the reason for each choice):
   best of all (1.000000 means doubling the starts did not improve it).
 
 Goals (issue 22): ratio ≤ 1.01 on every dataset; time ≤ 2 s per fit, median ≤ 1 s.
+
+``--nesting`` prints instead the nesting table: every dataset × every pair of registered
+laws one of which contains the other (``Hyperelastic.contains``: Yeoh ⊃ neo-Hooke,
+polynomial n ⊃ n − 1 ⊃ Mooney–Rivlin ⊃ neo-Hooke, reduced polynomial n ⊃ n − 1, Ogden
+n ⊃ n − 1, Ogden-1 ⊃ neo-Hooke; ``--laws`` restricts them) × N ∈ {1, 2, auto}, and
+each law's N = 2 against its N = 1 (N Prony terms ⊃ N − 1): the default fit's RMSAPE
+of both (``calibrate(seed=0)``, the dataset's reading options, ``uncertainty=False``)
+and a violation where err(bigger) > 1.02 err(contained) + 0.02 points (goal: none).
+A fit that fails is listed with its reason and not counted. The laws are fitted in
+the order of the pairs in one process, so a contained law's fit made for a pair
+serves the seeds of the others (docs/optimizer.md, "Nesting"); the wall time of each
+bigger fit is printed beside its error, and of each order scan with and without the
+seeding (``--scan-times``, fresh processes).
 """
 
 from __future__ import annotations
@@ -438,6 +451,11 @@ def main(argv=None) -> int:
                     help="seconds of multi-start per dataset (180; quick 20): no new start "
                          "after that (at least 4 are run)")
     ap.add_argument("--verbose", action="store_true", help="print every start's error")
+    ap.add_argument("--nesting", action="store_true",
+                    help="the nesting table (see the module) instead of the fits")
+    ap.add_argument("--laws", default=None,
+                    help="--nesting: comma list of laws; pairs of two of them only")
+    ap.add_argument("--prony", default="1,2,auto", help="--nesting: the N (comma list)")
     a = ap.parse_args(argv)
     repeats = a.repeats or (1 if a.quick else 3)
     starts = a.starts if a.starts is not None else (4 if a.quick else 32)
@@ -446,6 +464,9 @@ def main(argv=None) -> int:
     if a.only:
         names = a.only.split(",")
         chosen = [d for d in DATASETS if d.name in names]
+    if a.nesting:
+        ns = [v if v == "auto" else int(v) for v in a.prony.split(",")]
+        return nesting_table(chosen, a.data, a.laws.split(",") if a.laws else None, ns)
     print(f"vhfit {vhfit.__version__}, {platform.processor() or platform.machine()}, "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}, speed probe "
           f"{speed_probe():.2f} s; data {a.data}; "
@@ -504,6 +525,80 @@ def main(argv=None) -> int:
               f"{len(rows)} datasets; load now {os.getloadavg()[0]:.1f}, speed probe "
               f"{speed_probe():.2f} s")
     return 0
+
+
+#: a violation of nesting: err(bigger) > NEST_REL err(contained) + NEST_ABS (points)
+NEST_REL, NEST_ABS = 1.02, 0.02
+
+
+def nesting_pairs(laws=None) -> list[tuple[str, str]]:
+    """(bigger, contained) of the registry, the smaller laws first."""
+    from vhfit.hyperelastic import available, get
+
+    pairs = [(big, small) for big in available() for small, _ in get(big).contains
+             if laws is None or (big in laws and small in laws)]
+    depth = {}
+
+    def level(name):
+        if name not in depth:
+            held = [s for s, _ in get(name).contains]
+            depth[name] = 1 + max((level(s) for s in held), default=0)
+        return depth[name]
+
+    return sorted(pairs, key=lambda p: (level(p[0]), p))
+
+
+def nesting_table(chosen, root: Path, laws=None, ns=(1, 2, "auto")) -> int:
+    """Print the nesting table (see the module); the number of violations."""
+    pairs = nesting_pairs(laws)
+    names = sorted({n for p in pairs for n in p}, key=lambda n: [p[0] for p in pairs]
+                   .index(n) if n in [p[0] for p in pairs] else -1)
+    print(f"nesting: {len(pairs)} law pairs x N in {ns}; violation: err(bigger) > "
+          f"{NEST_REL} err(contained) + {NEST_ABS} points")
+    rows, failed, total = [], [], 0.0
+    for ds in chosen:
+        if not all((root / ds.folder / f).is_file() for f in ds.files):
+            print(f"{ds.name}: skipped, files not found under {root / ds.folder}")
+            continue
+        curves = read(ds, root)
+        extra = {k: v for k, v in ds.fit.items() if k != "n_prony"}
+        fits: dict = {}
+
+        def fit(law, n, fits=fits, curves=curves, extra=extra):
+            if (law, n) not in fits:
+                t = time.perf_counter()
+                try:
+                    with warnings.catch_warnings():
+                        warnings.simplefilter("ignore")
+                        cal = vhfit.calibrate(curves, hyperelastic=law, n_prony=n, seed=0,
+                                              uncertainty=False, **extra)
+                    fits[law, n] = (cal.rmsape, time.perf_counter() - t, "")
+                except Exception as exc:  # a law that cannot fit these data: listed
+                    fits[law, n] = (math.nan, time.perf_counter() - t,
+                                    f"{type(exc).__name__}: {str(exc)[:90]}")
+            return fits[law, n]
+
+        t_ds = time.perf_counter()
+        checks = [(big, n, small, n) for n in ns for big, small in pairs]
+        checks += [(law, 2, law, 1) for law in names if 1 in ns and 2 in ns]
+        for big, nb, small, nsm in checks:
+            e_s, _, why_s = fit(small, nsm)
+            e_b, t_b, why_b = fit(big, nb)
+            if why_s or why_b:
+                failed.append((ds.name, big, nb, small, nsm, why_b or why_s))
+                continue
+            bad = e_b > NEST_REL * e_s + NEST_ABS
+            rows.append((ds.name, f"{big} N={nb}", f"{small} N={nsm}", e_b, e_s, t_b, bad))
+            print(f"| {ds.name} | {big} N={nb} | {small} N={nsm} | {e_b:.4g} | {e_s:.4g} | "
+                  f"{t_b:.2f} | {'VIOLATION' if bad else 'ok'} |", flush=True)
+        total += time.perf_counter() - t_ds
+        print(f"{ds.name}: {len(fits)} fits in {time.perf_counter() - t_ds:.0f} s", flush=True)
+    for f in failed:
+        print(f"not fitted: {f[0]} {f[1]} N={f[2]} / {f[3]} N={f[4]}: {f[5]}")
+    bad = [r for r in rows if r[-1]]
+    print(f"\nnesting: {len(bad)} violation(s) in {len(rows)} checks over "
+          f"{len({r[0] for r in rows})} datasets ({len(failed)} not fitted), {total:.0f} s")
+    return len(bad)
 
 
 def speed_probe() -> float:

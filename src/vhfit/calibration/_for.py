@@ -15,7 +15,6 @@ in the other formulation (:func:`same_fit`: no search).
 
 from __future__ import annotations
 
-import math
 import time
 import warnings
 from collections.abc import Iterable, Sequence
@@ -34,7 +33,7 @@ from vhfit.calibration._settings import (
     CalibrationSettings,
     bounds_for_terms,
 )
-from vhfit.calibration._space import SPACES, Problem
+from vhfit.calibration._space import SPACES, Problem, search_vector
 from vhfit.calibration._workflow import (
     DEFAULT_DECADES_ABOVE,
     DEFAULT_DECADES_BELOW,
@@ -133,38 +132,6 @@ def _is_record(s) -> bool:
         return isinstance(s.name, str) and isinstance(s.formulation, str)
     except AttributeError:
         return False
-
-
-def _search_vector(space, x: np.ndarray) -> np.ndarray:
-    """The search vector of ``space`` whose parameters are the full vector ``x`` (τ for
-    Prony terms that ``x`` lacks: the middle of their range)."""
-    prob, nh = space.prob, space.prob.hm.n_params
-    n = prob.model.n_prony
-    logtau = np.mean(prob.tau_b, axis=1)
-    g = np.zeros(n)
-    free = list(range(n))
-    for gi, t in zip(x[nh::2], np.log10(x[nh + 1::2])):  # a pruned fit has fewer terms:
-        if not free:  # each goes to the slot whose τ range holds it, else the nearest
-            break
-        lo, hi = prob.tau_b[free, 0], prob.tau_b[free, 1]
-        i = free[int(np.argmin(np.maximum(lo - t, 0) + np.maximum(t - hi, 0)))]
-        free.remove(i)
-        logtau[i], g[i] = t, gi
-    if space.method == "full":
-        z = np.empty(nh + 2 * n)
-        z[:nh], z[nh::2], z[nh + 1::2] = x[:nh], g, logtau
-        return z
-    amp = [x[k] for k in space.amp]
-    z = []
-    if space.angle:  # the direction of the two linear constants, turned onto the arc
-        th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
-        th += 2 * math.pi * round((mid - th) / (2 * math.pi))
-        z.append(float(space.places(th, x[:nh])[0]) if space.on_arc else th)
-    elif space.redundant:
-        z += list(space.shape_coords(np.asarray(amp)))
-    z += [x[k] for k in space.other]
-    z += [logtau[i] for i in space.free_tau]
-    return np.asarray(z, dtype=np.float64)
 
 
 def _in_law(first: Calibration, hm) -> np.ndarray | None:
@@ -285,7 +252,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     if not len(b):
         return chosen
     lo, hi = b[:, 0], b[:, 1]
-    z0 = np.clip(_search_vector(space, x_first), lo, hi)
+    z0 = np.clip(search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
     tol = float(kwargs.get("tol", DEFAULT_TOL))
     if method == "full" and tol == DEFAULT_TOL:

@@ -294,7 +294,7 @@ def _history(solver, setup: float = 0.0) -> dict:
 
 
 def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | None,
-               t0: float, x0: np.ndarray | None = None, full=None) -> Search:
+               t0: float, x0: np.ndarray | None = None, full=None, seeds=None) -> Search:
     """Differential evolution over ``space`` until a stopping criterion is met.
 
     ``settings`` (a :class:`CalibrationSettings`) gives the search's seed, population,
@@ -302,7 +302,9 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     ``checkpoint`` and ``max_time`` are this search's own (one of a scan over N). With
     ``settings.polish`` a polish follows the search, which may then stop as soon as a
     polish of its best member reaches the target (:class:`_EarlyFinish`). ``x0``, a
-    search vector inside the bounds, replaces the first member of the first population.
+    search vector inside the bounds, replaces the first member of the first population;
+    ``seeds`` (k, d), search vectors inside the bounds, each replace the highest member
+    where they are lower than every member drawn (the fits of contained laws).
     ``full``: the :class:`Problem` on every point at the calibration's accuracy when
     ``space`` compares the coarser one (:func:`search_problem`), where a polish that
     reaches the coarser problem's floor checks the target.
@@ -328,7 +330,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
         track.finish = _EarlyFinish(space, target, tol, full)
     with worker_map(workers) as (mapper, chunks):
         objective = _Objective(space, mapper, chunks)
-        solver = new_solver(space, s, objective, track, crits, x0=x0)
+        solver = new_solver(space, s, objective, track, crits, x0=x0, seeds=seeds)
         b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
         first = b[:, 0] + solver.population * (b[:, 1] - b[:, 0])  # (before any resume)
         with solver:
@@ -372,10 +374,11 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
                   polished)
 
 
-def new_solver(space, settings, objective, callback=None, stop=None, x0=None):
+def new_solver(space, settings, objective, callback=None, stop=None, x0=None, seeds=None):
     """The search's :class:`vhfit.optimize.DifferentialEvolutionSolver` over ``space``
     (its population, generations, seed and solver options from ``settings``; ``x0``, if
-    given, the first member of its first population), before any generation: the one a
+    given, the first member of its first population; ``seeds`` (k, d), members where
+    they are lower than every member drawn), before any generation: the one a
     checkpoint of this search is resumed into."""
     from vhfit.optimize import DifferentialEvolutionSolver
 
@@ -389,8 +392,8 @@ def new_solver(space, settings, objective, callback=None, stop=None, x0=None):
             objective, space.bounds(), maxiter=s.maxiter or space.maxiter,
             population_size=s.popsize or space.popsize, tol=0.0, atol=0.0,
             rng=np.random.default_rng(s.seed), polish=False, callback=callback,
-            vectorized=opts["updating"] == "deferred", stop=stop, history=True, x0=x0,
-            **opts)
+            vectorized=opts["updating"] == "deferred", stop=stop, history=True,
+            x0=x0, seeds=seeds, **opts)
 
 
 def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:

@@ -20,6 +20,7 @@ of their differential evolution (``popsize``, ``maxiter``, ``de_options``):
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
@@ -35,7 +36,7 @@ from vhfit.calibration._admissible import (
 from vhfit.model import ViscoHyperelastic
 from vhfit.objective import Objective
 
-__all__ = ["Problem", "SeparableSpace", "FullSpace", "SPACES", "STRICT"]
+__all__ = ["Problem", "SeparableSpace", "FullSpace", "SPACES", "STRICT", "search_vector"]
 
 #: Relative margin by which the exact solve of the linear constants keeps each Drucker
 #: inequality strict (the tangent at least this fraction of its row's norm times the
@@ -632,3 +633,39 @@ class FullSpace:
 
 
 SPACES = {"separable": SeparableSpace, "full": FullSpace}
+
+
+def search_vector(space, x: np.ndarray) -> np.ndarray:
+    """The search vector of ``space`` whose parameters are the full vector ``x`` (τ for
+    Prony terms that ``x`` lacks: the middle of their range, with a zero modulus).
+
+    A fit with fewer Prony terms (pruned, or of N − 1 terms) is a point of the space of
+    N terms: each of its terms goes to the slot whose τ range holds it, else the nearest.
+    """
+    prob, nh = space.prob, space.prob.hm.n_params
+    n = prob.model.n_prony
+    logtau = np.mean(prob.tau_b, axis=1)
+    g = np.zeros(n)
+    free = list(range(n))
+    for gi, t in zip(x[nh::2], np.log10(x[nh + 1::2])):  # a pruned fit has fewer terms:
+        if not free:  # each goes to the slot whose τ range holds it, else the nearest
+            break
+        lo, hi = prob.tau_b[free, 0], prob.tau_b[free, 1]
+        i = free[int(np.argmin(np.maximum(lo - t, 0) + np.maximum(t - hi, 0)))]
+        free.remove(i)
+        logtau[i], g[i] = t, gi
+    if space.method == "full":
+        z = np.empty(nh + 2 * n)
+        z[:nh], z[nh::2], z[nh + 1::2] = x[:nh], g, logtau
+        return z
+    amp = [x[k] for k in space.amp]
+    z = []
+    if space.angle:  # the direction of the two linear constants, turned onto the arc
+        th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
+        th += 2 * math.pi * round((mid - th) / (2 * math.pi))
+        z.append(float(space.places(th, x[:nh])[0]) if space.on_arc else th)
+    elif space.redundant:
+        z += list(space.shape_coords(np.asarray(amp)))
+    z += [x[k] for k in space.other]
+    z += [logtau[i] for i in space.free_tau]
+    return np.asarray(z, dtype=np.float64)

@@ -13,7 +13,7 @@ import numpy as np
 
 from vhfit._blas import one_blas_thread
 from vhfit._words import in_python, setting, worded
-from vhfit.calibration import _spectrum
+from vhfit.calibration import _nesting, _spectrum
 from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import (
     bound_hit_headlines,
@@ -467,7 +467,10 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     if stable_widened or not stable:
         prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user,
                        constrained=stable)
-    found, x, err, nfev = _search_polish(prob, curves, s, n_prony, checkpoint, max_time, t0)
+    # the fits of the laws this one contains: seeds of its search, and a floor of its error
+    nested = _nesting.nested_fits(curves, s, n_prony, _calibrate_n)
+    found, x, err, nfev, kept = _search_polish(prob, curves, s, n_prony, checkpoint,
+                                               max_time, t0, nested)
     hits = bound_hits(prob, x)
     widened: dict = {}
     # a fit already at the target needs no wider search; a cut one has no time for it
@@ -478,12 +481,12 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         if widened and (left is None or left > 0):
             prob2 = Problem(model, curves, tau_b, wide, s.g_inf_min, s.objective, sr, user,
                             constrained=stable)
-            found2, x2, err2, nfev2 = _search_polish(
+            found2, x2, err2, nfev2, kept2 = _search_polish(
                 prob2, curves, s, n_prony, None if checkpoint is None else f"{checkpoint}.widened",
                 left, time.perf_counter())
             nfev += nfev2
             if err2 <= err:
-                prob, found, x, err = prob2, found2, x2, err2
+                prob, found, x, err, kept = prob2, found2, x2, err2, kept2
             hits = bound_hits(prob, x)
     if stable:  # unstable between the search's grid stretches: again on the check's own
         prob, x, err, n_fine = _on_check_grid(prob, curves, s, n_prony, x, err, max_time, t0)
@@ -497,17 +500,21 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
             and stable else None)
     space = SPACES[s.method]
-    return finish(prob, curves, model, x, err, found, nfev, s, dict(
+    nest = ({"nested": {n.law: n.rmsape for n in nested},
+             "nested_kept": kept or "search"} if nested else {})
+    cal = finish(prob, curves, model, x, err, found, nfev, s, dict(
         hyperelastic=model.hyperelastic.name, n_prony=n_prony,
         tau_strategy=str(s.tau_strategy), objective=prob.objective.kind, method=s.method,
         seed=s.seed, popsize=s.popsize or space.popsize, maxiter=s.maxiter or space.maxiter,
         tol=s.effective_tol, target=s.target, polish=s.polish, g_inf_min=s.g_inf_min,
         rtol=s.rtol, stability_range=[float(v) for v in sr],
-        **({"widened_bounds": widened} if widened else {}),
+        **({"widened_bounds": widened} if widened else {}), **nest,
         **({"widened_for_stability": stable_widened} if stable_widened else {}),
         **({} if stable else {"no_stable_law": True}),
         **({"unconstrained_fit": free[0]} if free else {})),
         headlines=heads, notes=notes + ([free[1]] if free else []))
+    _nesting.remember(curves, s, n_prony, cal)  # the seed of a later fit that contains it
+    return cal
 
 
 def _on_check_grid(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
@@ -533,8 +540,8 @@ def _on_check_grid(prob: Problem, curves, settings: CalibrationSettings, n_prony
         return fine, x1, float(e1), n + 1
     left = None if max_time is None else max_time - (time.perf_counter() - t0)
     try:
-        _, x1, e1, n = _search_polish(fine, curves, settings, n_prony, None, left,
-                                      time.perf_counter())
+        _, x1, e1, n, _ = _search_polish(fine, curves, settings, n_prony, None, left,
+                                         time.perf_counter())
     except CalibrationError:
         return prob, x, err, 0
     return fine, x1, e1, n
@@ -574,8 +581,11 @@ def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
 
 
 def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
-                   checkpoint, max_time, t0):
-    """The global search over the method's space, then the polish: (found, x, err, nfev)."""
+                   checkpoint, max_time, t0, nested=()):
+    """The global search over the method's space, then the polish: (found, x, err, nfev,
+    kept). ``nested``: the fits of contained laws (:mod:`._nesting`), members of the
+    first population; the result is the lowest of them where the search's is higher
+    (``kept``: that law's name, else None)."""
     space = SPACES[settings.method](prob)
     short = search_problem(prob, curves) if settings.method == "separable" else prob
     searched = space if short is prob else SPACES[settings.method](short)  # coarser
@@ -583,8 +593,11 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     # (not over a start population of the caller's own, e.g. a first fit's)
     x0 = None if "init" in (settings.de_options or {}) else _spectrum.seed_from_moduli(
         curves, searched, settings, n_prony)
+    # the nested fits enter the first population where they beat the draw
+    seeds = _nesting.seed_rows(searched, list(nested)) or None
     found = run_search(searched, settings, n_prony=n_prony, checkpoint=checkpoint,
-                       max_time=max_time, t0=t0, x0=x0, full=None if short is prob else prob)
+                       max_time=max_time, t0=t0, x0=x0, full=None if short is prob else prob,
+                       seeds=seeds)
     x = space.to_params(found.z)  # the linear constants solved on every point
     err = float(prob.errors(x[None, :])[0])
     if not np.isfinite(err) and found.polished is not None:
@@ -606,7 +619,11 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     elif settings.polish and found.stop != "interrupted":
         x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
-    return found, x, err, nfev
+    kept = None
+    if nested and found.stop != "interrupted":
+        x, err, kept = _nesting.accept_if_lower(prob, space, list(nested), x, err,
+                                                settings.polish)
+    return found, x, err, nfev, kept
 
 
 def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:

@@ -14,12 +14,22 @@ _POS = (0.0, math.inf)
 _FREE = (-math.inf, math.inf)
 
 
+def _same(smaller: str, *names: str) -> tuple[str, dict]:
+    """``contains=`` entry of a law that holds ``smaller``'s constants under their own
+    names (the others 0)."""
+    return smaller, {n: n for n in names}
+
+
+#: neo-Hooke inside any law with a C10 (I1 − 3) term
+_NEO = (_same("neo_hooke", "C10"),)
+
+
 def _mr_dW(I1, I2, C10, C01):
     return C10, C01
 
 
 @register("mooney_rivlin", bounds=(_FREE, _FREE), derivatives=_mr_dW, linear=True,
-          example=(0.1, 0.05))
+          example=(0.1, 0.05), contains=_NEO)
 def mooney_rivlin(I1, I2, C10, C01):
     """Mooney–Rivlin (paper Eq. 5, m = l = 1): W = C10 (I1 − 3) + C01 (I2 − 3)."""
     return C10 * (I1 - 3) + C01 * (I2 - 3)
@@ -38,13 +48,14 @@ def _yeoh_dW(I1, I2, C10, C20, C30):
 
 
 @register("yeoh", bounds=(_POS, _FREE, _FREE), derivatives=_yeoh_dW, linear=True,
-          example=(0.1, -0.01, 0.001))
+          example=(0.1, -0.01, 0.001), contains=_NEO)
 def yeoh(I1, I2, C10, C20, C30):
     """Yeoh: W = C10 (I1 − 3) + C20 (I1 − 3)² + C30 (I1 − 3)³."""
     return C10 * (I1 - 3) + C20 * (I1 - 3) ** 2 + C30 * (I1 - 3) ** 3
 
 
-@register("polynomial2", linear=True, example=(0.1, 0.05, 0.01, 0.0, 0.0))
+@register("polynomial2", linear=True, example=(0.1, 0.05, 0.01, 0.0, 0.0),
+          contains=(_same("mooney_rivlin", "C10", "C01"),))
 def polynomial2(I1, I2, C10, C01, C20, C11, C02):
     """Generalised polynomial of order 2: W = Σ_{i+j≤2} Cij (I1 − 3)^i (I2 − 3)^j."""
     x, y = I1 - 3, I2 - 3
@@ -52,7 +63,8 @@ def polynomial2(I1, I2, C10, C01, C20, C11, C02):
 
 
 @register("polynomial3", linear=True,
-          example=(0.1, 0.05, 0.01, 0.0, 0.0, 0.001, 0.0, 0.0, 0.0))
+          example=(0.1, 0.05, 0.01, 0.0, 0.0, 0.001, 0.0, 0.0, 0.0),
+          contains=(_same("polynomial2", "C10", "C01", "C20", "C11", "C02"),))
 def polynomial3(I1, I2, C10, C01, C20, C11, C02, C30, C21, C12, C03):
     """Generalised polynomial of order 3: W = Σ_{i+j≤3} Cij (I1 − 3)^i (I2 − 3)^j."""
     x, y = I1 - 3, I2 - 3
@@ -75,6 +87,18 @@ def _ogden_dW(l1, l2, l3, *pairs):
 
 
 _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
+# typical terms: a neo-Hooke-like main term, then small softening and stiffening ones
+# (μp > 0: each term is stable, docs/theory.md §2)
+_OGDEN_EXAMPLE = (0.1, 2.0, 0.01, -2.0, 0.001, 5.0, 0.0005, -4.0, 1e-4, 8.0, 5e-5, 1.0)
+
+
+def _ogden_less(n: int) -> tuple[tuple[str, dict]]:
+    """``contains=`` of the n-term Ogden law: the (n − 1)-term law, its last term idle
+    (μn = 0) at the example's αn, a value inside αn's search range (its stress is 0
+    whatever αn)."""
+    smaller = "ogden" if n == 2 else f"ogden{n - 1}"
+    names = [f"{c}{p}" for p in range(1, n) for c in ("mu", "alpha")]
+    return ((smaller, {**{n_: n_ for n_ in names}, f"alpha{n}": _OGDEN_EXAMPLE[2 * n - 1]}),)
 
 
 # the one-term law keeps the complex step for its uniaxial stress (its recorded
@@ -83,7 +107,8 @@ _OG = dict(units=("MPa", "1"), bounds=(_FREE, _FREE))
 
 
 @register("ogden", units=_OG["units"], bounds=_OG["bounds"], example=(0.1, 2.0),
-          mu0=lambda mu1, a1: mu1, linear_params=("mu1",), general_derivatives=_ogden_dW)
+          mu0=lambda mu1, a1: mu1, linear_params=("mu1",), general_derivatives=_ogden_dW,
+          contains=(("neo_hooke", {"mu1": lambda c: 2.0 * c["C10"], "alpha1": 2.0}),))
 def ogden(l1, l2, l3, mu1, alpha1):
     """Ogden, one term (2μ/α² form): W = 2μ1/α1² (λ1^α1 + λ2^α1 + λ3^α1 − 3); μ0 = μ1."""
     return _ogden_term(l1, l2, l3, mu1, alpha1)
@@ -92,7 +117,7 @@ def ogden(l1, l2, l3, mu1, alpha1):
 @register("ogden2", units=_OG["units"] * 2, bounds=_OG["bounds"] * 2,
           example=(0.1, 2.0, 0.01, -2.0), mu0=lambda m1, a1, m2, a2: m1 + m2,
           derivatives=_ogden_dW,
-          linear_params=("mu1", "mu2"), fewer="ogden", term=2)
+          linear_params=("mu1", "mu2"), fewer="ogden", term=2, contains=_ogden_less(2))
 def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
     """Ogden, two terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
     return _ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
@@ -102,7 +127,8 @@ def ogden2(l1, l2, l3, mu1, alpha1, mu2, alpha2):
           example=(0.1, 2.0, 0.01, -2.0, 0.001, 5.0),
           mu0=lambda m1, a1, m2, a2, m3, a3: m1 + m2 + m3,
           derivatives=_ogden_dW,
-          linear_params=("mu1", "mu2", "mu3"), fewer="ogden2", term=2)
+          linear_params=("mu1", "mu2", "mu3"), fewer="ogden2", term=2,
+          contains=_ogden_less(3))
 def ogden3(l1, l2, l3, mu1, alpha1, mu2, alpha2, mu3, alpha3):
     """Ogden, three terms: W = Σ_p 2μp/αp² (λ1^αp + λ2^αp + λ3^αp − 3)."""
     return (_ogden_term(l1, l2, l3, mu1, alpha1) + _ogden_term(l1, l2, l3, mu2, alpha2)
@@ -119,12 +145,8 @@ def _ogden(n: int) -> dict:
     return dict(units=_OG["units"] * n, bounds=_OG["bounds"] * n, derivatives=_ogden_dW,
                 example=_OGDEN_EXAMPLE[: 2 * n], mu0=lambda *c: sum(c[0::2]),
                 linear_params=tuple(f"mu{p}" for p in range(1, n + 1)),
-                fewer=f"ogden{n - 1}", term=2)
+                fewer=f"ogden{n - 1}", term=2, contains=_ogden_less(n))
 
-
-# typical terms: a neo-Hooke-like main term, then small softening and stiffening ones
-# (μp > 0: each term is stable, docs/theory.md §2)
-_OGDEN_EXAMPLE = (0.1, 2.0, 0.01, -2.0, 0.001, 5.0, 0.0005, -4.0, 1e-4, 8.0, 5e-5, 1.0)
 
 
 @register("ogden4", **_ogden(4))
@@ -159,7 +181,9 @@ def _rpoly(n: int) -> dict:
     """Registration options of the reduced polynomial of order n (N = n)."""
     return dict(bounds=(_POS,) + (_FREE,) * (n - 1), derivatives=_rpoly_dW, linear=True,
                 example=(0.1, 0.005, 5e-4, 5e-5, 5e-6, 5e-7)[:n],
-                fewer=f"reduced_polynomial{n - 1}" if n > 1 else None)
+                fewer=f"reduced_polynomial{n - 1}" if n > 1 else None,
+                contains=_NEO if n == 1 else (
+                    _same(f"reduced_polynomial{n - 1}", *(f"C{i}0" for i in range(1, n))),))
 
 
 @register("reduced_polynomial1", **_rpoly(1))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import inspect
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -88,6 +88,13 @@ class Hyperelastic:
         The law has a volumetric part and can deform at J ≠ 1. False for every built-in
         law (they are incompressible): tests that change the volume, such as confined
         compression, are refused for them (:func:`vhfit.modes.refusal_for`).
+    contains : tuple of (str, dict)
+        The registered laws this one contains, each with the map of its constants into
+        this law's (:meth:`embed`): ``("neo_hooke", {"C10": "C10"})`` for Yeoh. Each
+        value is the smaller law's constant of that name, a number, or a callable of
+        the smaller law's constants (a dict); this law's constants the map leaves out
+        are 0. A calibration seeds its search with the contained laws' fits
+        (docs/optimizer.md, "Nesting").
     """
 
     name: str
@@ -106,6 +113,7 @@ class Hyperelastic:
     term: int = 0
     compressible: bool = False
     general_derivatives: Callable | None = None
+    contains: tuple[tuple[str, Mapping[str, Any]], ...] = ()
 
     @property
     def n_params(self) -> int:
@@ -229,6 +237,56 @@ class Hyperelastic:
                 )
         return p
 
+    def embed(self, smaller: str | Hyperelastic, params) -> np.ndarray:
+        """The constants of this law that give the stress of ``smaller`` at ``params``.
+
+        Parameters
+        ----------
+        smaller : str or Hyperelastic
+            A law this one contains (:attr:`contains`).
+        params : array_like, shape (n,), or dict
+            The smaller law's constants (in its ``param_names`` order, or by name).
+
+        Returns
+        -------
+        ndarray, shape (n_params,)
+
+        Raises
+        ------
+        ValueError
+            ``smaller`` is not a law this one contains, or ``params`` do not fit it.
+
+        Examples
+        --------
+        >>> get("ogden").embed("neo_hooke", [0.25]).tolist()   # μ1 = 2 C10, α1 = 2
+        [0.5, 2.0]
+        >>> get("yeoh").embed("neo_hooke", {"C10": 0.1}).tolist()
+        [0.1, 0.0, 0.0]
+        """
+        small = get(smaller)
+        mapping = dict(self.contains).get(small.name)
+        if mapping is None:
+            held = ", ".join(name for name, _ in self.contains) or "none"
+            raise ValueError(f"{self.name!r} does not contain {small.name!r} "
+                             f"(it contains: {held})")
+        if isinstance(params, Mapping):
+            missing = [n for n in small.param_names if n not in params]
+            if missing:
+                raise ValueError(f"{small.name!r} constants {missing} are missing")
+            c = {n: float(params[n]) for n in small.param_names}
+        else:
+            p = np.asarray(params, dtype=np.float64).reshape(-1)
+            if p.size != small.n_params:
+                raise ValueError(f"model {small.name!r} takes {small.n_params} constants "
+                                 f"{list(small.param_names)}, got {p.size}")
+            c = dict(zip(small.param_names, p.tolist()))
+        out = np.zeros(self.n_params)
+        for name, value in mapping.items():
+            k = self.param_names.index(name)
+            out[k] = (c[value] if isinstance(value, str) else
+                      float(value(c)) if callable(value) else float(value))
+        return out
+
     def basis(self, stretch) -> np.ndarray:
         """For a linear model, the stresses of unit constants: σ_h = params @ basis.
 
@@ -278,6 +336,7 @@ def register(
     fewer: str | None = None,
     term: int = 0,
     general_derivatives: Callable | None = None,
+    contains: Sequence[tuple[str, Mapping[str, Any]]] = (),
 ) -> Callable[[Callable], Callable]:
     """Register a strain energy W by name (decorator).
 
@@ -313,6 +372,12 @@ def register(
     general_derivatives : callable, optional
         A stretch model's closed form (λa ∂W/∂λa) for the tests other than uniaxial
         only, when ``derivatives`` is not given (see :class:`Hyperelastic`).
+    contains : sequence of (str, dict)
+        The laws this one contains, each with the map of its constants into this
+        law's: ``{name of this law's constant: the smaller law's constant's name, a
+        number, or a callable of the smaller law's constants (a dict)}``, the constants
+        left out 0 (:meth:`Hyperelastic.embed`). The calibration's search of this law
+        starts from their fits and never ends worse than them.
 
     Returns
     -------
@@ -359,12 +424,14 @@ def register(
             raise ValueError(f"{name!r}: term = {term!r} must divide its {n} constants into "
                              "two or more like terms, and fewer= must name the law with one "
                              "term less")
+        held = _contains(name, params, contains)
         model = Hyperelastic(
             name=name, param_names=params, units=u, bounds=b, kind=kind, energy=fn,
             derivatives=derivatives, example=ex,
             linear=bool(linear) or (linear_params is not None and lp == params),
             mu0=mu0, doc=inspect.getdoc(fn) or "", linear_params=lp,
             fewer=fewer, term=int(term), general_derivatives=general_derivatives,
+            contains=held,
         )
         declared = bool(linear) or linear_params is not None
         if name not in _UNCHECKED and not _validate(model, strict=example is not None,
@@ -418,6 +485,30 @@ def register_builtin(name: str, **kwargs: Any) -> Callable[[Callable], Callable]
             _UNCHECKED.discard(name)
 
     return decorator
+
+
+def _contains(name, params, contains) -> tuple[tuple[str, dict], ...]:
+    """The ``contains`` declaration checked: (law name, {constant of this law: value})
+    pairs, each key one of ``params`` (the smaller laws may be registered later)."""
+    out = []
+    for entry in contains or ():
+        try:
+            smaller, mapping = entry
+            mapping = dict(mapping)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name!r}: contains= takes (law name, {{constant: value}}) "
+                             f"pairs, got {entry!r}") from None
+        bad = [k for k in mapping if k not in params]
+        if not isinstance(smaller, str) or smaller == name or bad:
+            raise ValueError(f"{name!r}: contains entry {smaller!r} must name another law "
+                             f"and map constants of {list(params)} (unknown: {bad})")
+        for k, v in mapping.items():
+            if not (isinstance(v, str) or callable(v)
+                    or isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ValueError(f"{name!r}: contains {smaller!r} maps {k} to {v!r}: give "
+                                 "a constant's name, a finite number or a callable")
+        out.append((smaller, mapping))
+    return tuple(out)
 
 
 def _linear_names(name, params, units, linear, linear_params) -> tuple[str, ...]:

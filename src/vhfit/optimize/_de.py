@@ -215,6 +215,10 @@ integrality, vectorized
         ``"lshade"`` or an :class:`~vhfit.optimize.AdaptiveStrategy` instance.
     population_size, stop, history, snapshots, preset, repair
         vhfit's extras, see :func:`differential_evolution`.
+    seeds : array_like, shape (k, N), optional
+        Further starting points (vhfit's extra, with `population_size`): evaluated after
+        the initial population, each lower than every member drawn replaces the highest
+        one; a seed no better than the draw changes nothing.
 
     Notes
     -----
@@ -227,7 +231,7 @@ integrality, vectorized
                  callback=None, disp=False, polish=True, init="latinhypercube", atol=0,
                  updating="immediate", workers=1, constraints=(), x0=None, *,
                  integrality=None, vectorized=False, population_size=None, stop=None,
-                 history=False, snapshots=0, preset=None, repair=None):
+                 history=False, snapshots=0, preset=None, repair=None, seeds=None):
         if preset is not None:
             given = {"strategy": strategy, "maxiter": maxiter, "popsize": popsize, "tol": tol,
                      "mutation": mutation, "recombination": recombination, "polish": polish,
@@ -292,6 +296,13 @@ integrality, vectorized
             population_size is not None or stop_c is not None or history or snapshots
             or preset is not None or repair is not None or adaptive is not None)
         self._vh_stop = stop_c
+        self._vh_seeds = None
+        if seeds is not None:
+            if not self._vh_extras:
+                raise ValueError("seeds need vhfit's extras (population_size=...)")
+            rows = np.atleast_2d(np.asarray(seeds, dtype=np.float64))
+            self._vh_seeds = np.array([self._unscale_parameters(
+                _check_bounds_and_x0(parsed, r)) for r in rows]).reshape(-1, self.parameter_count)
         self._vh_history = bool(history or snapshots)
         self._vh_repair = repair
         self._vh_parents = None
@@ -716,18 +727,40 @@ integrality, vectorized
         return self._scale_parameters(self.population)
 
     def _vh_initial(self):
-        """Evaluate the initial population (as SciPy does) and record generation 0."""
+        """Evaluate the initial population (as SciPy does), with the seeds in the same
+        batch (:meth:`_vh_enter_seeds`), and record generation 0."""
         if np.all(np.isinf(self.population_energies)):
             self.feasible, self.constraint_violation = (
                 self._calculate_population_feasibilities(self.population))
+            seeds, self._vh_seeds = self._vh_seeds, None
+            k = 0 if seeds is None else len(seeds)
             before = self._nfev
-            self.population_energies[self.feasible] = self._calculate_population_energies(
-                self.population[self.feasible])
-            self._vh_nevals += (int(np.count_nonzero(self.feasible)) if self.vectorized
+            batch = self.population[self.feasible]
+            energies = self._calculate_population_energies(
+                np.concatenate([batch, seeds]) if k else batch)
+            self.population_energies[self.feasible] = energies[:len(batch)]
+            self._vh_nevals += (len(batch) + k if self.vectorized
                                 else self._nfev - before)
+            if k:
+                self._vh_enter_seeds(seeds, energies[len(batch):])
             self._promote_lowest_energy()
         self._vh_rec.record(0, self._nfev, self.population_energies,
                             self._vh_scaled_population if self._vh_rec.every else None)
+
+    def _vh_enter_seeds(self, seeds, energies):
+        """Each seed that is lower than every member drawn replaces the highest member
+        (a seed no better than the draw leaves the population, and so the whole search,
+        as it would have been without it)."""
+        for z, e in zip(seeds, energies):
+            e_pop = np.where(self.feasible, self.population_energies, np.inf)
+            if not e < np.min(e_pop):
+                continue
+            worst = int(np.argmax(e_pop)) if np.isfinite(e_pop).all() else int(
+                np.flatnonzero(~np.isfinite(e_pop))[0])
+            self.population[worst] = z
+            self.population_energies[worst] = e
+            self.feasible[worst] = True
+            self.constraint_violation[worst] = 0.0
 
     def _vh_promote(self):
         """SciPy's promotion of the best member to slot 0, telling the strategy."""

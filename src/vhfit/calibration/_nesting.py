@@ -1,0 +1,204 @@
+"""Nesting: the search of a law never ends worse than the fits of the laws it contains.
+
+A law that contains another (:attr:`vhfit.hyperelastic.Hyperelastic.contains`: Yeoh
+holds neo-Hooke at C20 = C30 = 0, Ogden-2 holds Ogden-1 at μ2 = 0, ...) can represent
+every stress the smaller one can, so its best fit is at least as good. A global search
+need not find it (issue: Yeoh at 48 % where neo-Hooke fits 8 %). The calibration of a
+law with N Prony terms therefore first fits each law it contains with the same data,
+N and settings (each of those seeded the same way, down the chain), puts the embedded
+optimum (:meth:`~vhfit.hyperelastic.Hyperelastic.embed`, the Prony terms as they are)
+into the first population of its own search, and at the end keeps the embedded point
+if it is lower (*accept if lower*). The fits are remembered by (law, N, data,
+settings), so that ``compare`` and ``--model all``, which fit the smaller laws anyway,
+search each one once. docs/optimizer.md, "Nesting".
+
+The guarantee holds for the same settings: bounds given on the law's own constants (no
+such setting of the smaller law), a start population of the caller's own, or a
+``max_time`` (a search cut short promises nothing) leave a fit unseeded.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import pickle
+import time
+import warnings
+from collections import OrderedDict
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from vhfit.calibration._polish import polish as polish_fit
+from vhfit.calibration._settings import CalibrationSettings
+from vhfit.calibration._space import log_tau_to_tau, search_vector
+from vhfit.hyperelastic import get as get_law
+
+__all__ = ["Nested", "nested_fits", "seed_rows", "accept_if_lower", "clear_cache",
+           "CACHE_SIZE", "remember"]
+
+#: Fits remembered for the seeds of later ones (the least recently used dropped first).
+CACHE_SIZE = 32
+_CACHE: OrderedDict = OrderedDict()
+#: Settings that do not change a fit at a given N (the scan's, the process layout's and
+#: those of the checkpoint and the user's callback, which a seeding fit runs without).
+_NOT_THE_FIT = {"hyperelastic", "n_prony", "max_prony", "order_tol", "callback",
+                "checkpoint", "checkpoint_every", "resume", "workers", "scan_workers",
+                "check_rates", "uncertainty"}
+
+
+@dataclass(frozen=True)
+class Nested:
+    """The fit of a contained law, as a point of the containing law's model."""
+
+    law: str  # the contained law
+    rmsape: float  # its fit's error
+    x: np.ndarray  # its constants embedded in the containing law (its Prony terms kept)
+
+
+def clear_cache() -> None:
+    """Forget the remembered fits."""
+    _CACHE.clear()
+
+
+def _settings_for(settings: CalibrationSettings, smaller: str) -> CalibrationSettings | None:
+    """The settings of the contained law's fit, or None where the guarantee does not
+    apply (see the module)."""
+    s = settings
+    law = get_law(s.hyperelastic)
+    if s.max_time is not None or "init" in (s.de_options or {}) or "x0" in (s.de_options or {}):
+        return None
+    if isinstance(s.bounds, dict) and set(s.bounds) & set(law.param_names):
+        return None
+    # (no intervals: the seed needs the constants only)
+    return replace(s, hyperelastic=smaller, callback=None, checkpoint=None, resume=False,
+                   uncertainty=False)
+
+
+def _key(curves, settings: CalibrationSettings, n_prony: int):
+    """(law, N, digest of the data and the settings that make the fit), or None when
+    they cannot be digested (no remembering then)."""
+    law = get_law(settings.hyperelastic)
+    what = tuple((f.name, getattr(settings, f.name)) for f in fields(settings)
+                 if f.name not in _NOT_THE_FIT)
+    try:
+        data = pickle.dumps((list(curves), what), protocol=4)
+    except Exception:  # a callable or object that does not pickle: fit every time
+        return None
+    return law.name, id(law), int(n_prony), hashlib.sha256(data).hexdigest()
+
+
+def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
+                calibrate_n) -> list[Nested]:
+    """The fits of the laws that the settings' law contains, each embedded in it.
+
+    Parameters
+    ----------
+    curves : list
+        The calibration's curves.
+    settings : CalibrationSettings
+        Its settings (the contained law's fit uses them with its own law).
+    n_prony : int
+        Prony terms of this fit.
+    calibrate_n : callable
+        The calibration at one N (``_calibrate_n`` of the workflow), which seeds the
+        contained law's own search the same way.
+
+    Returns
+    -------
+    list of Nested
+        Empty for a law that contains none, or settings the guarantee does not cover.
+    """
+    law = get_law(settings.hyperelastic)
+    if (settings.method == "separable" and n_prony == 0
+            and len(law.linear_params) == law.n_params):
+        # no search at all: least squares under the stability inequalities solves every
+        # constant, a convex problem whose optimum is no higher than any stable point of
+        # the law, the contained laws' fits among them
+        return []
+    out = []
+    for smaller, _ in law.contains:
+        s2 = _settings_for(settings, smaller)
+        if s2 is None:
+            continue
+        key = _key(curves, s2, n_prony)
+        cal = _CACHE.get(key) if key is not None else None
+        if cal is None:
+            with warnings.catch_warnings():  # its warnings are about another fit
+                warnings.simplefilter("ignore")
+                cal = calibrate_n(curves, s2, n_prony, checkpoint=None, max_time=None,
+                                  t0=time.perf_counter())
+            if key is not None:
+                _store(key, cal)
+        else:
+            _CACHE.move_to_end(key)
+        small = get_law(smaller)
+        x = np.asarray(cal.x, dtype=np.float64)
+        hyper = law.embed(small, x[: small.n_params])
+        out.append(Nested(small.name, float(cal.rmsape),
+                          np.concatenate([hyper, x[small.n_params:]])))
+    return out
+
+
+def remember(curves, settings: CalibrationSettings, n_prony: int, cal) -> None:
+    """Keep a fit made for the user (its law's own calibration) for the seeds of later
+    fits that contain its law (``compare`` fitting neo-Hooke, then Yeoh)."""
+    s2 = _settings_for(settings, get_law(settings.hyperelastic).name)
+    key = None if s2 is None else _key(curves, s2, n_prony)
+    if key is not None:
+        _store(key, cal)
+
+
+def _store(key, cal) -> None:
+    _CACHE[key] = cal
+    while len(_CACHE) > CACHE_SIZE:
+        _CACHE.popitem(last=False)
+
+
+def seed_rows(space, nested: list[Nested]) -> list[np.ndarray]:
+    """The search vectors of ``space`` of the nested fits, clipped into its bounds."""
+    b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
+    if not len(b):
+        return []
+    return [np.clip(search_vector(space, n.x), b[:, 0], b[:, 1]) for n in nested]
+
+
+def padded(prob, x: np.ndarray) -> np.ndarray:
+    """The full parameter vector of ``prob``'s model from ``x`` with N or fewer Prony
+    terms (the missing ones with G = 0 at the middle of their τ range)."""
+    return log_tau_to_tau(search_vector(_AsFull(prob), x), prob.hm.n_params)
+
+
+class _AsFull:
+    """The all-parameter view of a problem, for :func:`search_vector`'s slotting."""
+
+    method = "full"
+
+    def __init__(self, prob):
+        self.prob = prob
+
+
+def _in_box(space, x: np.ndarray) -> bool:
+    """Whether ``x`` is a point of ``space``'s search box (its search vector unclipped)."""
+    b = np.asarray(space.bounds(), dtype=np.float64).reshape(-1, 2)
+    z = search_vector(space, x)
+    return bool(np.all(np.isfinite(z)) and np.all(z >= b[:, 0]) and np.all(z <= b[:, 1]))
+
+
+def accept_if_lower(prob, space, nested: list[Nested], x: np.ndarray, err: float,
+                    polish: bool) -> tuple[np.ndarray, float, str | None]:
+    """The search's result ``(x, err)``, or the lowest nested fit where that is lower
+    (polished in this law's space when ``polish``): ``(x, err, law kept or None)``."""
+    kept = None
+    for n in nested:
+        xn = padded(prob, n.x)
+        if not _in_box(space, xn):  # outside the box searched: not a point of this fit
+            continue
+        en = float(prob.errors(xn[None, :])[0])
+        if not en < err:
+            continue
+        if polish:
+            xp, ep, _ = polish_fit(prob, xn)
+            if ep < en:
+                xn, en = xp, ep
+        x, err, kept = xn, en, n.law
+    return x, err, kept
