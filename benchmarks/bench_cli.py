@@ -1,19 +1,41 @@
-"""End-to-end time of the command line's quick commands, each in a fresh process.
+"""End-to-end time of the command line, each run in a fresh process.
 
-``vhfit --version``, ``vhfit --help`` and ``vhfit models`` load only what they print
-(target: 0.3 s on a quiet machine, of which the interpreter's own start is ~0.1 s).
-Run: ``PYTHONPATH=src python benchmarks/bench_cli.py [--repeat 5]``; prints the median.
+Two parts:
+
+* the quick commands ``vhfit --version``, ``vhfit --help`` and ``vhfit models`` load
+  only what they print (target: 0.3 s on a quiet machine, of which the interpreter's
+  own start is ~0.1 s);
+* ``vhfit fit`` on every shared dataset, exactly as ``docs/real-data.md`` writes the
+  command (the ``DATASETS`` table of ``bench_real.py``), run from the dataset's folder
+  with ``--out`` a temporary folder (nothing is written beside the data). One warm-up
+  run first (numba's cache warm), then ``--repeat`` timed runs. Beside each run's wall
+  time, the fit's own ``wall_time`` from its ``results.json`` (the ``calibrate`` call of
+  that same run, in the same process), so that the overhead (reading, the card check,
+  the plots, the report, the imports, the interpreter) is the difference of two figures
+  measured side by side. Targets: overhead ≤ 1.0 s on every dataset, end to end ≤ 2.5 s
+  for every rate-free dataset.
+
+Run: ``PYTHONPATH=src python benchmarks/bench_cli.py [--repeat 5] [--only treloar,...]
+[--no-fit] [--no-quick] [--data DIR]``; prints medians.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
 
 COMMANDS = (["--version"], ["--help"], ["models"])
+#: end to end minus the fit (s), and end to end for a rate-free dataset (s)
+OVERHEAD_TARGET, RATE_FREE_TARGET = 1.0, 2.5
 
 
 def time_command(argv: list[str], repeat: int) -> list[float]:
@@ -27,17 +49,79 @@ def time_command(argv: list[str], repeat: int) -> list[float]:
     return times
 
 
+def fit_argv(ds) -> list[str]:
+    """The documented command's arguments after ``vhfit`` (bench_real's table)."""
+    import shlex
+
+    return shlex.split(ds.command())[1:]
+
+
+def time_fit(ds, folder: Path, repeat: int) -> tuple[list[float], list[float]]:
+    """(end-to-end wall times, the fit's own wall times) of ``repeat`` runs of the
+    dataset's command after one warm-up run, each in a fresh process."""
+    wall, fit = [], []
+    with tempfile.TemporaryDirectory(prefix="bench_cli_") as tmp:
+        for k in range(repeat + 1):
+            out = Path(tmp) / f"run{k}"
+            argv = [sys.executable, "-m", "vhfit", *fit_argv(ds), "--out", str(out)]
+            t0 = time.perf_counter()
+            done = subprocess.run(argv, cwd=folder, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.PIPE, text=True)
+            t = time.perf_counter() - t0
+            if done.returncode != 0:
+                raise SystemExit(f"{ds.name}: exit {done.returncode}: {done.stderr.strip()}")
+            if k == 0:  # warm-up: numba's cache, the file system's
+                continue
+            wall.append(t)
+            fit.append(float(json.loads((out / "results.json").read_text())["wall_time"]))
+    return wall, fit
+
+
+def rate_free(ds) -> bool:
+    """True for a dataset fitted without Prony terms (equilibrium or one rate)."""
+    return ds.fit.get("n_prony") in (None, 0)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--only", default="", help="datasets, comma-separated (bench_real names)")
+    ap.add_argument("--no-fit", action="store_true", help="the quick commands only")
+    ap.add_argument("--no-quick", action="store_true", help="the fits only")
+    ap.add_argument("--data", type=Path, default=None,
+                    help="folder of the datasets (default as bench_real.py)")
     args = ap.parse_args()
-    t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "pass"], check=True)
-    print(f"{'python -c pass':<24} {time.perf_counter() - t0:6.3f} s (one run)")
-    for argv in COMMANDS:
-        times = time_command(argv, args.repeat)
-        print(f"{'vhfit ' + ' '.join(argv):<24} {statistics.median(times):6.3f} s "
-              f"(median of {len(times)})")
+    if not args.no_quick:
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", "pass"], check=True)
+        print(f"{'python -c pass':<24} {time.perf_counter() - t0:6.3f} s (one run)")
+        for argv in COMMANDS:
+            times = time_command(argv, args.repeat)
+            print(f"{'vhfit ' + ' '.join(argv):<24} {statistics.median(times):6.3f} s "
+                  f"(median of {len(times)})")
+    if args.no_fit:
+        return
+    from bench_real import DATASETS, DEFAULT_DATA
+
+    root = args.data or DEFAULT_DATA
+    names = [n for n in args.only.split(",") if n]
+    chosen = [d for d in DATASETS if not names or d.name in names]
+    print(f"\nvhfit fit, end to end against the fit's own time (median of {args.repeat} "
+          f"after a warm-up run; targets: overhead <= {OVERHEAD_TARGET} s, rate-free "
+          f"<= {RATE_FREE_TARGET} s)")
+    print(f"{'dataset':<22} {'end to end':>10} {'calibrate':>10} {'overhead':>9}  target")
+    for ds in chosen:
+        folder = root / ds.folder
+        if not all((folder / f).is_file() for f in ds.files):
+            print(f"{ds.name:<22} skipped: files not found under {folder}")
+            continue
+        wall, fit = time_fit(ds, folder, args.repeat)
+        w, f = statistics.median(wall), statistics.median(fit)
+        over = statistics.median(a - b for a, b in zip(wall, fit))
+        ok = over <= OVERHEAD_TARGET and (not rate_free(ds) or w <= RATE_FREE_TARGET)
+        print(f"{ds.name:<22} {w:9.2f}s {f:9.2f}s {over:8.2f}s  "
+              f"{'met' if ok else 'MISSED'}{' (rate-free)' if rate_free(ds) else ''}",
+              flush=True)
 
 
 if __name__ == "__main__":
