@@ -68,8 +68,8 @@ WIDEST = """(() => {
   for (const e of document.body.querySelectorAll("*")) {
     const r = e.getBoundingClientRect();
     if (r.right > w + 0.5)
-      return `${d.scrollWidth} px; <${e.tagName.toLowerCase()}${e.id ? " id=" + e.id : ""}>
- ends at ${Math.round(r.right)} px`;
+      return `${d.scrollWidth} px; <${e.tagName.toLowerCase()}` +
+        `${e.id ? " id=" + e.id : ""}> ends at ${Math.round(r.right)} px`;
   }
   return `${d.scrollWidth} px`;
 })()"""
