@@ -19,8 +19,10 @@ Each is checked twice:
 * in the browser, through the Chrome DevTools protocol over ``--remote-debugging-pipe``
   (standard library only): the page loads, no ``Runtime.consoleAPICalled`` of type
   error, no ``Runtime.exceptionThrown``, no ``Log.entryAdded`` at level error, every
-  ``Network.requestWillBeSent`` is the file itself or a ``data:`` URI; then a
-  1200 x 900 screenshot (``Page.captureScreenshot``).
+  ``Network.requestWillBeSent`` is the file itself or a ``data:`` URI; the page fits
+  a 1280 px window with no horizontal scrollbar (the document no wider than the
+  viewport; else the widest element is named); then a 1280 x 900 screenshot
+  (``Page.captureScreenshot``).
 
 Usage: ``python scripts/check_report.py [--out DIR] [--browser PATH] [--demo]``; exit 1
 with the problems listed when a check fails, 2 when no browser is found. ``--demo`` also
@@ -56,6 +58,21 @@ from vhfit import tts
 BROWSERS = ("chromium-headless-shell", "chromium", "chromium-browser", "google-chrome",
             "/usr/lib/chromium/chromium-headless-shell", "/usr/lib/chromium/chromium")
 P = dict(C10=0.2, C01=0.05, G1=1.5, tau1=0.05)
+#: the browser window's width (px): a report must fit it without a horizontal scrollbar
+WIDTH = 1280
+#: JavaScript: "" when the page is no wider than its window, else its width and the
+#: first element whose right edge lies beyond the window
+WIDEST = """(() => {
+  const d = document.documentElement, w = d.clientWidth;
+  if (d.scrollWidth <= w) return "";
+  for (const e of document.body.querySelectorAll("*")) {
+    const r = e.getBoundingClientRect();
+    if (r.right > w + 0.5)
+      return `${d.scrollWidth} px; <${e.tagName.toLowerCase()}` +
+        `${e.id ? " id=" + e.id : ""}> ends at ${Math.round(r.right)} px`;
+  }
+  return `${d.scrollWidth} px`;
+})()"""
 
 
 # ------------------------------------------------------------------ the three fits
@@ -162,7 +179,7 @@ class Pipe:
 
         self.proc = subprocess.Popen(
             [browser, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-             "--remote-debugging-pipe", f"--user-data-dir={profile}", "--window-size=1200,900",
+             "--remote-debugging-pipe", f"--user-data-dir={profile}", "--window-size=1280,900",
              "about:blank"], pass_fds=(3, 4), preexec_fn=fds,  # kept open after fds()
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         os.close(to_r)
@@ -221,7 +238,7 @@ class Pipe:
 
 
 def open_in_browser(browser: str, html: Path, shot: Path) -> list[str]:
-    """Load ``html``, return the problems seen, save a 1200 x 900 screenshot."""
+    """Load ``html``, return the problems seen, save a 1280 x 900 screenshot."""
     url = html.resolve().as_uri()
     with tempfile.TemporaryDirectory() as profile:
         b = Pipe(browser, profile)
@@ -231,7 +248,7 @@ def open_in_browser(browser: str, html: Path, shot: Path) -> list[str]:
                          )["sessionId"]
             for domain in ("Runtime", "Log", "Network", "Page"):
                 b.send(f"{domain}.enable", session=sid)
-            b.send("Emulation.setDeviceMetricsOverride", {"width": 1200, "height": 900,
+            b.send("Emulation.setDeviceMetricsOverride", {"width": WIDTH, "height": 900,
                    "deviceScaleFactor": 1, "mobile": False}, session=sid)
             b.events.clear()
             b.send("Page.navigate", {"url": url}, session=sid)
@@ -240,9 +257,13 @@ def open_in_browser(browser: str, html: Path, shot: Path) -> list[str]:
             shot.write_bytes(base64.b64decode(png))
             title = b.send("Runtime.evaluate", {"expression": "document.title"},
                            session=sid)["result"].get("value", "")
+            wide = b.send("Runtime.evaluate", {"expression": WIDEST, "returnByValue": True},
+                          session=sid)["result"].get("value")
         finally:
             b.close()
     problems = [] if title.startswith("vhfit report") else [f"page title {title!r}"]
+    if wide:  # a horizontal scrollbar at 1280 px
+        problems.append(f"wider than a {WIDTH} px window: {wide}")
     for e in b.events:
         m, p = e.get("method"), e.get("params", {})
         if m == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):

@@ -253,3 +253,32 @@ def test_an_equibiaxial_test_with_both_stresses_shows_the_second_dashed():
     squares = [ln for ln in ax.get_lines() if ln.get_marker() == "s"]
     np.testing.assert_array_equal(squares[0].get_ydata(), P * 1.01)
     assert ax.get_ylabel().endswith("direction 2: squares, dashed")
+
+
+def test_every_legend_is_beside_its_axes_and_inside_the_figure(fitted):
+    """A legend never covers a curve: it sits outside the panel's data area (which an
+    inside legend overlaps wherever it is placed), and whole within the saved figure
+    (the PNG files are saved without a tight second layout pass)."""
+    pytest.importorskip("matplotlib")
+    cal, curves = fitted
+    figs = [plot.plot_fit(cal, curves, io.BytesIO()), plot.plot_history(cal, io.BytesIO()),
+            plot.plot_order_scan(cal, io.BytesIO())]
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    n_legends = 0
+    for fig in figs:
+        canvas = FigureCanvasAgg(fig)  # as savefig draws it (the layout runs)
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        whole = fig.bbox
+        for ax in fig.axes:
+            leg = ax.get_legend()
+            if leg is None or not ax.get_visible():
+                continue
+            n_legends += 1
+            box, area = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
+            assert box.x0 >= area.x1 or box.x1 <= area.x0 or box.y0 >= area.y1 \
+                or box.y1 <= area.y0, (ax.get_title(), box, area)
+            assert whole.x0 - 1 <= box.x0 and box.x1 <= whole.x1 + 1 and \
+                whole.y0 - 1 <= box.y0 and box.y1 <= whole.y1 + 1, (box, whole)
+    assert n_legends >= 3  # both fit panels' and the history's at least

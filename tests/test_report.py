@@ -325,3 +325,33 @@ def test_shift_figure_is_the_plot_modules_shift_factor_plot():
     cal = SimpleNamespace(shift_table=dict(zip(table.temperatures, table.log_aT)), shift=law)
     drawn = _figures.shift_figure(cal)
     assert drawn.note is None and drawn.uri.startswith("data:image/png;base64,")
+
+
+@pytest.mark.skipif(not plot.have_matplotlib(), reason="figures need matplotlib")
+def test_the_fit_png_of_several_modes_is_the_reports_fit_figure_not_drawn_again(tmp_path):
+    """vhfit fit's fit.png (every curve, each labelled with its test) is inlined as the
+    one fit figure of a report of several modes: the same bytes, no per-mode redraw."""
+    import base64  # noqa: PLC0415
+
+    m = vhfit.ViscoHyperelastic("neo_hooke", 0)
+    e = np.linspace(0.0, 0.6, 13)
+    tests = [vhfit.Curve(strain=e, stress=m.stress({"C10": 0.2}, strain=e, strain_rate=1.0,
+                                                  deformation=d),
+                         strain_rate=1.0, deformation=d, name=d)
+             for d in ("uniaxial", "simple_shear")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        c = vhfit.calibrate(tests, hyperelastic="neo_hooke", n_prony=0, seed=0, maxiter=5)
+    png = tmp_path / "fit.png"
+    fig = plot.plot_fit(c, tests, png)
+    labels = [t.get_text() for ax in fig.axes if ax.get_legend()
+              for t in ax.get_legend().get_texts()]
+    assert any("uniaxial" in t for t in labels) and any("simple_shear" in t for t in labels)
+    text = report.build_report(c, tests, cards={}, images={"fit": png})
+    figs = re.findall(r'<figure id="fig-([^"]+)"', text)
+    assert figs[0] == "fit-uniaxial-simple_shear" and not {"fit-uniaxial",
+                                                           "fit-simple_shear"} & set(figs)
+    assert base64.b64encode(png.read_bytes()).decode("ascii") in text
+    # without the file (a report made in Python) each mode is drawn on its own
+    figs = re.findall(r'<figure id="fig-([^"]+)"', report.build_report(c, tests, cards={}))
+    assert figs[:2] == ["fit-uniaxial", "fit-simple_shear"]

@@ -140,9 +140,27 @@ def _finish(fig, path):
     if hasattr(path, "write"):  # a file object (the HTML report draws in memory): a PNG,
         fig.savefig(path, dpi=100, format="png", metadata=meta,  # laid out by the figure
                     bbox_inches="tight" if mark else None)  # (the mark is above it)
-    elif path is not None:
-        fig.savefig(os.fspath(path), dpi=120, bbox_inches="tight", metadata=meta)
+    elif path is not None:  # laid out by the figure too: one drawing, not a tight second
+        fig.savefig(os.fspath(path), dpi=120, metadata=meta,
+                    bbox_inches="tight" if mark else None)
     return fig
+
+
+def legend_beside(ax, fontsize: float = 7):
+    """The axes' legend beside them, at their top right, outside: a legend inside the
+    axes can cover a curve wherever it is put; constrained layout makes room for it.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    fontsize : float
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+    """
+    return ax.legend(fontsize=fontsize, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                     borderaxespad=0.0)
 
 
 # ------------------------------------------------------------------- grouping
@@ -504,7 +522,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
         ax.locator_params(axis="x", nbins=6)  # ticks such as -0.075 stay apart
         ax.grid(True, alpha=0.3)
         ax.axhline(0, color="0.6", lw=0.6)
-        ax.legend(fontsize=7, loc="upper left")
+        legend_beside(ax, 7)
     for ax in axes[len(panels):]:
         ax.set_visible(False)
     if shown:
@@ -708,7 +726,7 @@ def plot_moduli_fit(cal, items: Sequence, path=None):
         _data_ylim(ax, [fits[i][k] for i in panel for k in ("storage", "loss", "modulus")
                         if k in fits[i]])
         if named:
-            ax.legend(fontsize=7, loc="best")
+            legend_beside(ax, 7)
         what = ("E' (o, solid) and E'' (s, dashed)" if sweep else "E(t)")
         noun = "sweep" if sweep else "relaxation test"
         ax.set_title(f"{len(panel)} {noun}{'s' if len(panel) > 1 else ''}: {what}",
@@ -760,7 +778,7 @@ def plot_history(cal, path=None):
         ax.semilogy(nit[pos], best[pos], label="best")
         okm = np.isfinite(mean) & (mean > 0)
         ax.semilogy(nit[okm], mean[okm], label="population mean", alpha=0.8)
-        ax.legend(fontsize=8)
+        legend_beside(ax, 8)
     else:
         ax.text(0.5, 0.5, "no generations recorded", ha="center", va="center",
                 transform=ax.transAxes)
@@ -798,7 +816,7 @@ def plot_order_scan(cal, path=None):
         k = n.index(chosen)
         ax.semilogy([n[k]], [e[k]], "s", ms=11, mfc="none", color="C3",
                     label=f"chosen N = {chosen}")
-        ax.legend(fontsize=8)
+        legend_beside(ax, 8)
     ax.set_xticks(n)
     ax.set_xlabel("number of Prony terms N")
     ax.set_ylabel("RMSAPE (%)")
@@ -946,7 +964,7 @@ def plot_master_curve(master, spectrum=None, path=None):
         if m2 is not None:
             ax.plot(fine, m2, "-", color="C3")
     _moduli_axes(ax, freq, True)
-    ax.legend(fontsize=8)
+    legend_beside(ax, 8)
     ax.set_title(f"master curve at T_ref = {master.T_ref:.4g}", fontsize=10)
     return _finish(fig, path)
 
@@ -982,7 +1000,7 @@ def plot_shift_factors(master, path=None, *, law=None, label: str = "from the sw
     ax.set_xlabel(TEMPERATURE_LABEL)
     ax.set_ylabel("log10 a_T")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
+    legend_beside(ax, 7)
     ax.set_title("shift factors", fontsize=10)
     return _finish(fig, path)
 
@@ -1006,6 +1024,6 @@ def plot_spectrum_residuals(master, spectrum, path=None):
     ax.set_xlabel("reduced frequency f a_T (Hz)" if freq else "reduced time t / a_T (s)")
     ax.set_ylabel("relative residual")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_beside(ax, 8)
     ax.set_title(f"residuals: RMS {spectrum.error:.3g}, N = {spectrum.n_prony}", fontsize=10)
     return _finish(fig, path)

@@ -96,19 +96,22 @@ def _subset(cal, idx: list[int]):
 def fit_figures(cal, curves, fits: list, drawn=None) -> list[Figure]:
     """Data against model, one figure per deformation mode; then stress against time.
 
-    ``drawn``: a PNG file of :func:`vhfit.plot.plot_fit` of all the curves, used as the
-    figure when they are all of one mode (drawing it again would double the time); it
-    holds the stress–time panels already.
+    ``drawn``: a PNG file of :func:`vhfit.plot.plot_fit` of all the curves (``vhfit
+    fit``'s ``fit.png``), used as the one fit figure (drawing the curves again would
+    double the time): its panels hold each mode's curves, each curve labelled with its
+    test, and the stress–time panels.
     """
     out = []
     groups = modes_of(curves)
     timed = [c for c in curves if not is_moduli(c) and plot.has_holds_or_unloading(c)]
-    if drawn is not None and len(groups) == 1:
-        mode = next(iter(groups))
+    if drawn is not None and groups:
         cap = "curves whose stresses differ by more than 10x are on separate panels"
+        if len(groups) > 1:
+            cap += "; shear tests and principal tests on panels of their own"
         if timed:
             cap += "; below, stress against time of the histories with holds or unloading"
-        out.append(from_file(f"fit-{mode}", f"{mode_name(mode)}: data (markers) "
+        names = ", ".join(mode_name(m) for m in groups)
+        out.append(from_file("fit-" + "-".join(groups), f"{names}: data (markers) "
                              "and model (lines)", cap, drawn))
         return out
     for mode, idx in groups.items():
@@ -147,7 +150,7 @@ def residual_figure(cal, curves, fits: list) -> Figure:
             ax.set_title(mode_name(mode), fontsize=9)
             ax.grid(True, alpha=0.3)
             if len(idx) <= 10:
-                ax.legend(fontsize=6)
+                plot.legend_beside(ax, 6)
         _save(fig, buf)
         return fig
 
