@@ -1972,7 +1972,7 @@ MUTANTS: list[Mutant] = [
       "                R[p] = A @ amps[p - 1] - ys\n",
       "the polish's residuals are not those of the individual's own solve",
       ("tests/test_search_finish.py",)),
-    M("s28_plan_of_a_writeable_array_kept", "vhfit/hyperelastic/_fixed.py",
+    M("s28_plan_of_a_writeable_array_kept", "vhfit/_fixed.py",
       "    return not a.flags.writeable and (a.base is None or not a.base.flags.writeable)\n",
       "    return True\n",
       "values derived from arrays that can change are remembered (stale after a change)",

@@ -37,7 +37,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("physics", ("vhfit.hyperelastic", "vhfit.viscoelastic", "vhfit.history", "vhfit.model",
                  "vhfit._batch", "vhfit.modes", "vhfit._plans", "vhfit.formulations",
                  "vhfit._linear", "vhfit._kernels", "vhfit.stability", "vhfit._derivatives",
-                 "vhfit._kirchhoff", "vhfit._deformation")),
+                 "vhfit._kirchhoff", "vhfit._deformation", "vhfit._fixed")),
     ("data", ("vhfit.data", "vhfit.datasets",
               "vhfit.tts")),
     ("objective", ("vhfit.objective", "vhfit.diagnostics",

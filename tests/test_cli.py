@@ -728,7 +728,9 @@ def test_load_plugins_registers_the_models_of_the_entry_point_group(tmp_path, mo
 # ============================================= bad input leaves --out as it was (exit 2)
 def write_locking(folder: Path) -> Path:
     """Uniaxial tension of a neo-Hooke solid to λ = 12 (I1 − 3 = 141): past every Jm of
-    Gent's default search range (0.1, 100), so no Gent individual is finite."""
+    Gent's default search range (0.1, 100), so no Gent individual is finite within it when
+    it is given (:data:`GENT_BOUNDS`: a user's bounds are not widened, the automatic ones
+    are)."""
     eps = np.linspace(0.05, 11.0, 20)
     s = ViscoHyperelastic("neo_hooke", 0).stress(dict(C10=0.005), strain=eps, strain_rate=0.1,
                                                  measure="engineering")
@@ -737,6 +739,9 @@ def write_locking(folder: Path) -> Path:
                                                     for e, v in zip(eps, s)))
     return path
 
+
+#: Gent's default Jm range given as the user's: kept as it is
+GENT_BOUNDS = ["--model", "gent", "--bounds", "Jm=0.1:100"]
 
 GENT_LOCKED = (r"the gent fit found no parameter set with a finite error \(\d+ evaluated, "
                r"stop: no finite error in 50 generations\): its search bounds \(Jm <= 100\) "
@@ -753,7 +758,7 @@ GENT_LOCKED = (r"the gent fit found no parameter set with a finite error \(\d+ e
     ("strategy", ["--strategy", "loose"], r"--strategy 'loose': choose one of free, .*"),
     ("bad-file", ["--model", "neo_hooke"], r".*garbage\.csv.*"),
     ("refused-by-calibrate", ["--g-inf-min", "1"], r"g_inf_min = 1\.0: .*"),
-    ("gent-locked", ["--model", "gent"], GENT_LOCKED),
+    ("gent-locked", GENT_BOUNDS, GENT_LOCKED),
 ], ids=lambda v: v if isinstance(v, str) and " " not in v and len(v) < 25 else "")
 def test_fit_bad_input_leaves_the_out_folder_as_it_was(case, extra, pattern, before, noisy,
                                                        tmp_path, monkeypatch, capsys):
@@ -800,7 +805,7 @@ def test_a_checkpoint_that_resumes_into_a_failure_says_start_fresh(tmp_path, mon
     error, which says to start fresh with --force, and the folder stays as it was."""
     monkeypatch.chdir(tmp_path)
     data, out = write_locking(tmp_path), tmp_path / "out"
-    argv = ["fit", str(data), "--rate", "0.1", "--model", "gent", "--out", str(out),
+    argv = ["fit", str(data), "--rate", "0.1", *GENT_BOUNDS, "--out", str(out),
             "--no-plot", "--checkpoint-every", "0.001"]
     with ctrl_c_in_fit(3):
         assert cli.main(argv) == 1

@@ -17,7 +17,7 @@ import numpy as np
 
 from vhfit._kirchhoff import principal_kirchhoff
 from vhfit.hyperelastic import Hyperelastic
-from vhfit.hyperelastic._fixed import cannot_change, remembered
+from vhfit._fixed import cannot_change, remembered
 
 
 class Deformation:
@@ -115,7 +115,7 @@ class Deformation:
     def _stretches(self, x1, x2):
         """:meth:`stretches`; for data that cannot change (an evaluation plan's samples)
         computed once and kept read-only, so that what a law derives from them is kept
-        too (:mod:`vhfit.hyperelastic._fixed`)."""
+        too (:mod:`vhfit._fixed`)."""
         x1 = np.asarray(x1, dtype=np.float64)
         data = (x1,) if x2 is None else (x1, np.asarray(x2, dtype=np.float64))
 

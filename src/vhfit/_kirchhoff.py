@@ -12,7 +12,7 @@ import numpy as np
 from vhfit import _kernels
 from vhfit._derivatives import invariant_gradient, outside_domain, stretch_gradient
 from vhfit.hyperelastic import Hyperelastic
-from vhfit.hyperelastic._fixed import remembered
+from vhfit._fixed import remembered
 
 
 def constant_columns(model: Hyperelastic, params) -> list[np.ndarray]:
@@ -99,7 +99,7 @@ def shear_frame(gamma: np.ndarray) -> tuple[np.ndarray, ...]:
     sin²θ = 1/(1 + λ²): no division by γ. They depend on the data alone: for a γ that
     cannot change (an evaluation plan's samples) they are computed once and kept,
     read-only, so that what the law derives from them is kept too
-    (:mod:`vhfit.hyperelastic._fixed`: the Ogden sums' logarithms).
+    (:mod:`vhfit._fixed`: the Ogden sums' logarithms).
 
     Examples
     --------

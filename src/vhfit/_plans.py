@@ -35,7 +35,7 @@ def _groups(keys: list, parts: list[np.ndarray]) -> dict:
 def _frozen(a: np.ndarray) -> np.ndarray:
     """A read-only float64 copy: what the law derives from it alone (the stretches of
     the test, the Ogden sums' logarithms) is computed once per plan, not per call
-    (:mod:`vhfit.hyperelastic._fixed`)."""
+    (:mod:`vhfit._fixed`)."""
     out = np.array(a, dtype=np.float64)
     out.flags.writeable = False
     return out

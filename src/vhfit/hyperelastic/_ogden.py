@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-from vhfit.hyperelastic._fixed import remembered
+from vhfit._fixed import remembered
 
 # how a stretch's power follows (rules of stretch_plan, as kernel codes)
 EXP, SAME0, SAME1, ONE, RSQRT, INV, INCOMPRESSIBLE = range(7)
@@ -128,7 +128,7 @@ def _sums(logs, rules, big, mu, alpha, out):  # pragma: no cover - compiled
 def _plan(lam: list) -> tuple:
     """:func:`stretch_plan` of ``lam`` (rules, ln λk), its largest |ln λ|, and the kernel's
     arguments (ln λk stacked, the rules' codes); remembered for arrays that cannot change
-    (a batch's samples, the stability grid: :mod:`._fixed`)."""
+    (a batch's samples, the stability grid: :mod:`vhfit._fixed`)."""
     def plan():
         rules, logs = stretch_plan(*lam)
         return (rules, max(float(np.max(np.abs(v), initial=0.0)) for v in logs),

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from vhfit._derivatives import central, invariant_gradient, outside_domain, stretch_gradient
-from vhfit.hyperelastic._fixed import remembered
+from vhfit._fixed import remembered
 
 __all__ = ["Hyperelastic", "register", "get", "available", "unregister", "invariants"]
 
@@ -21,7 +21,7 @@ _STRETCH_ARGS = (("l1", "l2", "l3"), ("lambda1", "lambda2", "lambda3"), ("λ1", 
 
 def _lateral(lam: np.ndarray) -> np.ndarray:
     """λ^(−1/2), the lateral stretches of uniaxial tension; for a ``lam`` that cannot
-    change (a batch's samples) the same read-only array every time (:mod:`._fixed`), so
+    change (a batch's samples) the same read-only array every time (:mod:`vhfit._fixed`), so
     that what a law derives from its stretches is remembered too."""
     def lateral():
         l2 = lam**-0.5
