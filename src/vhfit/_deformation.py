@@ -15,9 +15,9 @@ from collections.abc import Callable
 
 import numpy as np
 
+from vhfit._fixed import cannot_change, remembered
 from vhfit._kirchhoff import principal_kirchhoff
 from vhfit.hyperelastic import Hyperelastic
-from vhfit._fixed import cannot_change, remembered
 
 
 class Deformation:

@@ -11,8 +11,8 @@ import numpy as np
 
 from vhfit import _kernels
 from vhfit._derivatives import invariant_gradient, outside_domain, stretch_gradient
-from vhfit.hyperelastic import Hyperelastic
 from vhfit._fixed import remembered
+from vhfit.hyperelastic import Hyperelastic
 
 
 def constant_columns(model: Hyperelastic, params) -> list[np.ndarray]:
