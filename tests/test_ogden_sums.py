@@ -247,7 +247,8 @@ def test_population_past_the_exp_range_each_set_alone_and_overflow_is_inf_error(
 def test_plans_are_remembered_only_for_stretches_that_cannot_change():
     """The stretch plan (logarithms, derived powers) is kept by the arrays' identity only
     for read-only arrays; a writeable array changed in place is planned again."""
-    from vhfit.hyperelastic import _fixed, _ogden
+    from vhfit import _fixed
+    from vhfit.hyperelastic import _ogden
 
     x = np.linspace(0.5, 2.0, 7)
     lam = [x, x**-0.5, x**-0.5]
