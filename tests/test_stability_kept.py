@@ -177,6 +177,20 @@ def test_no_stable_law_is_said_first_in_summary_and_report():
     assert '<div class="verdict bad" id="verdict">' in html
 
 
+def test_no_stable_law_comes_before_every_other_warning_and_keeps_the_grade():
+    """With a second warning (μ pinned on the user's bound) the NO STABLE LAW line is
+    still the first, and the verdict keeps the error and its grade after it."""
+    cal = _fit(stability_range=(0.1, 20.0), bounds={"Jm": (1.0, 100.0), "mu": (0.01, 0.2)})
+    assert len(cal.headlines) >= 2
+    assert cal.headlines[0].startswith("NO STABLE LAW: ")
+    assert any(h.startswith("mu = 0.2 ended on its search bound mu <= 0.2")
+               for h in cal.headlines[1:])
+    v = cal.verdict()
+    head, sep, rest = v.partition("or another law. ")
+    assert head.startswith("NO STABLE LAW: ") and sep
+    assert rest.startswith("RMSAPE ") and " %: " in rest
+
+
 def test_a_stable_fit_has_a_plain_first_line():
     cal = _fit()
     assert cal.stability.stable and cal.summary().startswith("RMSAPE ")
