@@ -18,6 +18,8 @@ Usage::
     python benchmarks/mutation.py --list          # names, files and descriptions
     python benchmarks/mutation.py --only NAME ... # a subset (names or fnmatch patterns)
     python benchmarks/mutation.py --jobs 2        # mutants in parallel
+    python benchmarks/mutation.py --since REV     # mutants of files changed since a commit,
+                                                  # kill rates per file
 
 The exit status is 0 when the kill rate reaches ``--target`` (default 0.9) and no
 mutant is in error, 1 otherwise, 2 when the original code fails its tests.
@@ -131,9 +133,16 @@ def run_mutant(m: Mutant, base: Path, work: Path, timeout: float) -> tuple[str, 
     return "killed", dt, f"pytest exit {rc}: " + (out.splitlines()[-1] if out else "")
 
 
-def module_of(m: Mutant) -> str:
+def module_of(m: Mutant, by_file: bool = False) -> str:
     p = m.file.removeprefix("vhfit/").removesuffix(".py")
-    return p.split("/")[0] + "/" if "/" in p else p
+    return p if by_file or "/" not in p else p.split("/")[0] + "/"
+
+
+def changed_since(rev: str) -> set[str]:
+    """The files under ``src/`` changed since the git revision ``rev`` (relative to src/)."""
+    out = subprocess.run(["git", "diff", "--name-only", rev, "--", "src"], cwd=ROOT,
+                         capture_output=True, text=True, check=True).stdout
+    return {f.removeprefix("src/") for f in out.split()}
 
 
 def main(argv=None) -> int:
@@ -147,6 +156,9 @@ def main(argv=None) -> int:
     ap.add_argument("--target", type=float, default=0.9, help="kill rate to reach (default 0.9)")
     ap.add_argument("--verbose", "-v", action="store_true",
                     help="also print the test that killed each mutant")
+    ap.add_argument("--since", metavar="REV",
+                    help="only the mutants of files changed since this git revision (e.g. "
+                    "the last release), with kill rates per file")
     args = ap.parse_args(argv)
 
     problems = check_list(MUTANTS)
@@ -159,6 +171,13 @@ def main(argv=None) -> int:
         if not chosen:
             print(f"--only {args.only}: no such mutant (see --list)")
             return 1
+    if args.since:
+        changed = changed_since(args.since)
+        chosen = [m for m in chosen if m.file in changed]
+        bare = sorted(f for f in changed if f.endswith(".py")
+                      and not any(m.file == f for m in MUTANTS))
+        if bare:  # changed code that no mutant covers: the rate says nothing of it
+            print(f"changed since {args.since} without a mutant: {', '.join(bare)}")
     if args.list:
         for m in chosen:
             eq = "  [equivalent]" if m.equivalent else ""
@@ -190,25 +209,27 @@ def main(argv=None) -> int:
                 print(f"  {status:10s} {dt:6.1f} s  {m.name}", flush=True)
                 if status in ("survived", "error") or args.verbose:
                     print("    " + detail.replace("\n", "\n    "))
-    return report(chosen, results, time.perf_counter() - t0, args.target)
+    return report(chosen, results, time.perf_counter() - t0, args.target, bool(args.since))
 
 
-def report(chosen, results, total, target) -> int:
+def report(chosen, results, total, target, by_file: bool = False) -> int:
     print()
     print(f"{'mutant':34s} {'module':22s} {'status':10s} {'time':>6s}")
     for m in chosen:
         s, dt, _ = results[m.name]
-        print(f"{m.name:34s} {module_of(m):22s} {s:10s} {dt:6.1f}")
+        print(f"{m.name:34s} {module_of(m, by_file):22s} {s:10s} {dt:6.1f}")
     print()
     mods: dict[str, dict[str, int]] = {}
     for m in chosen:
-        row = mods.setdefault(module_of(m), {"killed": 0, "survived": 0, "equivalent": 0,
+        row = mods.setdefault(module_of(m, by_file), {"killed": 0, "survived": 0, "equivalent": 0,
                                               "error": 0})
         row[results[m.name][0]] += 1
-    print(f"{'module':22s} {'killed':>7s} {'survived':>9s} {'equivalent':>11s} {'error':>6s}")
+    print(f"{'module':26s} {'killed':>7s} {'survived':>9s} {'equivalent':>11s} {'error':>6s}"
+          f" {'rate':>7s}")
     for mod, r in sorted(mods.items()):
-        print(f"{mod:22s} {r['killed']:7d} {r['survived']:9d} {r['equivalent']:11d} "
-              f"{r['error']:6d}")
+        k = r["killed"] + r["survived"] + r["error"]
+        print(f"{mod:26s} {r['killed']:7d} {r['survived']:9d} {r['equivalent']:11d} "
+              f"{r['error']:6d} {r['killed'] / k if k else 1.0:7.1%}")
     counts = {k: sum(r[k] for r in mods.values()) for k in
               ("killed", "survived", "equivalent", "error")}
     n = len(chosen)
