@@ -94,6 +94,16 @@ def test_a_hossain_like_user_bound_on_tau_is_named():
     assert "--bounds tau1=0.5:100" in line  # two decades beyond the bound hit
 
 
+def test_a_user_bound_on_a_term_that_the_sort_renames_is_still_named_as_given():
+    """Free strategy, N = 2, τ2 held to [0.01, 0.05] s while the material's τ are 2 and
+    20 s: the bounded term ends on 0.05 s, the faster of the two, so it is reported as
+    τ1; its line says the bound was given, not that it is the automatic range's."""
+    cal = _fit(tau1=2.0, tau2=20.0, n_prony=2, bounds={"tau2": (0.01, 0.05)})
+    assert _on(cal.params["tau1"], 0.05, np.log10(5.0))
+    [line] = [w for w in _tau_lines(cal) if "search bound" in w]
+    assert "tau1 <= 0.05 s (given in bounds=)" in line and "automatic" not in line
+
+
 def test_a_tau_beyond_the_automatic_upper_end_is_named_once_with_its_remedies():
     """τ1 = 2000 s is ten times the automatic upper end (200 s): the fit ends there, and
     one line says so, the range's origin, a wider bounds= and a slower test. 200 s is

@@ -454,12 +454,13 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
 
     ``x`` and ``prob.tau_b`` are the fit's terms as reported (sorted, merged, pruned). A τ
     within :data:`HIT_MARGIN` of the width of its range (log10) from an end, with G_i > 0,
-    is named with the bound and a wider ``bounds=`` for it: a range the user gave, or the
-    automatic one (Eq. 22: the data's time scales, ``settings.decades_below`` and
-    ``decades_above``), which no widening moves. At an end of the whole automatic range a
-    test that identifies it is the other remedy (a slower test or a relaxation hold for
-    the upper end, a faster test for the lower); at a cut of the range between two terms
-    (the ``semifree`` strategy) the ``free`` strategy. ``windows`` (term index -> clause,
+    is named with the bound and a wider ``bounds=`` for it: a range the user gave
+    (``settings.bounds``, told by its ends), or the automatic one (Eq. 22: the data's time
+    scales, ``settings.decades_below`` and ``decades_above``), which no widening moves.
+    At an end of the whole automatic range a test that identifies it is the other remedy
+    (a slower test or a relaxation hold for the upper end, a faster test for the lower);
+    at a cut of the range between two terms (the ``semifree`` strategy) the ``free``
+    strategy. ``windows`` (term index -> clause,
     :func:`vhfit.calibration._report.time_windows`) adds that τ's time-window fact to its
     sentence, so that one line names each τ. A fixed τ (lower == upper) is never named.
     """
@@ -470,6 +471,10 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
                                  settings.decades_above)[0]
     except ValueError:  # no rates (every τ bounded by the user): no automatic range
         whole = None
+    # the ends the user gave, by value: the terms were re-sorted by τ since the search, so
+    # the term a bound was given to may carry another name now
+    given = [math.log10(float(v)) for k, lim in (settings.bounds.items() if isinstance(
+        settings.bounds, dict) else ()) if _tau_index(k) is not None for v in lim]
     for i in range(tau_b.shape[0]):
         G, tau = float(x[nh + 2 * i]), float(x[nh + 2 * i + 1])
         a, b = (float(v) for v in tau_b[i])
@@ -483,7 +488,7 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
         lo, hi = 10.0 ** a, 10.0 ** b
         end = a if side == "low" else b
         outer = whole is not None and abs(end - whole[0 if side == "low" else 1]) <= 1e-9
-        if name in prob.user_bounds:
+        if any(abs(end - g) <= 1e-9 for g in given):
             how, then = "given in bounds=", ""
         elif outer:
             how = "the end of the automatic τ range, set by the data's time scales"
