@@ -13,7 +13,8 @@ from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
-           "bound_hit_headlines", "pinned_headlines", "enforced_bounds", "stable_box",
+           "bound_hit_headlines", "pinned_headlines", "tau_bound_headlines", "enforced_bounds",
+           "stable_box",
            "HIT_MARGIN", "WIDEN", "MAX_EXPONENT_LOG", "STABLE_SAMPLES", "STABLE_PROBES"]
 
 #: Search ranges of the built-in laws' nonlinear constants where their physical bounds
@@ -297,24 +298,28 @@ def widen_bounds(prob, hits: dict[str, str]) -> dict[str, tuple[float, float]]:
     return out
 
 
+def _on_bound(name: str, value: float, side: str, bound: float, how: str,
+              sug: tuple[float, float], unit: str = "") -> str:
+    """The sentence naming a constant on a search bound: which, where, how to move it."""
+    u = f" {unit}" if unit else ""
+    return (f"{name} = {value:.6g}{u} ended on its search bound {name} "
+            f"{'>=' if side == 'low' else '<='} {bound:g}{u} ({how}): the best fit may lie "
+            f"beyond it; widen it with the bounds= keyword, e.g. "
+            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
+            f"{name}={sug[0]:g}:{sug[1]:g})")
+
+
 def bound_hit_headlines(prob, x: np.ndarray, hits: dict[str, str], widened: dict) -> list[str]:
     """One sentence per constant still on a search bound: which, where, how to move it."""
     out = []
     for name, side in hits.items():
         k = prob.hm.param_names.index(name)
         lo, hi = (float(v) for v in prob.bounds[name])
-        b = lo if side == "low" else hi
-        span = hi - lo
-        sug = (lo - WIDEN * span, hi) if side == "low" else (lo, hi + WIDEN * span)
         how = ("given in bounds=" if name in prob.user_bounds else
                "after one automatic widening" if name in widened else
                "of the automatic search range")
-        out.append(
-            f"{name} = {x[k]:.6g} ended on its search bound {name} "
-            f"{'>=' if side == 'low' else '<='} {b:g} ({how}): the best fit may lie beyond it; "
-            f"widen it with the bounds= keyword, e.g. "
-            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
-            f"{name}={sug[0]:g}:{sug[1]:g})")
+        out.append(_on_bound(name, float(x[k]), side, lo if side == "low" else hi, how,
+                             _suggest(name, lo, hi, side, log=False)))
     return out
 
 
@@ -405,63 +410,96 @@ def no_stable_headline(prob) -> str:
 
 
 def _suggest(name: str, lo: float, hi: float, side: str, log: bool) -> tuple[float, float]:
-    """A wider interval on the side hit: :data:`WIDEN` widths out (decades for τ)."""
+    """A wider interval on the side hit: :data:`WIDEN` widths out; for τ (``log``)
+    :data:`WIDEN` decades (widths of an automatic range of several decades would reach
+    centuries)."""
     if log:
-        a, b = math.log10(lo), math.log10(hi)
-        w = WIDEN * max(b - a, 1.0)
-        return (10.0 ** (a - w), hi) if side == "low" else (lo, 10.0 ** (b + w))
+        return ((lo / 10.0 ** WIDEN, hi) if side == "low" else (lo, hi * 10.0 ** WIDEN))
     w = WIDEN * (hi - lo)
     return (lo - w, hi) if side == "low" else (lo, hi + w)
 
 
 def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
-    """One sentence per constant that ends on a bound no widening moves, beyond those
-    of :func:`bound_hits` (``skip``): a bound the user gave to a linear constant or a
-    relaxation time (a τ on an end of the automatic range is the time-window warnings'
-    part).
-    A bound at the law's physical limit (G_i >= 0, μ > 0) is no warning."""
-    hm, model, out = prob.hm, prob.model, []
-    names = list(model.param_names)
-    tau_b = np.asarray(prob.tau_b, dtype=np.float64).reshape(-1, 2)
-    free = [i for i in range(tau_b.shape[0]) if tau_b[i, 1] > tau_b[i, 0]]
-    for k, name in enumerate(names):
-        if name in skip or not np.isfinite(x[k]):
+    """One sentence per linear constant (a hyperelastic modulus, a G_i) that ends on a
+    bound the user gave, beyond those of :func:`bound_hits` (``skip``): no widening moves
+    it. A bound at the law's physical limit (G_i >= 0, μ > 0) is no warning. Relaxation
+    times are :func:`tau_bound_headlines`' part (after the terms are sorted)."""
+    hm, out = prob.hm, []
+    for k, name in enumerate(prob.model.param_names):
+        if (name in skip or not np.isfinite(x[k]) or name not in prob.user_bounds
+                or name not in prob.bounds or _tau_index(name) is not None):
+            continue  # automatic bounds of the searched shape: bound_hits' part
+        lo, hi = (float(v) for v in prob.bounds[name])
+        if not hi > lo:
             continue
-        tau_i = int(name[3:]) - 1 if name.startswith("tau") and name[3:].isdigit() else None
-        if tau_i is not None:
-            if tau_i not in free:
-                continue  # a fixed τ (strategy "fixed") is no bound hit
-            a, b = (float(v) for v in tau_b[tau_i])
-            z = math.log10(x[k]) if x[k] > 0 else -math.inf
-            user = name in prob.user_bounds
-            if not user:
-                # the automatic range's ends follow the data's time scales: a τ there is
-                # reported by the time-window warnings (faster/slower than every test)
-                continue
-            margin = HIT_MARGIN * (b - a)
-            side = ("low" if z - a <= margin else "high" if b - z <= margin else None)
-            lo, hi = 10.0 ** a, 10.0 ** b
-            how, log = "given in bounds=", True
-        else:
-            if name not in prob.user_bounds or name not in prob.bounds:
-                continue  # automatic bounds of the searched shape: bound_hits' part
-            lo, hi = (float(v) for v in prob.bounds[name])
-            if not hi > lo:
-                continue
-            plo, phi = ((float(v) for v in hm.bounds[k]) if k < hm.n_params
-                        else (0.0, math.inf))  # G_i >= 0
-            margin = HIT_MARGIN * (hi - lo)
-            side = ("low" if x[k] - lo <= margin and lo > plo else
-                    "high" if hi - x[k] <= margin and hi < phi else None)
-            how, log = "given in bounds=", False
+        plo, phi = ((float(v) for v in hm.bounds[k]) if k < hm.n_params
+                    else (0.0, math.inf))  # G_i >= 0
+        margin = HIT_MARGIN * (hi - lo)
+        side = ("low" if x[k] - lo <= margin and lo > plo else
+                "high" if hi - x[k] <= margin and hi < phi else None)
+        if side is not None:
+            out.append(_on_bound(name, float(x[k]), side, lo if side == "low" else hi,
+                                 "given in bounds=", _suggest(name, lo, hi, side, log=False)))
+    return out
+
+
+def _tau_index(name: str) -> int | None:
+    """i of a relaxation time's name tau{i + 1}, else None."""
+    return int(name[3:]) - 1 if name.startswith("tau") and name[3:].isdigit() else None
+
+
+def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int, str]
+                        ) -> dict[int, str]:
+    """One sentence per relaxation time on an end of its τ range: term index -> sentence.
+
+    ``x`` and ``prob.tau_b`` are the fit's terms as reported (sorted, merged, pruned). A τ
+    within :data:`HIT_MARGIN` of the width of its range (log10) from an end, with G_i > 0,
+    is named with the bound and a wider ``bounds=`` for it: a range the user gave
+    (``settings.bounds``, told by its ends), or the automatic one (Eq. 22: the data's time
+    scales, ``settings.decades_below`` and ``decades_above``), which no widening moves.
+    At an end of the whole automatic range a test that identifies it is the other remedy
+    (a slower test or a relaxation hold for the upper end, a faster test for the lower);
+    at a cut of the range between two terms (the ``semifree`` strategy) the ``free``
+    strategy. ``windows`` (term index -> clause,
+    :func:`vhfit.calibration._report.time_windows`) adds that τ's time-window fact to its
+    sentence, so that one line names each τ. A fixed τ (lower == upper) is never named.
+    """
+    nh, out = prob.hm.n_params, {}
+    tau_b = np.asarray(prob.tau_b, dtype=np.float64).reshape(-1, 2)
+    try:
+        whole = tau_bounds_log10(rates(curves), 1, "free", settings.decades_below,
+                                 settings.decades_above)[0]
+    except ValueError:  # no rates (every τ bounded by the user): no automatic range
+        whole = None
+    # the ends the user gave, by value: the terms were re-sorted by τ since the search, so
+    # the term a bound was given to may carry another name now
+    given = [math.log10(float(v)) for k, lim in (settings.bounds.items() if isinstance(
+        settings.bounds, dict) else ()) if _tau_index(k) is not None for v in lim]
+    for i in range(tau_b.shape[0]):
+        G, tau = float(x[nh + 2 * i]), float(x[nh + 2 * i + 1])
+        a, b = (float(v) for v in tau_b[i])
+        if not (b > a and G > 0 and tau > 0 and np.isfinite(tau)):
+            continue
+        z, margin = math.log10(tau), HIT_MARGIN * (b - a)
+        side = "low" if z - a <= margin else "high" if b - z <= margin else None
         if side is None:
             continue
-        b_ = lo if side == "low" else hi
-        sug = _suggest(name, lo, hi, side, log)
-        out.append(
-            f"{name} = {x[k]:.6g} ended on its search bound {name} "
-            f"{'>=' if side == 'low' else '<='} {b_:g} ({how}): the best fit may lie beyond "
-            f"it; widen it with the bounds= keyword, e.g. "
-            f"bounds={{'{name}': ({sug[0]:g}, {sug[1]:g})}} (command line: --bounds "
-            f"{name}={sug[0]:g}:{sug[1]:g})")
+        name = f"tau{i + 1}"
+        lo, hi = 10.0 ** a, 10.0 ** b
+        end = a if side == "low" else b
+        outer = whole is not None and abs(end - whole[0 if side == "low" else 1]) <= 1e-9
+        if any(abs(end - g) <= 1e-9 for g in given):
+            how, then = "given in bounds=", ""
+        elif outer:
+            how = "the end of the automatic τ range, set by the data's time scales"
+            then = ("; or add a slower test or a relaxation hold that identifies it"
+                    if side == "high" else "; or add a faster test that identifies it")
+        else:
+            how = (f"its share of the automatic τ range under the tau strategy "
+                   f"{str(settings.tau_strategy)!r}")
+            then = ("; or tau_strategy='free' (command line: --strategy free) lets every τ "
+                    "span the whole range")
+        line = _on_bound(name, tau, side, lo if side == "low" else hi, how,
+                         _suggest(name, lo, hi, side, log=True), unit="s")
+        out[i] = line + (f"; it {windows[i]}" if i in windows else then)
     return out

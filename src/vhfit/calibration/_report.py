@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from vhfit.calibration._admissible import data_stability_range
-from vhfit.calibration._bounds import enforced_bounds
+from vhfit.calibration._bounds import enforced_bounds, tau_bound_headlines
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._space import Problem
@@ -19,8 +19,8 @@ from vhfit.stability import drucker
 from vhfit.viscoelastic import prony_g
 
 __all__ = ["finish", "merge_terms", "MERGE_RTOL", "confidence", "covariance",
-           "time_window_warnings", "slack_warnings", "degenerate_warnings", "CORRELATION_TOL",
-           "NEGLIGIBLE"]
+           "time_windows", "time_window_warnings", "slack_warnings", "degenerate_warnings",
+           "CORRELATION_TOL", "NEGLIGIBLE"]
 
 
 def covariance(prob: Problem, x: np.ndarray):
@@ -191,9 +191,15 @@ def degenerate_warnings(model, x, conf: dict, cov0=None) -> list[str]:
     return out
 
 
-def time_window_warnings(model, x, curves) -> list[str]:
+def time_windows(model, x, curves) -> dict[int, str]:
+    """The relaxation times (G_i > 0) outside the data's time window: term index -> clause
+    (what it does, what would identify it), to follow "tau{i + 1} = ... s ".
+
+    A τ longer than 10x every curve's duration cannot be told from a stiffer elastic law;
+    one shorter than 0.01x every curve's first objective time is seen only through G·τ.
+    """
     nh = model.hyperelastic.n_params
-    out = []
+    out = {}
     durations = [c.history.duration for c in curves]
     firsts = []
     for c in curves:
@@ -204,18 +210,26 @@ def time_window_warnings(model, x, curves) -> list[str]:
         if G <= 0:
             continue
         if tau > 10 * max(durations):
-            out.append(
-                f"tau{i + 1} = {tau:.3g} s is longer than 10x every curve's duration "
-                f"(longest {max(durations):.3g} s): the data cannot tell it from a stiffer "
-                "elastic law; add a slower test or a relaxation hold to identify it"
+            out[i] = (
+                f"is longer than 10x every curve's duration (longest {max(durations):.3g} "
+                "s): the data cannot tell it from a stiffer elastic law; add a slower test "
+                "or a relaxation hold to identify it"
             )
         elif tau < 0.01 * min(firsts):
-            out.append(
-                f"tau{i + 1} = {tau:.3g} s relaxes before the first objective point of every "
-                f"curve (earliest {min(firsts):.3g} s): its modulus is only seen through "
-                "G*tau; faster tests are needed to identify it"
+            out[i] = (
+                f"relaxes before the first objective point of every curve (earliest "
+                f"{min(firsts):.3g} s): its modulus is only seen through G*tau; faster "
+                "tests are needed to identify it"
             )
     return out
+
+
+def time_window_warnings(model, x, curves, named=()) -> list[str]:
+    """One sentence per relaxation time of :func:`time_windows`, except the term indices
+    ``named`` (a sentence naming that τ on a bound already carries its clause)."""
+    nh = model.hyperelastic.n_params
+    return [f"tau{i + 1} = {x[nh + 2 * i + 1]:.3g} s {clause}"
+            for i, clause in time_windows(model, x, curves).items() if i not in named]
 
 
 def slack_warnings(model_stress, curves) -> list[str]:
@@ -440,7 +454,11 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
     degenerate = degenerate_warnings(model, x, conf, None if cov is None else cov[1])
     heads += degenerate
     msgs += degenerate
-    msgs += time_window_warnings(model, x, curves)
+    # one line per τ: on a bound (automatic range or the user's, with its time-window
+    # fact) it heads the summary, else its time-window fact alone
+    on_bound = tau_bound_headlines(prob, x, curves, settings, time_windows(model, x, curves))
+    heads += on_bound.values()
+    msgs += list(on_bound.values()) + time_window_warnings(model, x, curves, on_bound)
     stress = prob.batch(x[None, :])[0]  # the fit's stresses: per-curve errors, slack check
     msgs += slack_warnings(prob.objective.split(stress), curves)
     # the range the search's admissible set used (a bare Problem has none: the settings')
