@@ -94,14 +94,15 @@ def test_a_hossain_like_user_bound_on_tau_is_named():
     assert "--bounds tau1=0.5:100" in line  # two decades beyond the bound hit
 
 
-def test_a_user_bound_on_a_term_that_the_sort_renames_is_still_named_as_given():
+def test_a_user_bound_on_a_term_keeps_its_name_and_is_named_as_given():
     """Free strategy, N = 2, τ2 held to [0.01, 0.05] s while the material's τ are 2 and
-    20 s: the bounded term ends on 0.05 s, the faster of the two, so it is reported as
-    τ1; its line says the bound was given, not that it is the automatic range's."""
+    20 s: the bounded term ends on 0.05 s, the faster of the two, and keeps its name τ2
+    (terms bounded by name are not re-sorted); its line says the bound was given, not
+    that it is the automatic range's."""
     cal = _fit(tau1=2.0, tau2=20.0, n_prony=2, bounds={"tau2": (0.01, 0.05)})
-    assert _on(cal.params["tau1"], 0.05, np.log10(5.0))
-    [line] = [w for w in _tau_lines(cal) if "search bound" in w]
-    assert "tau1 <= 0.05 s (given in bounds=)" in line and "automatic" not in line
+    assert _on(cal.params["tau2"], 0.05, np.log10(5.0))
+    [line] = [w for w in _tau_lines(cal, "tau2") if "search bound" in w]
+    assert "tau2 <= 0.05 s (given in bounds=)" in line and "automatic" not in line
 
 
 def test_a_tau_beyond_the_automatic_upper_end_is_named_once_with_its_remedies():
@@ -187,3 +188,31 @@ def test_the_command_line_summary_names_a_tau_on_the_automatic_bound(tmp_path, c
               if "WARNING" in w and "tau1 = " in w]
     assert "search bound tau1 <= 200 s (the end of the automatic τ range" in line
     assert "--bounds tau1=0.002:20000" in line
+
+
+def test_a_bound_given_to_a_term_by_name_holds_for_that_name():
+    """bounds={'tau2': ...} with the free strategy: the bounded term keeps its name
+    (no re-sort by τ), so the fit's tau2 lies within the limits and no false
+    'outside the limits' warning appears; unsorted neighbours are not merged."""
+    m = vhfit.ViscoHyperelastic("neo_hooke", 2)
+    truth = dict(C10=0.1, G1=0.2, tau1=5.0, G2=0.3, tau2=0.03)
+    curves = [vhfit.Curve(strain=np.linspace(0.0125, 0.5, 40),
+                          stress=m.stress(truth, strain=np.linspace(0.0125, 0.5, 40),
+                                          strain_rate=r, measure="engineering"),
+                          strain_rate=r, name=f"r{r}") for r in (0.01, 0.1, 1.0)]
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        cal = vhfit.calibrate(curves, hyperelastic="neo_hooke", n_prony=2, seed=0,
+                              bounds={"tau2": (0.01, 0.05)})
+    assert 0.01 <= cal.params["tau2"] <= 0.05
+    assert cal.params["tau1"] == pytest.approx(5.0, rel=1e-6)
+    assert cal.model.n_prony == 2
+    assert not [x for x in w if "outside the limits" in str(x.message)]
+
+
+def test_merging_takes_neighbours_only_in_a_users_order():
+    from vhfit.calibration._report import merge_terms
+
+    G, tau, groups = merge_terms(np.array([1.0, 2.0, 3.0]), np.array([5.0, 0.03, 0.03]))
+    assert groups == [(0,), (1, 2)] and G.tolist() == [1.0, 5.0]
+    assert tau.tolist() == [5.0, pytest.approx(0.03)]

@@ -13,6 +13,7 @@ from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import enforced_bounds, tau_bound_headlines
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
+from vhfit.calibration._settings import _PRONY_NAME
 from vhfit.calibration._space import Problem
 from vhfit.model import ViscoHyperelastic
 from vhfit.stability import drucker
@@ -269,7 +270,8 @@ MERGE_RTOL = 0.01
 
 def merge_terms(G: np.ndarray, tau: np.ndarray, rtol: float = MERGE_RTOL
                 ) -> tuple[np.ndarray, np.ndarray, list[tuple[int, ...]]]:
-    """Merge Prony terms whose relaxation times coincide (sorted τ in, sorted τ out).
+    """Merge neighbouring Prony terms whose relaxation times coincide (sorted τ in, sorted
+    τ out; terms in a user's order are merged with their neighbours only).
 
     Two branches with τ within ``rtol`` of each other act as one of modulus G_a + G_b;
     the merged τ is their modulus-weighted geometric mean, so the change of the
@@ -290,7 +292,9 @@ def merge_terms(G: np.ndarray, tau: np.ndarray, rtol: float = MERGE_RTOL
     """
     groups: list[list[int]] = []
     for i in range(tau.size):
-        if groups and tau[i] <= tau[groups[-1][0]] * (1.0 + rtol):
+        first = tau[groups[-1][0]] if groups else 0.0
+        # (the lower end holds for sorted τ; a user's term order may be unsorted)
+        if groups and first * (1.0 - rtol) <= tau[i] <= first * (1.0 + rtol):
             groups[-1].append(i)
         else:
             groups.append([i])
@@ -385,7 +389,11 @@ def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
 def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     """Sort the Prony terms by τ, merge coincident ones, drop negligible ones."""
     nh = model.hyperelastic.n_params
-    order = np.argsort(x[nh + 1::2], kind="stable")  # present terms from fastest to slowest
+    # present terms from fastest to slowest; but a bound the user gave to a term by its
+    # name (tau2, G1) holds for that name, so such a fit keeps its terms' order
+    named = any(_PRONY_NAME.match(str(k)) for k in prob.user_bounds)
+    order = (np.arange(model.n_prony) if named else
+             np.argsort(x[nh + 1::2], kind="stable"))
     x = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in order])
     prob.tau_b = prob.tau_b[order]
     G, tau, groups = merge_terms(x[nh::2], x[nh + 1::2])
