@@ -80,7 +80,7 @@ SPEC_VERSION = 1
 
 
 def _spec_error(what: str) -> ValueError:
-    return ValueError(f"model spec: {what}; give the dict of ModelSpec.to_dict()")
+    return ValueError(f"model spec: {what}")
 
 
 def _exact_keys(d, keys: Sequence[str], what: str) -> None:
@@ -278,13 +278,15 @@ class ModelSpec:
 
 
 def spec_from_dict(d: Mapping) -> ModelSpec:
-    """The :class:`ModelSpec` of a dict: that of :meth:`ModelSpec.to_dict`, or the flat
-    fields of files written before the spec.
+    """The :class:`ModelSpec` of a dict: that of :meth:`ModelSpec.to_dict`, or a file's
+    entry that holds one, or the flat fields of files written before the spec.
 
-    A dict with ``"version"`` is the serial form and must hold exactly its keys. Without
-    it the dict is read as the flat fields (:meth:`ModelSpec.flat_fields`) among a
-    file's other entries: ``hyperelastic``, ``n_prony`` (default 0), ``formulation``
-    (default "hereditary") and ``rtol`` (default 1e-6); its other keys are not read.
+    A dict with ``"version"`` is the serial form and must hold exactly its keys. A dict
+    with ``"spec"`` (an entry of a results file, a material.json document) is read by
+    its spec, and the flat fields beside it (:meth:`ModelSpec.flat_fields`, and
+    ``rtol``) must agree with it. Otherwise the dict is read as the flat fields among a file's other
+    entries: ``hyperelastic``, ``n_prony`` (default 0), ``formulation`` (default
+    "hereditary") and ``rtol`` (default 1e-6). Other keys are not read.
 
     Parameters
     ----------
@@ -303,13 +305,22 @@ def spec_from_dict(d: Mapping) -> ModelSpec:
     --------
     >>> spec_from_dict({"hyperelastic": "neo_hooke", "n_prony": 2}).describe()
     'neo_hooke + 2 Prony term(s)'
-    >>> spec_from_dict({"version": 9})  # doctest: +ELLIPSIS
+    >>> spec_from_dict({"version": 9})
     Traceback (most recent call last):
     ...
-    ValueError: model spec: version 9 is not known (this vhfit reads version 1); ...
+    ValueError: model spec: version 9 is not known (this vhfit reads version 1)
     """
     if not isinstance(d, Mapping):
         raise _spec_error(f"{d!r} is not a mapping")
+    if "spec" in d:
+        inner = d["spec"]
+        if not (isinstance(inner, Mapping) and "version" in inner):
+            raise _spec_error(f"spec = {inner!r} is no model spec (it has no 'version')")
+        spec = spec_from_dict(inner)
+        for k, v in {**spec.flat_fields(), "rtol": spec.rtol}.items():
+            if k in d and d[k] != v:
+                raise _spec_error(f"{k} = {d[k]!r} does not match the spec's {v!r}")
+        return spec
     if "version" not in d:
         return _flat_spec(d)
     v = d["version"]
