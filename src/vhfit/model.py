@@ -462,13 +462,13 @@ class ViscoHyperelastic:
     def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6,
                  formulation: str = "hereditary"):
         _check_arguments(hyperelastic, n_prony, rtol, formulation)
-        self._spec = ModelSpec(hyperelastic, Prony(n_prony, formulation), rtol)
-        self._formulation = get_formulation(formulation)
+        self._spec = spec = ModelSpec(hyperelastic, Prony(n_prony, formulation), rtol)
+        self._formulation = get_formulation(spec.formulation)
         #: Name of the viscoelastic formulation (see :mod:`vhfit.formulations`).
-        self.formulation: str = self._formulation.name
-        self.hyperelastic = _hyper.get(hyperelastic)
-        self.n_prony = int(n_prony)
-        self.rtol = float(rtol)
+        self.formulation: str = spec.formulation
+        self.hyperelastic = spec.law
+        self.n_prony = spec.n_prony
+        self.rtol = spec.rtol
         self._dlog = _dlog(self.rtol)
         names = list(self.hyperelastic.param_names)
         units = list(self.hyperelastic.units)

@@ -16,7 +16,7 @@ from vhfit._words import Worded
 from vhfit.calibration._settings import CalibrationSettings, shift_law
 from vhfit.data import TestItem
 from vhfit.history import History
-from vhfit.model import ViscoHyperelastic, model_from_spec, spec_from_dict
+from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec, spec_from_dict
 from vhfit.stability import StabilityReport, drucker
 
 __all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report", "grade",
@@ -107,7 +107,7 @@ def _n_prony(n, params: dict) -> int:
     return found
 
 
-def _spec_of(res: dict, options: dict):
+def _spec_of(res: dict, options: dict) -> ModelSpec:
     """The model spec of a results entry: its ``spec`` (format 2), else its flat fields
     with the accuracy of its options (format 1); its terms must be those of its
     parameters (compared before any model is built)."""
