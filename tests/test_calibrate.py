@@ -563,7 +563,7 @@ def test_results_file_round_trip(tmp_path):
     path = tmp_path / "results.json"
     cal.save(path, curves=curves, extra={"note": "x"})
     data = json.loads(path.read_text())
-    assert data["format"] == vhfit.calibration.RESULTS_FORMAT == "vhfit-results-1"
+    assert data["format"] == vhfit.calibration.RESULTS_FORMAT == "vhfit-results-2"
     assert data["status"] == "complete"
     assert data["note"] == "x" and len(data["curves"]) == len(curves)
     back = vhfit.Calibration.load(path)

@@ -53,7 +53,7 @@ import numpy as np
 
 from vhfit import hyperelastic as _hyper
 from vhfit.history import History
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ModelSpec, Prony, ViscoHyperelastic, model_from_spec
 from vhfit.modes import get_deformation
 
 __all__ = ["RatePair", "rate_pairs", "rate_ratio_bounds", "rate_sensitivity"]
@@ -146,7 +146,7 @@ def _term_ratios(hm, pairs, tau) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ``pairs`` is a list of (strain array, slow rate, fast rate). Returns
     (h_slow, h_fast, base) of shapes (B, T, n) and (B, n), concatenated over pairs.
     """
-    model = ViscoHyperelastic(hm, 1)
+    model = model_from_spec(ModelSpec(hm, Prony(1)))
     hist = []
     for eps, r1, r2 in pairs:
         hist += [History.constant_rate(eps, r1), History.constant_rate(eps, r2)]

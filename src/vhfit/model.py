@@ -9,11 +9,18 @@ of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy.
 h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
 docs/theory.md §14): the corrected Eq. 19 by default, or a solver's own law.
 Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
+
+A model is described by its :class:`ModelSpec` (the law, the viscous part and the
+accuracy): :meth:`ViscoHyperelastic.spec` writes it, :func:`model_from_spec` builds the
+model from it, and :meth:`ModelSpec.to_dict` / :func:`spec_from_dict` are its one serial
+form (results files, material.json).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -24,7 +31,8 @@ from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction, get_deformation
 from vhfit.viscoelastic import check_prony, prony_g
 
-__all__ = ["ViscoHyperelastic", "Batch"]
+__all__ = ["ViscoHyperelastic", "Batch", "ModelSpec", "Prony", "model_from_spec", "spec_from_dict",
+           "SPEC_VERSION"]
 
 
 def _dlog(rtol: float) -> float:
@@ -39,19 +47,338 @@ def _dlog(rtol: float) -> float:
     return min(0.1, 0.6 * rtol**0.25)
 
 
-def _check_arguments(hyperelastic, n_prony, rtol, formulation) -> None:
-    """The front door of :class:`ViscoHyperelastic`: one-line errors, nothing computed."""
+def _check_law(hyperelastic) -> None:
     if not isinstance(hyperelastic, (str, _hyper.Hyperelastic)):
         raise ValueError(
             f"hyperelastic = {hyperelastic!r} must be a model name such as 'mooney_rivlin' "
             "(see vhfit.hyperelastic.available()) or a registered Hyperelastic"
         )
+
+
+def _check_terms(n_prony) -> None:
     if isinstance(n_prony, bool) or not isinstance(n_prony, (int, np.integer)) or n_prony < 0:
         raise ValueError(f"n_prony = {n_prony!r} must be a whole number >= 0")
+
+
+def _check_rtol(rtol) -> None:
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
         raise ValueError(f"rtol = {rtol!r} must lie in (0, 1): give a number such as 1e-6")
     _dlog(float(rtol))
+
+
+def _check_arguments(hyperelastic, n_prony, rtol, formulation) -> None:
+    """The front door of :class:`ViscoHyperelastic`: one-line errors, nothing computed."""
+    _check_law(hyperelastic)
+    _check_terms(n_prony)
+    _check_rtol(rtol)
     get_formulation(formulation)
+
+
+# ------------------------------------------------------------------------ the spec
+#: Version of the serial form of :meth:`ModelSpec.to_dict` (its ``"version"`` entry).
+SPEC_VERSION = 1
+
+
+def _spec_error(what: str) -> ValueError:
+    return ValueError(f"model spec: {what}")
+
+
+def _exact_keys(d, keys: Sequence[str], what: str) -> None:
+    """Refuse a mapping whose keys are not exactly ``keys`` (one line naming them)."""
+    if not isinstance(d, Mapping):
+        raise _spec_error(f"{what} = {d!r} is not a mapping")
+    missing = [k for k in keys if k not in d]
+    extra = sorted(str(k) for k in d if k not in keys)
+    if missing or extra:
+        raise _spec_error(f"{what} has keys {sorted(map(str, d))}: missing {missing}, "
+                          f"unexpected {extra}")
+
+
+@dataclass(frozen=True)
+class Prony:
+    """The viscous part of a model: N Prony terms acting in a viscoelastic formulation.
+
+    Parameters
+    ----------
+    n : int
+        Number of Prony terms N ≥ 0 (parameters ``G1, tau1, ..., GN, tauN``).
+    formulation : str
+        How the series acts at finite strain, a name of
+        :data:`vhfit.formulations.FORMULATIONS` (default "hereditary", the corrected
+        Eq. 19).
+
+    Examples
+    --------
+    >>> Prony(2).describe(), Prony(2).to_dict()
+    ('2 Prony term(s)', {'kind': 'prony', 'n': 2, 'formulation': 'hereditary'})
+    """
+
+    n: int = 1
+    formulation: str = "hereditary"
+    #: The name of this kind of viscous part in the serial form.
+    kind: ClassVar[str] = "prony"
+
+    def __post_init__(self) -> None:
+        _check_terms(self.n)
+        object.__setattr__(self, "n", int(self.n))
+        object.__setattr__(self, "formulation", get_formulation(self.formulation).name)
+
+    def describe(self) -> str:
+        """``"N Prony term(s)"``: the words of the summaries, headers and titles."""
+        return f"{self.n} Prony term(s)"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The serial form: ``kind``, ``n`` and ``formulation``."""
+        return {"kind": self.kind, "n": self.n, "formulation": self.formulation}
+
+    @classmethod
+    def from_dict(cls, d: Mapping) -> Prony:
+        """The inverse of :meth:`to_dict` (exactly its keys; one-line errors)."""
+        _exact_keys(d, ("kind", "n", "formulation"), "viscous")
+        n, form = d["n"], d["formulation"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 0:
+            raise _spec_error(f"viscous n = {n!r} is not a whole number >= 0")
+        if not isinstance(form, str):
+            raise _spec_error(f"viscous formulation = {form!r} is not a name")
+        try:
+            return cls(n, form)
+        except ValueError as exc:
+            raise _spec_error(str(exc)) from None
+
+
+#: Kind -> viscous part of a model spec (the serial form's ``viscous["kind"]``).
+_VISCOUS: dict[str, type[Prony]] = {Prony.kind: Prony}
+
+
+def _registered(law: _hyper.Hyperelastic) -> bool:
+    """Whether ``law`` is the law the registry holds under its name."""
+    try:
+        return _hyper.get(law.name) is law
+    except ValueError:
+        return False
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """What a :class:`ViscoHyperelastic` is: its law, its viscous part and its accuracy.
+
+    :meth:`ViscoHyperelastic.spec` writes it and :func:`model_from_spec` builds the model
+    from it; a model's variants ("the same with N terms", "in another formulation", "at a
+    coarser accuracy", "with another law") are :meth:`replace` of its spec. Its serial
+    form is :meth:`to_dict`, read by :func:`spec_from_dict`.
+
+    Parameters
+    ----------
+    hyperelastic : str or Hyperelastic
+        A registered law's name, or a :class:`~vhfit.hyperelastic.Hyperelastic`: a
+        registered one is kept by its name, another (a law built by hand) as itself.
+    viscous : Prony
+        The viscous part (default one Prony term in the "hereditary" formulation).
+    rtol : float
+        Relative accuracy of the hereditary integral, in (0, 1).
+
+    Examples
+    --------
+    >>> s = ModelSpec("yeoh", Prony(2, "hereditary"))
+    >>> s.describe(), s.n_prony, s.formulation, s.rtol
+    ('yeoh + 2 Prony term(s)', 2, 'hereditary', 1e-06)
+    >>> s.with_terms(0).describe()
+    'yeoh + 0 Prony term(s)'
+    >>> spec_from_dict(s.to_dict()) == s
+    True
+    """
+
+    hyperelastic: str | _hyper.Hyperelastic = "mooney_rivlin"
+    viscous: Prony = field(default_factory=Prony)
+    rtol: float = 1e-6
+
+    def __post_init__(self) -> None:
+        _check_law(self.hyperelastic)
+        if type(self.viscous) not in _VISCOUS.values():
+            raise ValueError(f"viscous = {self.viscous!r} must be a viscous part such as "
+                             "Prony(n=2)")
+        _check_rtol(self.rtol)
+        law = _hyper.get(self.hyperelastic)  # an unknown name: its one-line error
+        object.__setattr__(self, "hyperelastic", law.name if _registered(law) else law)
+        object.__setattr__(self, "rtol", float(self.rtol))
+
+    @property
+    def law(self) -> _hyper.Hyperelastic:
+        """The hyperelastic law."""
+        return _hyper.get(self.hyperelastic)
+
+    @property
+    def law_name(self) -> str:
+        """The law's name (that of a law built by hand, too)."""
+        return self.law.name
+
+    @property
+    def n_prony(self) -> int:
+        """Number of Prony terms."""
+        return self.viscous.n
+
+    @property
+    def formulation(self) -> str:
+        """The viscoelastic formulation of the Prony series."""
+        return self.viscous.formulation
+
+    def replace(self, *, hyperelastic=None, viscous: Prony | None = None,
+                n_prony: int | None = None, formulation: str | None = None,
+                rtol: float | None = None) -> ModelSpec:
+        """The same spec but for the parts given (None: unchanged).
+
+        ``n_prony`` and ``formulation`` change those of the viscous part; give them or
+        ``viscous``, not both.
+
+        Examples
+        --------
+        >>> ModelSpec("neo_hooke").replace(n_prony=3, rtol=1e-4).describe()
+        'neo_hooke + 3 Prony term(s)'
+        """
+        if viscous is not None and (n_prony is not None or formulation is not None):
+            raise ValueError("give viscous= or n_prony=/formulation=, not both")
+        if viscous is None:
+            v = self.viscous
+            viscous = Prony(v.n if n_prony is None else n_prony,
+                            v.formulation if formulation is None else formulation)
+        return ModelSpec(self.hyperelastic if hyperelastic is None else hyperelastic, viscous,
+                         self.rtol if rtol is None else rtol)
+
+    def with_terms(self, n_prony: int) -> ModelSpec:
+        """The same model with ``n_prony`` Prony terms."""
+        return self.replace(n_prony=n_prony)
+
+    def describe(self, formulation: bool = False) -> str:
+        """``"law + N Prony term(s)"``; with ``formulation``, a formulation other than
+        "hereditary" is added (``", 'NAME' formulation"``)."""
+        text = f"{self.law_name} + {self.viscous.describe()}"
+        if formulation and self.formulation != "hereditary":
+            text += f", '{self.formulation}' formulation"
+        return text
+
+    def flat_fields(self) -> dict[str, Any]:
+        """``hyperelastic``, ``formulation`` and ``n_prony``: the fields files wrote before
+        the spec and still write beside it, for their readers (:func:`spec_from_dict`
+        reads them where a file has no spec)."""
+        return {"hyperelastic": self.law_name, "formulation": self.formulation,
+                "n_prony": self.n_prony}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The serial form, JSON-ready: ``version``, ``hyperelastic`` (the law's name: a law
+        built by hand must be registered where the dict is read), ``viscous``, ``rtol``.
+
+        Examples
+        --------
+        >>> ModelSpec("neo_hooke", Prony(1)).to_dict()  # doctest: +NORMALIZE_WHITESPACE
+        {'version': 1, 'hyperelastic': 'neo_hooke',
+         'viscous': {'kind': 'prony', 'n': 1, 'formulation': 'hereditary'}, 'rtol': 1e-06}
+        """
+        return {"version": SPEC_VERSION, "hyperelastic": self.law_name,
+                "viscous": self.viscous.to_dict(), "rtol": self.rtol}
+
+
+def spec_from_dict(d: Mapping) -> ModelSpec:
+    """The :class:`ModelSpec` of a dict: that of :meth:`ModelSpec.to_dict`, or a file's
+    entry that holds one, or the flat fields of files written before the spec.
+
+    A dict with ``"version"`` is the serial form and must hold exactly its keys. A dict
+    with ``"spec"`` (an entry of a results file, a material.json document) is read by
+    its spec, and the flat fields beside it (:meth:`ModelSpec.flat_fields`, and
+    ``rtol``) must agree with it. Otherwise the dict is read as the flat fields among a file's other
+    entries: ``hyperelastic``, ``n_prony`` (default 0), ``formulation`` (default
+    "hereditary") and ``rtol`` (default 1e-6). Other keys are not read.
+
+    Parameters
+    ----------
+    d : mapping
+
+    Returns
+    -------
+    ModelSpec
+
+    Raises
+    ------
+    ValueError
+        One line naming the entry that is wrong.
+
+    Examples
+    --------
+    >>> spec_from_dict({"hyperelastic": "neo_hooke", "n_prony": 2}).describe()
+    'neo_hooke + 2 Prony term(s)'
+    >>> spec_from_dict({"version": 9})
+    Traceback (most recent call last):
+    ...
+    ValueError: model spec: version 9 is not known (this vhfit reads version 1)
+    """
+    if not isinstance(d, Mapping):
+        raise _spec_error(f"{d!r} is not a mapping")
+    if "spec" in d:
+        inner = d["spec"]
+        if not (isinstance(inner, Mapping) and "version" in inner):
+            raise _spec_error(f"spec = {inner!r} is no model spec (it has no 'version')")
+        spec = spec_from_dict(inner)
+        for k, v in {**spec.flat_fields(), "rtol": spec.rtol}.items():
+            if k in d and d[k] != v:
+                raise _spec_error(f"{k} = {d[k]!r} does not match the spec's {v!r}")
+        return spec
+    if "version" not in d:
+        return _flat_spec(d)
+    v = d["version"]
+    if isinstance(v, bool) or v != SPEC_VERSION:
+        raise _spec_error(f"version {v!r} is not known (this vhfit reads version "
+                          f"{SPEC_VERSION})")
+    _exact_keys(d, ("version", "hyperelastic", "viscous", "rtol"), "the spec")
+    viscous, rtol = d["viscous"], d["rtol"]
+    kind = viscous.get("kind") if isinstance(viscous, Mapping) else None
+    if kind not in _VISCOUS:
+        raise _spec_error(f"viscous = {viscous!r} is no known viscous part (kinds: "
+                          f"{', '.join(_VISCOUS)})")
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)):
+        raise _spec_error(f"rtol = {rtol!r} is not a number")
+    return _spec_of(d["hyperelastic"], _VISCOUS[kind].from_dict(viscous), rtol)
+
+
+def _flat_spec(d: Mapping) -> ModelSpec:
+    """The spec of the flat fields (see :func:`spec_from_dict`)."""
+    n, form = d.get("n_prony", 0), d.get("formulation", "hereditary")
+    if isinstance(n, bool) or not isinstance(n, int):
+        raise _spec_error(f"n_prony = {n!r} is not a whole number")
+    if not isinstance(form, str):
+        raise _spec_error(f"formulation = {form!r} is not a name")
+    try:
+        viscous = Prony(n, form)
+    except ValueError as exc:
+        raise _spec_error(str(exc)) from None
+    return _spec_of(d.get("hyperelastic"), viscous, d.get("rtol", 1e-6))
+
+
+def _spec_of(law, viscous: Prony, rtol) -> ModelSpec:
+    """A spec read from a dict: the law must be a name (one-line errors)."""
+    if not isinstance(law, str):
+        raise _spec_error(f"hyperelastic = {law!r} is not a law's name")
+    try:
+        return ModelSpec(law, viscous, rtol)
+    except ValueError as exc:
+        raise _spec_error(str(exc)) from None
+
+
+def model_from_spec(spec: ModelSpec) -> ViscoHyperelastic:
+    """The model a :class:`ModelSpec` describes (the inverse of
+    :meth:`ViscoHyperelastic.spec`).
+
+    Examples
+    --------
+    >>> m = model_from_spec(ModelSpec("mooney_rivlin", Prony(2), rtol=1e-5))
+    >>> m
+    ViscoHyperelastic('mooney_rivlin', n_prony=2, rtol=1e-05)
+    >>> model_from_spec(m.spec()).spec() == m.spec()
+    True
+    """
+    if not isinstance(spec, ModelSpec):
+        raise TypeError(f"expected a ModelSpec, got {type(spec).__name__}: build one with "
+                        "ModelSpec(...) or spec_from_dict(...)")
+    return ViscoHyperelastic(spec.hyperelastic, spec.n_prony, rtol=spec.rtol,
+                             formulation=spec.formulation)
 
 
 def _strain_of(name: str, stretch):
@@ -135,12 +462,13 @@ class ViscoHyperelastic:
     def __init__(self, hyperelastic="mooney_rivlin", n_prony: int = 1, *, rtol: float = 1e-6,
                  formulation: str = "hereditary"):
         _check_arguments(hyperelastic, n_prony, rtol, formulation)
-        self._formulation = get_formulation(formulation)
+        self._spec = spec = ModelSpec(hyperelastic, Prony(n_prony, formulation), rtol)
+        self._formulation = get_formulation(spec.formulation)
         #: Name of the viscoelastic formulation (see :mod:`vhfit.formulations`).
-        self.formulation: str = self._formulation.name
-        self.hyperelastic = _hyper.get(hyperelastic)
-        self.n_prony = int(n_prony)
-        self.rtol = float(rtol)
+        self.formulation: str = spec.formulation
+        self.hyperelastic = spec.law
+        self.n_prony = spec.n_prony
+        self.rtol = spec.rtol
         self._dlog = _dlog(self.rtol)
         names = list(self.hyperelastic.param_names)
         units = list(self.hyperelastic.units)
@@ -160,6 +488,18 @@ class ViscoHyperelastic:
     @property
     def n_params(self) -> int:
         return len(self.param_names)
+
+    def spec(self) -> ModelSpec:
+        """What this model is (law, viscous part, accuracy): :func:`model_from_spec`
+        builds it again; its :meth:`~ModelSpec.replace` makes variants.
+
+        Examples
+        --------
+        >>> m = ViscoHyperelastic("neo_hooke", 2)
+        >>> model_from_spec(m.spec().with_terms(1))
+        ViscoHyperelastic('neo_hooke', n_prony=1, rtol=1e-06)
+        """
+        return self._spec
 
     # ------------------------------------------------------------- parameters
     def as_array(self, params) -> np.ndarray:

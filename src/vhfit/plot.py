@@ -528,8 +528,7 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
     if shown:
         _time_panels(subs[1], cal, curves, data, lines, shown, timed[len(shown):], colours)
     if title is None:
-        hm = cal.model.hyperelastic.name
-        title = f"{hm} + {cal.model.n_prony} Prony term(s)"
+        title = cal.model.spec().describe()
         if cal.rmsape is not None:
             title += f": RMSAPE {cal.rmsape:.3g} %"
     if "markers" not in title:  # the report's titles say it already

@@ -43,7 +43,7 @@ from vhfit.calibration._workflow import (
 )
 from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 from vhfit.hyperelastic import get as get_law
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ModelSpec, Prony, model_from_spec
 from vhfit.tts import shift_to_reference
 
 __all__ = ["calibrate_for", "plan_formulations", "start_options", "same_fit", "CLOUD_WIDTH",
@@ -235,9 +235,9 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     x_first = _in_law(first, law)
     if x_first is None:
         return chosen
-    model = ViscoHyperelastic(law, int(n_prony),
-                              rtol=kwargs.get("rtol", 1e-6),
-                              formulation=kwargs.get("formulation", "hereditary"))
+    model = model_from_spec(ModelSpec(law, Prony(int(n_prony),
+                                                 kwargs.get("formulation", "hereditary")),
+                                      kwargs.get("rtol", 1e-6)))
     tau_b, auto = search_bounds(
         model, ref.items, kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY),
         kwargs.get("decades_below", DEFAULT_DECADES_BELOW),
@@ -340,8 +340,7 @@ def same_fit(first: Calibration, curves, **kwargs) -> Calibration | None:
             return None
     except (TypeError, ValueError):  # a keyword calibrate lacks; arrays compared
         return None
-    model = ViscoHyperelastic(first.model.hyperelastic, 0, rtol=first.model.rtol,
-                              formulation=form)
+    model = model_from_spec(first.model.spec().replace(formulation=form))
     return replace(first, model=model, settings=new, nit=0, nfev=0, history={},
                    options={**first.options, "same_as": (
                        f"the '{first.model.formulation}' fit: without Prony terms every "

@@ -15,7 +15,7 @@ from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._settings import _PRONY_NAME
 from vhfit.calibration._space import Problem
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import model_from_spec
 from vhfit.stability import drucker
 from vhfit.viscoelastic import prony_g
 
@@ -359,8 +359,7 @@ def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
         merged = terms.copy()
         merged[keep, 0] = terms[p, 0] + terms[q, 0]
         merged = np.delete(merged, drop, axis=0)
-        fewer = ViscoHyperelastic(hm.fewer, model.n_prony, rtol=model.rtol,
-                                  formulation=model.formulation)
+        fewer = model_from_spec(model.spec().replace(hyperelastic=hm.fewer))
         x2 = np.concatenate([merged.reshape(-1), x[nh:]])
         # the search bounds of the constants kept (the law's own where none were searched)
         bounds = {**dict(zip(fewer.hyperelastic.param_names, fewer.hyperelastic.bounds)),
@@ -415,8 +414,7 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
         )
     if len(keep) == model.n_prony:
         return prob, model, x, err
-    reduced = ViscoHyperelastic(model.hyperelastic, len(keep), rtol=model.rtol,
-                                formulation=model.formulation)
+    reduced = model_from_spec(model.spec().with_terms(len(keep)))
     x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
                    prob.g_inf_min, prob.objective_spec, prob.stability_range,

@@ -15,15 +15,19 @@ from vhfit._io import atomic_write, dumps
 from vhfit._words import Worded
 from vhfit.calibration._settings import CalibrationSettings, shift_law
 from vhfit.data import TestItem
-from vhfit.formulations import FORMULATIONS
 from vhfit.history import History
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec, spec_from_dict
 from vhfit.stability import StabilityReport, drucker
 
 __all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report", "grade",
            "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT"]
 
-RESULTS_FORMAT = "vhfit-results-1"
+#: The results format this vhfit writes: 2 adds the model's spec (``"spec"``,
+#: :meth:`vhfit.model.ModelSpec.to_dict`) to each fit.
+RESULTS_FORMAT = "vhfit-results-2"
+#: The results formats this vhfit reads: 1 has no spec (the model is read from its
+#: ``hyperelastic``, ``n_prony`` and ``formulation`` and the accuracy from its options).
+READ_FORMATS = ("vhfit-results-1", RESULTS_FORMAT)
 
 #: The HTML report's builders (``"write"`` and ``"repr"``), given by :mod:`vhfit.report`
 #: when it is imported: it draws with the plot and export modules, which sit above this
@@ -92,16 +96,30 @@ def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
     return np.full(points, np.nan), History.equilibrium(fine, deformation=h.deformation)
 
 
-def _n_prony(res: dict) -> int:
+def _n_prony(n, params: dict) -> int:
     """The number of Prony terms of a results entry: its ``n_prony``, which its
     parameters must match (``G1, tau1 ... GN, tauN``)."""
-    n = res.get("n_prony", 0)
-    found = sum(1 for k in res["params"] if re.fullmatch(r"tau\d+", str(k)))
+    found = sum(1 for k in params if re.fullmatch(r"tau\d+", str(k)))
     # compared before any model is built: n_prony = 2**70 would never finish building
     if isinstance(n, bool) or not isinstance(n, (int, float)) or n != found:
         raise ValueError(f"n_prony = {n!r} does not fit 'params', which hold {found} "
                          "relaxation times")
     return found
+
+
+def _spec_of(res: dict, options: dict) -> ModelSpec:
+    """The model spec of a results entry: its ``spec`` (format 2), else its flat fields
+    with the accuracy of its options (format 1); its terms must be those of its
+    parameters (compared before any model is built)."""
+    if "spec" in res:
+        spec = spec_from_dict(res)
+        _n_prony(spec.n_prony, res["params"])
+        return spec
+    if not isinstance(res["hyperelastic"], str):
+        raise TypeError("entry 'hyperelastic' is not a law's name")
+    flat = {k: res[k] for k in ("hyperelastic", "formulation") if k in res}
+    return spec_from_dict({**flat, "n_prony": _n_prony(res.get("n_prony", 0), res["params"]),
+                           "rtol": float(options.get("rtol", 1e-6))})
 
 
 def _shift_from(d) -> dict:
@@ -125,8 +143,8 @@ def _shift_fields(d: dict) -> dict:
 #: The entries of a results file that :meth:`Calibration.from_dict` reads: the others are
 #: the file's context (``Calibration.context``).
 _OWN_KEYS = frozenset((
-    "hyperelastic", "formulation", "n_prony", "param_names", "units", "params", "g", "g_inf",
-    "rmsape", "per_curve_rmsape", "curve_names", "nit", "nfev", "wall_time", "stop_reason",
+    "hyperelastic", "formulation", "n_prony", "spec", "param_names", "units", "params", "g",
+    "g_inf", "rmsape", "per_curve_rmsape", "curve_names", "nit", "nfev", "wall_time", "stop_reason",
     "bounds", "confidence", "stability", "order_scan", "warnings", "headlines", "options",
     "shift", "history", "fits", "settings"))
 
@@ -387,9 +405,7 @@ class Calibration:
         units = dict(zip(self.model.param_names, self.model.units))
         lines = [
             *([self.verdict()] if verdict else []),
-            f"vhfit calibration: {self.model.hyperelastic.name} + {self.n_prony} Prony term(s)"
-            + ("" if self.model.formulation == "hereditary"
-               else f", '{self.model.formulation}' formulation"),
+            f"vhfit calibration: {self.model.spec().describe(formulation=True)}",
             f"RMSAPE {self.rmsape:.4g} %   generations {self.nit}   evaluations {self.nfev}   "
             f"wall {self.wall_time:.2f} s   stop: {self.stop_reason}",
             *(f"WARNING: {h}" for h in self.headlines),
@@ -466,9 +482,8 @@ class Calibration:
 
     def _base_dict(self) -> dict:
         return {
-            "hyperelastic": self.model.hyperelastic.name,
-            "formulation": self.model.formulation,
-            "n_prony": self.n_prony,
+            **self.model.spec().flat_fields(),
+            "spec": self.model.spec().to_dict(),
             "param_names": list(self.model.param_names),
             "units": list(self.model.units),
             "params": {k: float(v) for k, v in self.params.items()},
@@ -550,7 +565,8 @@ class Calibration:
         ------
         ValueError
             One line naming the file, for a file that is not valid JSON (e.g. truncated),
-            not a results file, written by another version of the format, or naming a
+            not a results file, in a format this version does not read (it reads
+            :data:`READ_FORMATS`: today's and the one before the model spec), or naming a
             law or formulation this vhfit does not know.
 
         Examples
@@ -585,10 +601,11 @@ class Calibration:
         if not (isinstance(fmt, str) and fmt.startswith("vhfit-results-")):
             raise ValueError(f"{path}: format {fmt!r} is not a vhfit results format; give "
                              "the results.json written by vhfit")
-        if fmt != RESULTS_FORMAT:
+        if fmt not in READ_FORMATS:
             raise ValueError(f"{path}: results format {fmt!r}, written by another version "
-                             f"of vhfit; this version reads {RESULTS_FORMAT!r}: rerun the fit "
-                             "with this version, or read it with the version that wrote it")
+                             f"of vhfit; this version reads {' and '.join(map(repr, READ_FORMATS))}"
+                             ": rerun the fit with this version, or read it with the version "
+                             "that wrote it")
         own = cls.from_dict(res, where=str(path))
         fits = res.get("fits") or {}
         if not isinstance(fits, dict):
@@ -654,19 +671,12 @@ class Calibration:
     @classmethod
     def _from_dict(cls, res: dict) -> Calibration:
         options = dict(res.get("options") or {})
-        form = res.get("formulation", "hereditary")
-        if form not in FORMULATIONS:
-            raise ValueError(f"formulation {form!r} is not known to this vhfit (known: "
-                             f"{', '.join(FORMULATIONS)}; a plug-in may register it)")
         params = res["params"]
         if not isinstance(params, dict) or not all(
                 isinstance(k, str) and isinstance(v, (int, float)) and not isinstance(v, bool)
                 for k, v in params.items()):
             raise TypeError("entry 'params' is not a mapping of constant names to numbers")
-        if not isinstance(res["hyperelastic"], str):
-            raise TypeError("entry 'hyperelastic' is not a law's name")
-        model = ViscoHyperelastic(res["hyperelastic"], _n_prony(res),
-                                  rtol=float(options.get("rtol", 1e-6)), formulation=form)
+        model = model_from_spec(_spec_of(res, options))
         x = model.check(params)
         lo_hi = options.get("stability_range")
         stab = drucker(model.hyperelastic, x[: model.hyperelastic.n_params],

@@ -137,7 +137,7 @@ def search_problem(prob, curves):
     import copy
 
     from vhfit.calibration._space import Problem
-    from vhfit.model import ViscoHyperelastic
+    from vhfit.model import model_from_spec
 
     fewer = search_items(curves)
     m = prob.model
@@ -145,8 +145,7 @@ def search_problem(prob, curves):
         if m.rtol >= SEARCH_RTOL or m.n_prony == 0:  # nothing coarser to search on
             return prob
         fewer = curves  # the same points, the coarser model
-    model = ViscoHyperelastic(m.hyperelastic, m.n_prony, rtol=max(m.rtol, SEARCH_RTOL),
-                              formulation=m.formulation)
+    model = model_from_spec(m.spec().replace(rtol=max(m.rtol, SEARCH_RTOL)))
     short = Problem(model, fewer, prob.tau_b, prob.bounds, prob.g_inf_min,
                     prob.objective_spec)
     out = copy.copy(prob)

@@ -13,6 +13,7 @@ from typing import Any
 
 from vhfit._words import setting, worded
 from vhfit.formulations import get_formulation
+from vhfit.model import ModelSpec, Prony
 
 __all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable",
            "bound_problem", "bounds_terms", "bounds_for_terms"]
@@ -392,6 +393,18 @@ class CalibrationSettings:
         ['hyperelastic', 'n_prony', 'tau_strategy']
         """
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+    def model_spec(self, n_prony: int) -> ModelSpec:
+        """The spec of the model these settings fit with ``n_prony`` terms (the fit's own
+        number, or one of an order scan's): the law, formulation and accuracy given.
+
+        Examples
+        --------
+        >>> from vhfit import CalibrationSettings
+        >>> CalibrationSettings("yeoh", n_prony="auto").model_spec(2).describe()
+        'yeoh + 2 Prony term(s)'
+        """
+        return ModelSpec(self.hyperelastic, Prony(n_prony, self.formulation), self.rtol)
 
     @property
     def effective_tol(self) -> float:

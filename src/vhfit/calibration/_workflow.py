@@ -47,7 +47,7 @@ from vhfit.calibration._space import SPACES, Problem
 from vhfit.data import TestItem, is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.hyperelastic import get as get_law
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import model_from_spec
 from vhfit.modes import refusal_for
 from vhfit.tts import shift_to_reference
 
@@ -426,7 +426,7 @@ def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
     s = settings
 
     def model_for(n: int):
-        model = ViscoHyperelastic(s.hyperelastic, n, rtol=s.rtol, formulation=s.formulation)
+        model = model_from_spec(s.model_spec(n))
         tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
                                     s.decades_above, s.bounds)
         return model, tau_b, auto
@@ -454,7 +454,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     with widened bounds where a constant ended on one, report (``checkpoint`` and
     ``max_time``: this one's, of a scan over N)."""
     s = settings
-    model = ViscoHyperelastic(s.hyperelastic, n_prony, rtol=s.rtol, formulation=s.formulation)
+    model = model_from_spec(s.model_spec(n_prony))
     tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
                                 s.decades_above, bounds_for_terms(s.bounds, n_prony))
     sr = stability_range_of(s, curves)

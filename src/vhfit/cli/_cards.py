@@ -376,7 +376,6 @@ def fit_record(cal) -> dict:
     """One fit of several in results.json: its constants and errors (no history)."""
     d = cal.to_dict()
     d.pop("history", None)
-    d["formulation"] = cal.model.formulation
     if cal.settings is not None:
         d["settings"] = cal.settings.to_dict()
     return d

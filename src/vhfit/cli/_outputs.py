@@ -151,7 +151,7 @@ def _fitted_csv(cal: Calibration, curves, fits, label, interrupted) -> str:
     buf.write("# vhfit fitted curves: data and calibrated model, per curve\n")
     if label:
         buf.write(f"# data: {label}\n")
-    buf.write(f"# model: {cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s); "
+    buf.write(f"# model: {cal.model.spec().describe()}; "
               f"RMSAPE {cal.rmsape:.6g} %" + ("; INTERRUPTED" if interrupted else "") + "\n")
     buf.write("# kind=point: objective points (stress_data = data, stress_model = model); "
               "kind=fine: model on a fine time grid (stress_data empty)\n")

@@ -14,7 +14,7 @@ from vhfit.cli._plugins import resolve_model_name
 from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
 from vhfit.history import History
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec
 from vhfit.modes import get_deformation
 
 __all__ = ["cmd_simulate", "parse_params", "count_prony"]
@@ -26,7 +26,6 @@ def cmd_simulate(args, argv=()) -> int:
         raise UsageError("simulate needs a material: --results RESULTS.json, or --model NAME "
                          "with --param NAME=VALUE for each constant")
     model, params, source = _material(args)
-    n_prony = model.n_prony
     _check_names(model, params)
     try:
         x = model.check(params)
@@ -34,10 +33,7 @@ def cmd_simulate(args, argv=()) -> int:
         raise UsageError(f"parameters: {one_line(exc)}") from None
     loads = _loads(args)
     buf = io.StringIO()
-    form = ("" if model.formulation == "hereditary"
-            else f", '{model.formulation}' formulation")
-    buf.write(f"# vhfit simulate: {model.hyperelastic.name} + {n_prony} Prony term(s){form}, "
-              f"from {source}\n")
+    buf.write(f"# vhfit simulate: {model.spec().describe(formulation=True)}, from {source}\n")
     buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
     dfm = args.deformation
     test = get_deformation(dfm)
@@ -70,19 +66,17 @@ def _material(args) -> tuple[ViscoHyperelastic, dict[str, float], str]:
     for item in args.param or []:
         given.update(parse_params(item))
     if args.results is None:
-        params = given
-        name, form, rtol, source = args.model, "hereditary", None, "command line"
+        params, spec, source = given, ModelSpec(), "command line"
     else:
         cal = load_calibration(args.results)
         params = {**cal.params, **given}
         if args.model is None and set(params) == set(cal.params):
             return cal.model, params, f"results {args.results}"
-        name = args.model or cal.model.hyperelastic.name
-        form, rtol = cal.model.formulation, cal.model.rtol
-        source = f"results {args.results}"
-    kw = {"formulation": form} if rtol is None else {"formulation": form, "rtol": rtol}
-    try:
-        model = ViscoHyperelastic(resolve_model_name(name), count_prony(params), **kw)
+        spec, source = cal.model.spec(), f"results {args.results}"
+    law = None if args.model is None else resolve_model_name(args.model)
+    n_prony = count_prony(params)
+    try:  # the results file's model (its formulation, accuracy), or the defaults
+        model = model_from_spec(spec.replace(hyperelastic=law, n_prony=n_prony))
     except ValueError as exc:
         raise UsageError(f"parameters: {one_line(exc)}") from None
     return model, params, source

@@ -81,11 +81,12 @@ _DEFAULT_RTOL = 1e-6
 def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2) -> str:
     """The calibrated material as JSON: vhfit parameters plus the derived solver values.
 
-    ``hyperelastic``, ``formulation`` (the viscoelastic formulation the constants were
-    fitted in, :mod:`vhfit.formulations`), ``n_prony``, ``params`` and ``rtol`` (the
-    accuracy of the hereditary integral, written when not the default) define the model
-    (this is what :func:`from_json` reads); ``derived`` holds E∞, G0, g_i, g∞ and the instantaneous
-    constants for reference.
+    ``spec`` (the model's :meth:`~vhfit.model.ModelSpec.to_dict`: law, number of terms,
+    the viscoelastic formulation the constants were fitted in, accuracy) and ``params``
+    define the model (this is what :func:`from_json` reads); ``hyperelastic``,
+    ``formulation``, ``n_prony`` and ``rtol`` (when not the default) say the same as the
+    spec for the readers of documents written before it; ``derived`` holds E∞, G0, g_i,
+    g∞ and the instantaneous constants for reference.
 
     Examples
     --------
@@ -103,9 +104,8 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
         "format": JSON_FORMAT,
         "generator": generator(),
         "name": name,
-        "hyperelastic": mat.hyperelastic,
-        "formulation": model.formulation,
-        "n_prony": mat.n_prony,
+        **model.spec().flat_fields(),
+        "spec": model.spec().to_dict(),
         "params": params,
         **({} if model.rtol == _DEFAULT_RTOL else {"rtol": model.rtol}),
         "units": {
@@ -133,8 +133,9 @@ def to_json(model, params=None, *, name: str = "VHFIT_MATERIAL", indent: int = 2
 def from_json(text: str) -> tuple[ViscoHyperelastic, dict]:
     """Model and parameters from :func:`to_json` output or a results-like JSON document.
 
-    The document needs ``"params"`` and ``"hyperelastic"`` (or ``"model"``) — a
-    calibration results file with those keys reads as well.
+    The document needs ``"params"`` and its model: ``"spec"`` (as :func:`to_json`
+    writes it), or ``"hyperelastic"`` (or ``"model"``) — a calibration results file
+    reads as well.
 
     Examples
     --------

@@ -20,7 +20,7 @@ import numpy as np
 
 from vhfit import hyperelastic as _hyper
 from vhfit.export._solvers import records
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ModelSpec, Prony, ViscoHyperelastic, model_from_spec, spec_from_dict
 
 __all__ = [
     "Material",
@@ -95,11 +95,12 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
 
     Accepts ``(ViscoHyperelastic, dict | array)``; a results-like object with
     ``.model`` and ``.params`` attributes (``params`` omitted); or a mapping with
-    ``"params"`` and either ``"model"`` (a :class:`ViscoHyperelastic` or a model
-    name) or ``"hyperelastic"`` (a model name), ``"n_prony"`` optional (else counted
-    from the ``G1, tau1, ...`` keys), ``"formulation"`` optional (default
-    ``"hereditary"``; a results file says the formulation it was fitted in), ``"rtol"``
-    optional (the model's accuracy).
+    ``"params"`` and a model: its ``"spec"`` (:meth:`vhfit.model.ModelSpec.to_dict`, as
+    material.json and the results files write it), or ``"model"`` (a
+    :class:`ViscoHyperelastic` or a model name) or ``"hyperelastic"`` (a model name),
+    with ``"n_prony"`` optional (else counted from the ``G1, tau1, ...`` keys),
+    ``"formulation"`` optional (default ``"hereditary"``) and ``"rtol"`` optional (the
+    model's accuracy).
     """
     if params is None:
         if isinstance(model, ViscoHyperelastic):
@@ -111,39 +112,48 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
                     f"keys; got {sorted(model)}"
                 )
             params = model["params"]
-            spec = model.get("model", model.get("hyperelastic"))
-            n_prony = model.get("n_prony")
-            formulation = str(model.get("formulation", "hereditary"))
-            accuracy = {"rtol": float(model["rtol"])} if "rtol" in model else {}
+            model = _model_of(model, params)
         elif hasattr(model, "params") and hasattr(model, "model"):
-            params, spec, n_prony, formulation = model.params, model.model, None, "hereditary"
-            accuracy = {}
+            params, model = model.params, _model_of({"model": model.model}, model.params)
         else:
             raise TypeError(
                 f"cannot export {type(model).__name__}: give (model, params), an object with "
                 ".model and .params, or a mapping with 'params' and 'model'/'hyperelastic'"
             )
-        if isinstance(spec, Mapping):  # e.g. {"hyperelastic": "yeoh", "n_prony": 2}
-            n_prony = spec.get("n_prony", n_prony)
-            spec = spec.get("hyperelastic", spec.get("name"))
-        if isinstance(spec, ViscoHyperelastic):
-            model = spec
-        else:
-            if spec is None:
-                raise TypeError("the mapping names no model: add 'model' or 'hyperelastic'")
-            if n_prony is None:
-                if not isinstance(params, Mapping):
-                    raise TypeError("give 'n_prony' when the parameters are an array")
-                n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
-            model = ViscoHyperelastic(spec, n_prony=int(n_prony), formulation=formulation,
-                                      **accuracy)
     if not isinstance(model, ViscoHyperelastic):
         raise TypeError(f"expected a vhfit.ViscoHyperelastic, got {type(model).__name__}")
     x = model.check(params)
     return model, model.as_dict(x)
 
 
+def _model_of(doc: Mapping, params) -> ViscoHyperelastic:
+    """The model a mapping of :func:`resolve` names (see there)."""
+    if "spec" in doc:
+        return model_from_spec(spec_from_dict(doc))
+    law = doc.get("model", doc.get("hyperelastic"))
+    n_prony = doc.get("n_prony")
+    if isinstance(law, Mapping):  # e.g. {"hyperelastic": "yeoh", "n_prony": 2}
+        n_prony = law.get("n_prony", n_prony)
+        law = law.get("hyperelastic", law.get("name"))
+    if isinstance(law, ViscoHyperelastic):
+        return law
+    if law is None:
+        raise TypeError("the mapping names no model: add 'model' or 'hyperelastic'")
+    if n_prony is None:
+        if not isinstance(params, Mapping):
+            raise TypeError("give 'n_prony' when the parameters are an array")
+        n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
+    accuracy = {"rtol": float(doc["rtol"])} if "rtol" in doc else {}
+    viscous = Prony(int(n_prony), str(doc.get("formulation", "hereditary")))
+    return model_from_spec(ModelSpec(law, viscous, **accuracy))
+
+
 # --------------------------------------------------------------------------- material
+def _card_spec(hyperelastic: str, n_prony: int) -> ModelSpec:
+    """The spec of a card's model: a law and its Prony terms, every other part default."""
+    return ModelSpec(hyperelastic, Prony(n_prony))
+
+
 @dataclass(frozen=True)
 class Material:
     """A visco-hyperelastic material in the form FE cards hold it.
@@ -189,6 +199,11 @@ class Material:
     @property
     def n_prony(self) -> int:
         return len(self.g)
+
+    def spec(self) -> ModelSpec:
+        """The model of the card: its law and Prony terms (in the default formulation and
+        accuracy: a card holds no more)."""
+        return _card_spec(self.hyperelastic, self.n_prony)
 
     @property
     def g_inf(self) -> float:
@@ -276,7 +291,7 @@ class Material:
 
     def to_params(self) -> tuple[ViscoHyperelastic, dict[str, float]]:
         """The vhfit model and parameters: G_i = g_i G0 with G0 = E∞ / g∞."""
-        model = ViscoHyperelastic(self.hyperelastic, n_prony=self.n_prony)
+        model = model_from_spec(self.spec())
         hyper = [self.constants[n] for n in model.hyperelastic.param_names]
         E_inf = float(3.0 * model.hyperelastic.initial_shear_modulus(np.array(hyper)))
         if not E_inf > 0:
@@ -299,7 +314,7 @@ class Material:
         """vhfit (model, params) from long-term constants and uniaxial Prony moduli G_i."""
         if len(G) != len(tau):
             raise ValueError(f"{solver} card: {len(G)} Prony moduli but {len(tau)} times")
-        model = ViscoHyperelastic(hyperelastic, n_prony=len(G))
+        model = model_from_spec(_card_spec(hyperelastic, len(G)))
         params = {n: float(constants.get(n, 0.0)) for n in model.hyperelastic.param_names}
         for i, (Gi, ti) in enumerate(zip(G, tau), start=1):
             params[f"G{i}"] = float(Gi)
@@ -481,7 +496,7 @@ def header(
     lines = [
         f"Generated by {generator()}: visco-hyperelastic material for {solver}",
         *(f"WARNING: {n}" for n in notes),
-        f"vhfit model: {mat.hyperelastic} + {mat.n_prony} Prony term(s)",
+        f"vhfit model: {mat.spec().describe()}",
         f"Units: {UNITS}",
         *comments,
         *conventions,

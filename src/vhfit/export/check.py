@@ -45,7 +45,7 @@ import numpy as np
 from vhfit.export import parse
 from vhfit.export._solvers import card_body, records, solver_of
 from vhfit.formulations import SOLVER_FORMULATIONS
-from vhfit.model import ViscoHyperelastic
+from vhfit.model import ViscoHyperelastic, model_from_spec
 from vhfit.objective import Objective
 
 __all__ = [
@@ -179,8 +179,7 @@ def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelas
     """
     if formulation == _formulation_of(model):
         return model
-    return ViscoHyperelastic(model.hyperelastic.name, model.n_prony, rtol=model.rtol,
-                             formulation=formulation)
+    return model_from_spec(model.spec().replace(formulation=formulation))
 
 
 def _stress(model: ViscoHyperelastic, params, curves: Sequence) -> np.ndarray:

@@ -221,7 +221,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     main, other = _figures_of(cal, curves, dict(images or {})) if note is None else ([], {})
     if note is None and not curves:
         note = "no fit figures: the data are not at hand (give curves= to Calibration.report)"
-    name = f"{cal.model.hyperelastic.name} + {cal.n_prony} Prony term(s)"
+    name = cal.model.spec().describe()
     body = [f"<h1>vhfit report: {_html.esc(name)}</h1>"]
     if title:
         body.append(f"<p>data: {_html.esc(title)}</p>")

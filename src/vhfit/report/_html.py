@@ -148,7 +148,7 @@ def verdict_html(cal, status: str, check: dict, card_warnings: list[str],
         cls = "bad"  # an unstable law is no result to use, whatever its error
     parts = [f'<div class="verdict {cls}" id="verdict">',
              f'<p class="headline">{esc(headline(cal, status))}</p>',
-             f"<p>{esc(cal.model.hyperelastic.name)} + {cal.n_prony} Prony term(s), "
+             f"<p>{esc(cal.model.spec().describe())}, "
              f"'{esc(cal.model.formulation)}' formulation; stop: {esc(cal.stop_reason)}; "
              f"{int(cal.nit)} generations, {esc(num(cal.wall_time, 3))} s</p>"]
     if warns:
