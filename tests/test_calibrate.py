@@ -362,6 +362,11 @@ def test_summary_and_json_report_everything():
     for name in cal.params:
         assert name in text
     assert "stability" in text and "RMSAPE" in text
+    # g_i and g∞ = 1 − Σ g_i to six significant digits (the tutorial's table shows them)
+    [gline] = [line for line in text.splitlines() if line.startswith("g_i = ")]
+    gs, g_inf = gline.removeprefix("g_i = ").split("   g_inf = ")
+    assert [float(v) for v in gs.split(", ")] == pytest.approx(cal.g, rel=5e-6)
+    assert float(g_inf) == pytest.approx(1.0 - sum(cal.g), rel=5e-6)
     d = json.loads(cal.to_json())
     assert d["params"] == pytest.approx(cal.params)
     assert d["hyperelastic"] == "mooney_rivlin" and d["n_prony"] == cal.model.n_prony
