@@ -449,7 +449,7 @@ def test_summary_first_line_is_the_verdict_then_warnings_then_constants():
     table = next(i for i, ln in enumerate(lines) if ln.startswith("parameter"))
     assert major < minor < table
     assert cal.summary(verdict=False).splitlines()[0].startswith("vhfit calibration:")
-    assert cal.verdict("interrupted").startswith("INTERRUPTED (best so far, not converged): ")
+    assert cal.verdict(interrupted=True).startswith("INTERRUPTED (best so far, not converged): ")
     poor = _hand_made(40.0, [40.0])
     assert poor.summary().splitlines()[0].startswith("RMSAPE 40 %: poor: the law cannot")
     assert "worst curve" not in poor.verdict()  # one curve: no worst

@@ -115,7 +115,7 @@ def test_the_grade_words_follow_the_error():
     assert "poor: the law cannot follow the data" in report.verdict(Fake(40.0))
     assert report.verdict(Fake(9.0)) == Fake(9.0).verdict()  # the summary's first line
     assert "no valid fit" in report.verdict(Fake(float("inf")))
-    assert report.verdict(Fake(1.0), status="interrupted").startswith("INTERRUPTED")
+    assert report.verdict(Fake(1.0), interrupted=True).startswith("INTERRUPTED")
 
 
 def test_the_parameter_table_holds_the_fitted_constants_with_units(cal, page):
@@ -194,7 +194,7 @@ def test_versions_name_every_library_of_the_result():
 def test_build_report_marks_an_interrupted_fit(cal):
     text = report.build_report(cal, figures=False, cards={}, command="vhfit fit a.csv")
     assert "INTERRUPTED" not in text
-    text = report.build_report(cal, figures=False, cards={}, status="interrupted",
+    text = report.build_report(cal, figures=False, cards={}, interrupted=True,
                                command="vhfit fit <a>.csv")
     assert 'class="interrupted"' in text and "INTERRUPTED (best so far" in text
     assert "vhfit fit &lt;a&gt;.csv" in text

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import pytest
 
-from vhfit.calibration import CalibrationSettings, CalibrationWarning, _scan
+from vhfit.calibration import CalibrationSettings, CalibrationWarning, Stop, StopKind, _scan
 
 
 @dataclass(frozen=True)
@@ -22,7 +22,7 @@ class Fit:
 
     rmsape: float
     n_prony: int
-    stop_reason: str = "converged"
+    stop_reason: Stop = Stop.of(StopKind.CONVERGED)
     headlines: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
     options: dict = field(default_factory=dict)
@@ -30,6 +30,10 @@ class Fit:
     wall_time: float = 0.0
     settings: object = None
     pid: int = 0
+
+    @property
+    def interrupted(self) -> bool:
+        return self.stop_reason.interrupted
 
 
 def _scan_of(errors, monkeypatch, workers, *, die_in_child=False):
@@ -110,13 +114,13 @@ def test_an_interrupt_ends_the_child_even_where_it_raises(monkeypatch):
             for _ in range(5_000_000):  # (bounded: never a hang)
                 s.callback({"n_prony": n})  # raises KeyboardInterrupt once asked to stop
             return Fit(99.0, n)
-        return Fit(10.0, n, stop_reason="interrupted")
+        return Fit(10.0, n, stop_reason=Stop.of(StopKind.INTERRUPTED))
 
     monkeypatch.setattr(_scan, "fork_is_safe", lambda serial_child=False: True)
     monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
     settings = CalibrationSettings(n_prony="auto", max_prony=5, scan_workers=2)
     cal = _scan.order_scan([], settings, 0.0, calibrate_n)
-    assert cal.stop_reason == "interrupted" and len(cal.order_scan) == 1
+    assert cal.interrupted and len(cal.order_scan) == 1
     assert cal.options["scan_processes"] == 2
     assert not multiprocessing.active_children()
 
@@ -151,7 +155,7 @@ _SCRIPT = textwrap.dedent("""
                                   scan_workers=w, callback=lambda d: seen.append(d["n_prony"]))
             out[w] = dict(x=cal.x.tolist(), rmsape=cal.rmsape, scan=cal.order_scan,
                           processes=cal.options["scan_processes"],
-                          stop=cal.stop_reason, seen=sorted(set(seen)),
+                          stop=str(cal.stop_reason), seen=sorted(set(seen)),
                           callback=cal.settings.callback is not None)
     else:  # Ctrl-C, as a callback raising it, on the child's first generation
         ck = sys.argv[2]
@@ -176,13 +180,13 @@ _SCRIPT = textwrap.dedent("""
         import multiprocessing
         with open(ck + ".N3") as f:  # the child's checkpoint: done is null if cut
             done3 = json.load(f)["done"]
-        out["cut"] = dict(stop=cal.stop_reason, scan=len(cal.order_scan),
+        out["cut"] = dict(stop=str(cal.stop_reason), scan=len(cal.order_scan),
                           processes=cal.options["scan_processes"],
                           children=len(multiprocessing.active_children()), done3=done3)
         resumed = vhfit.calibrate(curves, resume=True, **kw)
         fresh = vhfit.calibrate(curves, n_prony="auto", max_prony=3, seed=1, scan_workers=1)
-        out["resumed"] = [resumed.x.tolist(), resumed.rmsape, resumed.stop_reason]
-        out["fresh"] = [fresh.x.tolist(), fresh.rmsape, fresh.stop_reason]
+        out["resumed"] = [resumed.x.tolist(), resumed.rmsape, str(resumed.stop_reason)]
+        out["fresh"] = [fresh.x.tolist(), fresh.rmsape, str(fresh.stop_reason)]
     print(json.dumps(out))
 """)
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibration import CalibrationWarning, _search
+from vhfit.calibration import CalibrationWarning, Stop, StopKind, _search
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._space import FullSpace, Problem, SeparableSpace
 
@@ -19,7 +19,7 @@ class _Space:
     """A stand-in space: levels 1e4 and 1e2 times the target, ``to_params`` the identity."""
 
     prob = None
-    method = "full"  # no gathered-population finish: only the levels are tested here
+    separable = False  # no gathered-population finish: only the levels are tested here
 
     def __init__(self, levels=(1e4, 1e2)):
         self.levels = levels
@@ -106,7 +106,7 @@ def test_an_ogden2_recovery_ends_by_the_polish_and_reaches_the_data():
         warnings.simplefilter("ignore", CalibrationWarning)
         cal = vhfit.calibrate(curves, hyperelastic="ogden2", n_prony=1, seed=0,
                               uncertainty=False)
-    assert cal.stop_reason == "target reached by a polish of the best member"
+    assert str(cal.stop_reason) == "target reached by a polish of the best member"
     assert cal.rmsape <= 1e-6
     for k, v in truth.items():  # the terms may come back in either order
         j = k[-1]
@@ -137,7 +137,7 @@ def test_a_search_whose_constants_fail_on_every_point_keeps_its_polished_result(
     def search(space, settings, **kw):  # a vector whose solve fails, and a polished fit
         if space.prob.hm.name != "mooney_rivlin":  # the neo-Hooke fit that seeds it
             return real(space, settings, **kw)
-        return _search.Search(np.array([np.nan, -2.0]), 3, 10, _search._EarlyFinish.GATHERED,
+        return _search.Search(np.array([np.nan, -2.0]), 3, 10, Stop.of(StopKind.GATHERED),
                               _search._history(None), kw["t0"], (good, 0.0))
 
     monkeypatch.setattr(_workflow, "run_search", search)

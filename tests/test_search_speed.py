@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import vhfit
-from vhfit.calibration import CalibrationWarning, _search
+from vhfit.calibration import CalibrationWarning, StopKind, _search
 from vhfit.calibration._bounds import search_bounds
 from vhfit.calibration._space import Problem, SeparableSpace
 
@@ -21,8 +21,8 @@ class _Space:
 
     prob = None
 
-    def __init__(self, method="separable"):
-        self.method = method
+    def __init__(self, separable=True):
+        self.separable = separable
 
     def finish_levels(self, target):
         return ()
@@ -54,7 +54,7 @@ def test_a_polish_that_lowers_the_gathered_best_ends_the_search(monkeypatch):
     assert f(1.0, np.array([1.0]), 1.0) is True
     assert f.done and f.result[1] == 0.999 and f.nfev == 9
     assert f.result[0][0] == 2.0 and f.z[0] == 3.0  # the polished search vector is kept
-    assert f.reason == _search._EarlyFinish.GATHERED
+    assert f.reason.kind is StopKind.GATHERED
 
 
 def test_a_polish_that_does_not_lower_the_best_lets_the_search_go_on(monkeypatch):
@@ -71,7 +71,7 @@ def test_a_search_without_the_best_mean_gap_stop_never_finishes_gathered(monkeyp
 
 def test_the_all_parameter_search_never_finishes_on_a_gathered_population(monkeypatch):
     monkeypatch.setattr(_search, "gathered_polish", lambda space, z: 1 / 0)
-    f = _search._EarlyFinish(_Space("full"), 1e-4)
+    f = _search._EarlyFinish(_Space(separable=False), 1e-4)
     assert f(1.0, np.array([1.0]), 1.0) is False
 
 

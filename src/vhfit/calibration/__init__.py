@@ -9,6 +9,8 @@ Inside, one module per concern:
 * ``_bounds`` — τ ranges from the rates (Eq. 22) and the moduli's search limits;
 * ``_space`` — the fitted problem and the two search spaces (``separable``, ``full``);
 * ``_search`` — the differential evolution with its stopping tests and checkpoints;
+* ``_stop`` — why a search stopped (:class:`Stop`: a kind for the code, a sentence for
+  the reader);
 * ``_checkpoint`` — the saved search state, resumed exactly;
 * ``_polish`` — bounded least squares on all parameters afterwards;
 * ``_report`` — pruning, uncertainty, stability and warnings; the result;
@@ -38,6 +40,7 @@ from vhfit.calibration._settings import (
     bound_problem,
     bounds_terms,
 )
+from vhfit.calibration._stop import Stop, StopKind, interrupted_in
 from vhfit.calibration._workflow import CalibrationError, calibrate, refuse_unrepresentable
 
 __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarning",
@@ -45,4 +48,5 @@ __all__ = ["calibrate", "Calibration", "CalibrationSettings", "CalibrationWarnin
            "default_n_prony", "viscous_evidence", "set_html_report", "calibrate_for",
            "bound_problem", "bounds_terms", "plan_formulations", "start_options", "grade",
            "grade_word", "worst_grade", "GRADES",
-           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit", "refuse_unrepresentable"]
+           "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT", "same_fit", "refuse_unrepresentable",
+           "Stop", "StopKind", "interrupted_in"]

@@ -13,6 +13,7 @@ import json
 import numpy as np
 
 from vhfit._io import atomic_write, dumps
+from vhfit.calibration._stop import Stop
 from vhfit.modes import get_deformation
 
 __all__ = ["fit_key", "save", "load", "resume", "damaged", "FORMAT"]
@@ -50,14 +51,15 @@ def fit_key(prob, layout, seed, popsize, tol, target, de_options) -> str:
     return h.hexdigest()
 
 
-def save(path, key: str, solver_state: dict, evaluations: int, done: str | None = None) -> None:
+def save(path, key: str, solver_state: dict, evaluations: int, done: Stop | None = None) -> None:
     """Write the solver state, the individuals evaluated so far and, once the search has
-    ended, why it ended, atomically."""
-    atomic_write(path, dumps({"format": FORMAT, "key": key, "done": done,
+    ended, why it ended (its sentence), atomically."""
+    atomic_write(path, dumps({"format": FORMAT, "key": key,
+                              "done": None if done is None else done.message,
                               "evaluations": int(evaluations), "solver": solver_state}))
 
 
-def load(path, key: str) -> tuple[dict, int, str | None]:
+def load(path, key: str) -> tuple[dict, int, Stop | None]:
     """The solver state saved in ``path``, the individuals evaluated before it, and the
     stop reason if the search had ended."""
     try:
@@ -77,10 +79,10 @@ def load(path, key: str) -> tuple[dict, int, str | None]:
         raise ValueError(f"its evaluation count {evaluations!r} is not a count")
     if done is not None and not (isinstance(done, str) and done):
         raise ValueError(f"its stop reason {done!r} is not one")
-    return data["solver"], evaluations, done
+    return data["solver"], evaluations, None if done is None else Stop.read(done)
 
 
-def resume(path, key: str, solver) -> tuple[dict, int, str | None, float]:
+def resume(path, key: str, solver) -> tuple[dict, int, Stop | None, float]:
     """Restore the checkpoint ``path`` of the fit ``key`` into ``solver`` (a new
     :class:`vhfit.optimize.DifferentialEvolutionSolver` of that fit): its state, the
     individuals evaluated before it, the stop reason if the search had ended, and the

@@ -255,7 +255,7 @@ def start_options(first: Calibration, curves, **kwargs) -> dict:
     z0 = np.clip(search_vector(space, x_first), lo, hi)
     popsize = max(MIN_POPSIZE, int(POPSIZE_SHARE * int(kwargs.get("popsize") or space.popsize)))
     tol = float(kwargs.get("tol", DEFAULT_TOL))
-    if method == "full" and tol == DEFAULT_TOL:
+    if not SPACES[method].separable and tol == DEFAULT_TOL:
         tol = FULL_TOL  # (what the full method's search takes the default for)
     tol = max(tol, SEEDED_TOL)
     if int(n_prony) and _spectrum.applies(ref.items, route):
@@ -418,6 +418,6 @@ def calibrate_for(solvers: Sequence[Any] | str, curves, **kwargs) -> dict[str, C
         fits[form] = cal = calibrate(curves, **kw)
         if first is None:
             first = cal
-        if cal.stop_reason == "interrupted":  # Ctrl-C ends them all
+        if cal.interrupted:  # Ctrl-C ends them all
             break
     return fits

@@ -109,7 +109,7 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
         Empty for a law that contains none, or settings the guarantee does not cover.
     """
     law = get_law(settings.hyperelastic)
-    if (settings.method == "separable" and n_prony == 0
+    if (settings.space.separable and n_prony == 0
             and len(law.linear_params) == law.n_params):
         # no search at all: least squares under the stability inequalities solves every
         # constant, a convex problem whose optimum is no higher than any stable point of
@@ -171,7 +171,7 @@ def padded(prob, x: np.ndarray) -> np.ndarray:
 class _AsFull:
     """The all-parameter view of a problem, for :func:`search_vector`'s slotting."""
 
-    method = "full"
+    separable = False  # every parameter in the vector
 
     def __init__(self, prob):
         self.prob = prob

@@ -476,13 +476,13 @@ def finish(prob, curves, model, x, err, found, nfev: int, settings, options: dic
         warnings.warn(m, CalibrationWarning, stacklevel=3)
     # the full search without polish holds the moduli to its box; every other route
     # (least squares of the moduli, the polish, the spectrum route) to the law's limits
-    bounds = enforced_bounds(prob, settings.method == "full" and not settings.polish
+    bounds = enforced_bounds(prob, not settings.space.separable and not settings.polish
                              and "route" not in options)
     return Calibration._make(
         model, x, rmsape=err,
         per_curve_rmsape=[float(v) for v in prob.objective.per_curve(stress)],
         nit=int(found.nit), nfev=int(nfev), wall_time=time.perf_counter() - found.t0,
-        stop_reason=str(found.stop), g=[float(v) for v in g], g_inf=float(g_inf),
+        stop_reason=found.stop, g=[float(v) for v in g], g_inf=float(g_inf),
         bounds=bounds, history=found.history, confidence=conf, stability=stab,
         warnings=msgs, headlines=heads, options=options,
         curve_names=[str(c.name) for c in curves], curves=list(curves),

@@ -14,6 +14,7 @@ import numpy as np
 from vhfit._io import atomic_write, dumps
 from vhfit._words import Worded
 from vhfit.calibration._settings import CalibrationSettings, shift_law
+from vhfit.calibration._stop import STATUS, Stop
 from vhfit.data import TestItem
 from vhfit.history import History
 from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec, spec_from_dict
@@ -244,9 +245,11 @@ class Calibration:
         Generations and model evaluations of the global search (plus polish evaluations).
     wall_time : float
         Seconds.
-    stop_reason : str
-        Why the global search stopped ("converged", "target reached", "target reached
-        by a polish of the best member", "max_time", "maxiter", "interrupted", ...).
+    stop_reason : Stop
+        Why the global search stopped: its kind (``stop_reason.kind``) and its sentence
+        (``str(stop_reason)``: "converged", "target reached", "target reached by a
+        polish of the best member", "max_time", "maxiter", "interrupted", ...). A
+        sentence given is read as the stop it says (:meth:`Stop.read`).
     g, g_inf : list of float, float
         Dimensionless Prony weights (docs/theory.md §3).
     bounds : dict
@@ -292,7 +295,7 @@ class Calibration:
     nit: int
     nfev: int
     wall_time: float
-    stop_reason: str
+    stop_reason: Stop
     g: list = field(default_factory=list)
     g_inf: float = 1.0
     bounds: dict = field(default_factory=dict)
@@ -314,6 +317,15 @@ class Calibration:
     #: the results file's entries that are not the fit's own (inputs, options, cards)
     context: dict = field(default_factory=dict, repr=False, compare=False)
     curves: list = field(default_factory=list, repr=False, compare=False)
+
+    def __post_init__(self):
+        if not isinstance(self.stop_reason, Stop):  # a sentence (by hand, a results file)
+            object.__setattr__(self, "stop_reason", Stop.read(self.stop_reason))
+
+    @property
+    def interrupted(self) -> bool:
+        """Whether the search was interrupted: the result is the best found so far."""
+        return self.stop_reason.interrupted
 
     @property
     def x(self) -> np.ndarray:
@@ -356,13 +368,14 @@ class Calibration:
         names = list(self.curve_names or [])
         return (names[k] if k < len(names) else f"curve {k + 1}"), errs[k]
 
-    def verdict(self, status: str = "complete") -> str:
+    def verdict(self, *, interrupted: bool = False) -> str:
         """One line: the error, a plain verdict (:func:`grade`) and the worst curve.
 
         Parameters
         ----------
-        status : {"complete", "interrupted"}
-            An interrupted search says so first.
+        interrupted : bool
+            The search was interrupted (its run, or a signal that stopped it): the line
+            says so first.
 
         Returns
         -------
@@ -383,7 +396,7 @@ class Calibration:
             text = (f"NO STABLE LAW: {stab.describe()} within the stated {lo:.3g} <= λ <= "
                     f"{hi:.3g}; give a narrower stability_range (--stability-range), wider "
                     "bounds (--bounds) or another law. " + text)
-        if status == "interrupted":
+        if interrupted:
             text = "INTERRUPTED (best so far, not converged): " + text
         return text
 
@@ -495,7 +508,7 @@ class Calibration:
             "nit": int(self.nit),
             "nfev": int(self.nfev),
             "wall_time": float(self.wall_time),
-            "stop_reason": self.stop_reason,
+            "stop_reason": self.stop_reason.message,
             "bounds": {k: [float(a), float(b)] for k, (a, b) in self.bounds.items()},
             "confidence": {k: [float(a), float(b)] for k, (a, b) in self.confidence.items()},
             "stability": None if self.stability is None else {
@@ -510,7 +523,7 @@ class Calibration:
             "options": self.options,
         }
 
-    def save(self, path, *, status: str = "complete", curves: Sequence | None = None,
+    def save(self, path, *, interrupted: bool = False, curves: Sequence | None = None,
              extra: dict | None = None) -> None:
         """Write the results file (JSON) atomically: :meth:`to_dict` plus its context, and
         the settings it was made with (``"settings"``: :meth:`CalibrationSettings.to_dict`).
@@ -519,8 +532,9 @@ class Calibration:
         ----------
         path : path-like
             The file to write (``results.json`` of ``vhfit fit``).
-        status : {"complete", "interrupted"}
-            Whether the search ran to its end.
+        interrupted : bool
+            The search did not run to its end (the file's ``"status"`` is
+            ``"interrupted"``, else ``"complete"``).
         curves : sequence of Curve, optional
             The fitted curves, described by name, rate, measure, size and source.
         extra : dict, optional
@@ -529,8 +543,8 @@ class Calibration:
         res = self.to_dict()
         res.update({
             "format": RESULTS_FORMAT,
-            "status": status,
-            "interrupted": status == "interrupted",
+            "status": STATUS[bool(interrupted)],
+            "interrupted": bool(interrupted),
             "curves": [_curve_info(c) for c in (curves or [])],
             "versions": _versions(),
             "timestamp": datetime.now(timezone.utc).isoformat(timespec="seconds"),
@@ -686,7 +700,7 @@ class Calibration:
             per_curve_rmsape=list(res.get("per_curve_rmsape", [])),
             nit=int(res.get("nit", 0)), nfev=int(res.get("nfev", 0)),
             wall_time=float(res.get("wall_time", 0.0)),
-            stop_reason=str(res.get("stop_reason", "")), g=list(res.get("g", [])),
+            stop_reason=Stop.read(res.get("stop_reason", "")), g=list(res.get("g", [])),
             g_inf=float(res.get("g_inf", 1.0)),
             bounds={k: tuple(v) for k, v in res.get("bounds", {}).items()},
             history=dict(res.get("history", {})),

@@ -91,7 +91,7 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
                 if fit.side and fit.child_n is None and n + 1 <= s.max_prony:
                     fit.start(n + 1)  # ahead of the rule: thrown away if it stops at n
                 results[n] = fit.here(n)
-            if results[n].stop_reason == "interrupted":  # Ctrl-C ends the whole scan
+            if results[n].interrupted:  # Ctrl-C ends the whole scan
                 fit.interrupt()
                 break
     scan = [results[n] for n in sorted(results)]

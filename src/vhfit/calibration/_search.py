@@ -19,6 +19,7 @@ from vhfit._words import Worded
 from vhfit.calibration import _checkpoint
 from vhfit.calibration._polish import ROUNDING_TOL
 from vhfit.calibration._polish import polish as polish_fit
+from vhfit.calibration._stop import Stop, StopKind
 from vhfit.calibration._varpro import VARPRO_NFEV, varpro_polish, varpro_polish_many
 
 __all__ = ["Search", "run_search", "check_de_options", "CalibrationError", "HOPELESS",
@@ -71,7 +72,7 @@ class Search:
     z: np.ndarray
     nit: int
     nfev: int
-    stop: str
+    stop: Stop
     history: dict
     t0: float  # start time, moved back by the time a resumed run had already spent
     polished: tuple | None = None  # (x, error) of the polish that ended the search early
@@ -188,7 +189,7 @@ def final_polish(space, found: Search, x: np.ndarray, err: float):
     search's problem if that is lower on every point.
     """
     prob = space.prob
-    if found.stop == _EarlyFinish.GATHERED:
+    if found.stop.kind is StopKind.GATHERED:
         _, x1, e1, n = varpro_polish(space, found.z, tol=FINAL_TOL)
         return (x1, e1, n) if e1 < err else (x, err, n)
     if found.polished is not None:  # polished on the search's points: start from it
@@ -276,9 +277,10 @@ def stop_criteria(tol, target, stall, max_time):
         crits.append(MaxTime(max_time))
     crits += [BestMeanGap(tol), MeanImprovement(rel, window)]
     reasons = {
-        "TargetValue": "target reached", "MaxTime": "max_time", "BestMeanGap": "converged",
-        "MeanImprovement": f"mean error improved < {rel:.0%} over {window} generations",
-        "maxiter": "maxiter", "callback": "callback",
+        "TargetValue": Stop.of(StopKind.TARGET), "MaxTime": Stop.of(StopKind.MAX_TIME),
+        "BestMeanGap": Stop.of(StopKind.CONVERGED),
+        "MeanImprovement": Stop.stalled(rel, window),
+        "maxiter": Stop.of(StopKind.MAX_ITER), "callback": Stop.of(StopKind.CALLBACK),
     }
     return crits, reasons
 
@@ -312,7 +314,7 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
     seed, workers, popsize = s.seed, s.workers, s.popsize
     tol, target, de_options = s.effective_tol, s.target, s.de_options
     if not space.bounds():  # nothing nonlinear to search (e.g. neo-Hooke with fixed τ)
-        return Search(np.zeros(0), 0, 0, "nothing to search", _history(None), t0)
+        return Search(np.zeros(0), 0, 0, Stop.of(StopKind.NOTHING), _history(None), t0)
     opts = {**space.de_options, **check_de_options(de_options)}
     if workers != 1 and opts["updating"] != "deferred":
         raise ValueError(
@@ -352,22 +354,22 @@ def run_search(space, settings, *, n_prony: int, checkpoint, max_time: float | N
                     z = track.finish.z
             if track.finish is not None:
                 objective.nfev += track.finish.nfev
-            if stop == _EarlyFinish.GATHERED and polished is None:
+            if stop.kind is StopKind.GATHERED and polished is None:
                 # resumed after it had ended: its polish again, to end where it did
                 z, x, e, n = gathered_polish(space, z)
                 polished = (x, e)
                 objective.nfev += n
-            elif (stop == _EarlyFinish.TARGET and polished is None
+            elif (stop.kind is StopKind.TARGET_POLISHED and polished is None
                   and track.finish is not None):
                 x, e, n = track.finish.level_polish(z)  # (the same: resumed after it)
                 polished = (x, e)
                 objective.nfev += n
-            if stop == _EarlyFinish.GATHERED and space.several_basins():
+            if stop.kind is StopKind.GATHERED and space.several_basins():
                 z, polished, n = other_basins(space, z, polished, first)
                 objective.nfev += n
             if ckpt is not None and track.state is not None:
                 _checkpoint.save(ckpt, key, track.state, track.evaluations,
-                                 None if stop == "interrupted" else stop)
+                                 None if stop.interrupted else stop)
             history = _history(solver, setup)
     return Search(np.asarray(z), len(history["nit"]), objective.nfev, stop, history, t0,
                   polished)
@@ -395,17 +397,18 @@ def new_solver(space, settings, objective, callback=None, stop=None, x0=None, se
             x0=x0, seeds=seeds, **opts)
 
 
-def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, str]:
+def _solve(solver, track, finished, reasons) -> tuple[np.ndarray, Stop]:
     """Run (or, for a search that had ended, do not run) the solver: (z, stop reason)."""
     if finished:  # the search had ended before the run was cut: don't extend it
         return solver.x, finished
     try:
         res = solver.solve()
     except KeyboardInterrupt:
-        return (track.best_x if track.best_x is not None else solver.x), "interrupted"
+        best = track.best_x if track.best_x is not None else solver.x
+        return best, Stop.of(StopKind.INTERRUPTED)
     if track.hopeless:
-        return res.x, f"no finite error in {HOPELESS} generations"
-    return res.x, reasons.get(res.stop_reason, res.message)
+        return res.x, Stop.no_finite(HOPELESS)
+    return res.x, reasons.get(res.stop_reason) or Stop(StopKind.OTHER, str(res.message))
 
 
 class _Tracker:
@@ -464,7 +467,7 @@ class _EarlyFinish:
     polished point to the caller (``Search.polished``: its polish would repeat the same
     steps); if not, the search goes on as it would have, having spent that polish.
 
-    *Collapse* (the separable search only, ``space.method == "separable"``): data that
+    *Collapse* (the separable search only, ``space.separable``): data that
     no member of the law fits exactly (every real record) never reach the target, and
     the search used to run until the best–mean gap of its generation fell below
     ``tol`` (1e-6), hundreds of generations after the population had settled in one
@@ -484,8 +487,6 @@ class _EarlyFinish:
     # than 1e-4 the VHB 4910 records and the Ogden-2 recoveries of bench_admissible end
     # 10-25 % sooner in the same minima (the other basins' scouts follow either way)
     COLLAPSE = 1e-3
-    GATHERED = "converged: population gathered, ended by a polish of the best member"
-    TARGET = "target reached by a polish of the best member"
 
     def __init__(self, space, target: float, tol: float = 1e-6, full=None):
         self.space, self.target = space, float(target)
@@ -495,11 +496,11 @@ class _EarlyFinish:
         # below the lowest level the search's own points no longer tell the bottom
         self.floor = self.levels[-1] if self.levels else 0.0
         # a shortcut to the stop by the best–mean gap: never where tol = 0 turns that off
-        self.collapse = space.method == "separable" and tol > 0
+        self.collapse = space.separable and tol > 0
         self.done = False
         self.nfev = 0
         self.result = None  # (x, error) of the last polish
-        self.reason = ""  # why the search stopped, once done
+        self.reason = None  # why the search stopped (a Stop), once done
         self.z = None  # the search vector of a polish in the space's own coordinates
 
     def __call__(self, best: float, z: np.ndarray, mean: float = np.inf) -> bool:
@@ -510,7 +511,7 @@ class _EarlyFinish:
             self.nfev += n
             self.result = (x, err)
             self.done = bool(err <= self.ACCEPT * self.target)
-            self.reason = self.TARGET
+            self.reason = Stop.of(StopKind.TARGET_POLISHED)
             return self.done
         if self.collapse and np.isfinite(mean) and mean - best <= self.COLLAPSE * mean:
             self.collapse = False  # once: a polish that did not help is not repeated
@@ -519,7 +520,7 @@ class _EarlyFinish:
             self.result = (x, err)
             self.z = z1
             self.done = bool(err < best)
-            self.reason = self.GATHERED
+            self.reason = Stop.of(StopKind.GATHERED)
             return self.done
         return False
 

@@ -407,10 +407,18 @@ class CalibrationSettings:
         return ModelSpec(self.hyperelastic, Prony(n_prony, self.formulation), self.rtol)
 
     @property
+    def space(self) -> type:
+        """The search space of ``method`` (``SeparableSpace`` or ``FullSpace``): what
+        the method is (``space.separable``) is asked of it."""
+        from vhfit.calibration._space import SPACES
+
+        return SPACES[self.method]
+
+    @property
     def effective_tol(self) -> float:
         """The best–mean gap the search stops at: ``tol``, or for the full method left at
         the default, the paper's 1e-5."""
-        if self.method == "full" and self.tol == DEFAULT_TOL:
+        if not self.space.separable and self.tol == DEFAULT_TOL:
             return FULL_TOL
         return self.tol
 

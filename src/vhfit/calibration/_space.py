@@ -124,6 +124,9 @@ class SeparableSpace:
     """
 
     method = "separable"
+    #: the linear constants solved for each member, not searched (:func:`varpro_polish`
+    #: and the gathered-population shortcut apply)
+    separable = True
     popsize = 64
     maxiter = 1000
     de_options = dict(strategy="best1bin", mutation=(0.5, 1.0), recombination=0.9,
@@ -587,6 +590,7 @@ class FullSpace:
     """The paper's search: every parameter at once, τ as log10 τ."""
 
     method = "full"
+    separable = False  # every parameter searched
     layout = method  # what a search vector means (a checkpoint's key)
 
     def angles(self):
@@ -654,7 +658,7 @@ def search_vector(space, x: np.ndarray) -> np.ndarray:
         i = free[int(np.argmin(np.maximum(lo - t, 0) + np.maximum(t - hi, 0)))]
         free.remove(i)
         logtau[i], g[i] = t, gi
-    if space.method == "full":
+    if not space.separable:
         z = np.empty(nh + 2 * n)
         z[:nh], z[nh::2], z[nh + 1::2] = x[:nh], g, logtau
         return z

@@ -49,6 +49,7 @@ from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._report import finish
 from vhfit.calibration._search import Search, _history
 from vhfit.calibration._space import Problem, SeparableSpace
+from vhfit.calibration._stop import Stop, StopKind
 from vhfit.data import is_moduli
 from vhfit.spectrum import pruning_path
 
@@ -74,7 +75,7 @@ LN10 = math.log(10.0)
 EXACT = 1e-10
 
 #: The result's ``stop_reason`` (and ``options["route"]``) of a fit by this route.
-ROUTE = "per-decade spectrum (NNLS on a tau grid, pruning, free-tau refinement)"
+ROUTE = Stop.of(StopKind.SPECTRUM).message
 
 
 def applies(curves, settings) -> bool:
@@ -82,7 +83,7 @@ def applies(curves, settings) -> bool:
     method, the default free τ strategy and no τ bound given for a single term."""
     if not curves or not all(is_moduli(c) for c in curves):
         return False
-    if settings.method != "separable" or settings.tau_strategy != "free":
+    if not settings.space.separable or settings.tau_strategy != "free":
         return False
     b = settings.bounds
     return not (isinstance(b, dict) and any(k.startswith("tau") for k in b))
@@ -454,8 +455,8 @@ def _spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     # with the moduli exact, and a polish moved the error by 1e-6 relative at most on
     # the master curves while it cost a third of the fit)
     nfev = mod.nfev
-    found = Search(np.log10(x[model.hyperelastic.n_params + 1::2]), 0, nfev, ROUTE,
-                   _history(None), t0)
+    found = Search(np.log10(x[model.hyperelastic.n_params + 1::2]), 0, nfev,
+                   Stop.of(StopKind.SPECTRUM), _history(None), t0)
     options = dict(
         hyperelastic=model.hyperelastic.name, n_prony=n, tau_strategy=str(s.tau_strategy),
         objective=prob.objective.kind, method=s.method, seed=s.seed, popsize=0, maxiter=0,

@@ -44,6 +44,7 @@ from vhfit.calibration._settings import (
     bounds_for_terms,
 )
 from vhfit.calibration._space import SPACES, Problem
+from vhfit.calibration._stop import Stop, StopKind
 from vhfit.data import TestItem, is_moduli, read_csv
 from vhfit.diagnostics import rate_sensitivity
 from vhfit.hyperelastic import get as get_law
@@ -474,7 +475,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     hits = bound_hits(prob, x)
     widened: dict = {}
     # a fit already at the target needs no wider search; a cut one has no time for it
-    if hits and err > s.target and found.stop not in ("interrupted", "max_time"):
+    if hits and err > s.target and found.stop.kind not in (StopKind.INTERRUPTED, StopKind.MAX_TIME):
         wide = widen_bounds(prob, hits)
         widened = {k: [float(v) for v in wide[k]] for k in hits if k not in user}
         left = None if max_time is None else max_time - (time.perf_counter() - t0)
@@ -497,7 +498,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     notes = [f"no {model.hyperelastic.name} law of the automatic bounds is Drucker-stable "
              f"over {sr[0]:.3g} <= λ <= {sr[1]:.3g}: widened {k} to ({v[0]:.6g}, {v[1]:.6g})"
              for k, v in stable_widened.items()]
-    free = (unconstrained_fit(prob, x, err) if s.method == "separable" and n_prony == 0
+    free = (unconstrained_fit(prob, x, err) if s.space.separable and n_prony == 0
             and stable else None)
     space = SPACES[s.method]
     nest = ({"nested": {n.law: n.rmsape for n in nested},
@@ -587,7 +588,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     first population; the result is the lowest of them where the search's is higher
     (``kept``: that law's name, else None)."""
     space = SPACES[settings.method](prob)
-    short = search_problem(prob, curves) if settings.method == "separable" else prob
+    short = search_problem(prob, curves) if settings.space.separable else prob
     searched = space if short is prob else SPACES[settings.method](short)  # coarser
     # moduli beside large-strain curves: the moduli's spectrum is one member of the start
     # (not over a start population of the caller's own, e.g. a first fit's)
@@ -608,7 +609,7 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
         if np.isfinite(ep):
             x, err = xp, ep
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
-        if found.stop == "interrupted":
+        if found.stop.interrupted:
             raise KeyboardInterrupt  # the search may yet find one: resume the checkpoint
         if checkpoint is not None and os.path.exists(checkpoint):
             os.remove(checkpoint)  # resuming it would only end in the same failure
@@ -616,17 +617,17 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
     nfev = found.nfev
     if found.polished is not None and searched is space:  # ended by this polish of its best
         x, err = found.polished
-    elif settings.polish and found.stop != "interrupted":
+    elif settings.polish and not found.stop.interrupted:
         x, err, n_pol = final_polish(space, found, x, err)
         nfev += n_pol
     kept = None
-    if nested and found.stop != "interrupted":
+    if nested and not found.stop.interrupted:
         x, err, kept = _nesting.accept_if_lower(prob, space, list(nested), x, err,
                                                 settings.polish)
     return found, x, err, nfev, kept
 
 
-def no_fit_message(prob: Problem, nfev: int, stop: str) -> str:
+def no_fit_message(prob: Problem, nfev: int, stop: Stop) -> str:
     """Why the search found no parameter set with a finite error, and what to change.
 
     Each of the law's nonlinear constants (α, λm, Jm, ...) is probed alone, the others

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from vhfit._io import atomic_write
-from vhfit.calibration import grade_word
+from vhfit.calibration import StopKind, grade_word
 from vhfit.cli._common import UsageError, one_line
 from vhfit.export import LiveMapping, TooManyTerms, export, get_solver, supported_laws
 from vhfit.export import solvers as solver_names
@@ -250,17 +250,17 @@ def refusal(exc: Exception, key: str) -> str:
     return one_line(exc)
 
 
-#: Stop reasons of a search that ended before converging (docs/cli.md): the card says so.
-UNCONVERGED = ("max_time", "maxiter", "callback")
+#: The stops of a search that ended before converging (docs/cli.md): the card says so.
+UNCONVERGED = (StopKind.MAX_TIME, StopKind.MAX_ITER, StopKind.CALLBACK)
 
 
 def unfinished(cal, interrupted: bool = False) -> str | None:
     """The first comment line of a card from a search that did not finish, or None."""
-    stop = str(cal.stop_reason)
-    if interrupted or stop == "interrupted":
+    stop = cal.stop_reason
+    if interrupted or stop.interrupted:
         return ("INTERRUPTED: written by an interrupted vhfit fit (best constants so far, "
                 "not converged); continue it with --resume before using this card")
-    if stop in UNCONVERGED:
+    if stop.kind in UNCONVERGED:
         return (f"NOT CONVERGED: the search stopped at {stop} before it converged; the "
                 "constants may be far from the best (fit again with a larger --max-time "
                 "or --maxiter)")

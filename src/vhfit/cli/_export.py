@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from vhfit.calibration import interrupted_in
 from vhfit.cli._cards import (
     card_options,
     card_shift,
@@ -46,7 +47,7 @@ def cmd_export(args, argv=()) -> int:
         raise UsageError(f"--to {args.to}: {refusal(exc, args.to)}") from None
     if not text.endswith("\n"):
         text += "\n"
-    status = unfinished(fit, cal.context.get("status") == "interrupted")
+    status = unfinished(fit, interrupted_in(cal.context))
     if args.to == "json":  # an interrupted or unconverged fit says so first, as vhfit fit's
         text = json_marked(text, status)
     elif status:

@@ -401,7 +401,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
                                 first_n=None if args.resume else 1)
             fits[form] = cal = _search(curves, settings, args, out, progress, sigs,
                                        command, form, start=next(iter(fits.values()), None))
-            interrupted = cal.stop_reason == "interrupted" or sigs.stopped_search
+            interrupted = cal.interrupted or sigs.stopped_search
             if interrupted:
                 break
         cal = next(iter(fits.values()))

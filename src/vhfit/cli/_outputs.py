@@ -42,7 +42,7 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     written: dict[str, str] = {}
     status = "INTERRUPTED (best so far, not converged)" if interrupted else "complete"
     # top-down: the verdict, the data, the warnings, then the cards and the constants
-    verdict = [cal.verdict("interrupted" if interrupted else "complete")]
+    verdict = [cal.verdict(interrupted=interrupted)]
     head = [f"data: {label}"] if label else []
 
     fitted = cal.fitted_curves(curves)
@@ -100,7 +100,7 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     if comparison is not None:
         extra["comparison"] = {**comparison.to_dict(), "others": {
             law: f"laws/{law}/{RESULTS}" for law in comparison.fits if law != comparison.best}}
-    cal.save(out / RESULTS, status="interrupted" if interrupted else "complete", curves=raw,
+    cal.save(out / RESULTS, interrupted=interrupted, curves=raw,
              extra=extra)
     written[RESULTS] = "results"
     written["_summary"] = text

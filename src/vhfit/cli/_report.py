@@ -33,7 +33,7 @@ def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, comman
             card_check=cards.check, card_warnings=cards.warnings,
             fit_warnings=cards.fit_warnings,
             card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
-            status="interrupted" if interrupted else "complete", title=label, inputs=inputs,
+            interrupted=interrupted, title=label, inputs=inputs,
             figures=not args.no_plot, images={k: out / f for k, f in plots.items()},
             comparison=comparison)
     except Exception as exc:  # the report never stops the other outputs

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from vhfit import plot
 from vhfit._io import atomic_write
-from vhfit.calibration import set_html_report
+from vhfit.calibration import interrupted_in, set_html_report
 from vhfit.data import is_moduli
 from vhfit.report import _figures, _html
 
@@ -61,13 +61,14 @@ def versions() -> dict[str, str]:
     return out
 
 
-def verdict(cal, *, status: str = "complete") -> str:
+def verdict(cal, *, interrupted: bool = False) -> str:
     """The report's first line: the error, a plain verdict and the worst curve.
 
     Parameters
     ----------
     cal : Calibration
-    status : {"complete", "interrupted"}
+    interrupted : bool
+        The search was interrupted: the line says so first.
 
     Returns
     -------
@@ -78,7 +79,7 @@ def verdict(cal, *, status: str = "complete") -> str:
     >>> verdict(cal)  # doctest: +SKIP
     'RMSAPE 1.2 %: good fit; worst curve fast (2.1 %)'
     """
-    return _html.headline(cal, status)
+    return _html.headline(cal, interrupted)
 
 
 def _checks(card_check) -> dict:
@@ -144,7 +145,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
                  card_check: dict | None = None, card_notes: dict | None = None,
                  card_warnings: Sequence[str] = (), fit_warnings: Sequence[str] | None = None,
                  command: str | None = None,
-                 status: str | None = None, title: str | None = None, inputs=None,
+                 interrupted: bool | None = None, title: str | None = None, inputs=None,
                  figures: bool = True, images: dict | None = None,
                  comparison=None) -> str:
     """The report as one HTML document (see the module's description).
@@ -170,14 +171,16 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         a results file read back recorded (``card_fit_warnings``).
     command : str, optional
         The command that produced the result.
-    status : {"complete", "interrupted"}, optional
+    interrupted : bool, optional
+        The search was interrupted (the report says so first); default what a results
+        file read back recorded, else False.
     title : str, optional
         The data's label.
     inputs : list of dict, optional
         Input files (``path``, ``sha256``).
 
         A result read back from a results file (``Calibration.load``) brings its own
-        ``context``: the command, status, label, inputs, versions and card check that
+        ``context``: the command, interruption, label, inputs, versions and card check that
         ``vhfit fit`` recorded stand in for the arguments not given.
     figures : bool
         Draw the figures (needs matplotlib; without it a note stands in their place).
@@ -200,7 +203,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     ctx = cal.context  # a results file read back: what fit recorded
     if command is None and ctx.get("command"):
         command = shlex.join(str(a) for a in ctx["command"])
-    status = status or ctx.get("status") or "complete"
+    if interrupted is None:
+        interrupted = interrupted_in(ctx)
     title = title if title is not None else ctx.get("data_label")
     inputs = inputs if inputs is not None else ctx.get("inputs")
     if card_check is None and not curves and ctx.get("card_check"):
@@ -225,14 +229,14 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     body = [f"<h1>vhfit report: {_html.esc(name)}</h1>"]
     if title:
         body.append(f"<p>data: {_html.esc(title)}</p>")
-    if status == "interrupted":
+    if interrupted:
         body.append('<p class="interrupted">INTERRUPTED: the best parameters found so far, '
                     "not converged; resume the fit to finish it</p>")
     if fit_warnings is None:
         fit_warnings = ctx.get("card_fit_warnings") or ()
     no_cards = {s: "; ".join((card_notes or {}).get(s, [])) or "no card"
                 for s, text in cards.items() if text is None}
-    body.append(_html.verdict_html(cal, status, check, [*card_warnings, *fit_warnings],
+    body.append(_html.verdict_html(cal, interrupted, check, [*card_warnings, *fit_warnings],
                                    no_cards))
     if comparison is not None:
         body.append(_html.section("laws", "laws compared", [_html.comparison_html(comparison)]))
@@ -334,7 +338,7 @@ def repr_html(cal) -> str:
     --------
     >>> html = repr_html(cal)  # doctest: +SKIP
     """
-    parts = [_html.verdict_html(cal, "complete", {}, [])]
+    parts = [_html.verdict_html(cal, False, {}, [])]
     curves = list(cal.curves)
     if curves and plot.have_matplotlib() and any(not is_moduli(c) for c in curves):
         fits = cal.fitted_curves(curves)

@@ -94,9 +94,9 @@ def worst_curve(cal) -> tuple[str, float] | None:
     return cal.worst_curve()
 
 
-def headline(cal, status: str = "complete") -> str:
+def headline(cal, interrupted: bool = False) -> str:
     """The report's first line: error, plain words, worst curve (plain text)."""
-    return cal.verdict(status)
+    return cal.verdict(interrupted=interrupted)
 
 
 def card_rows(check: dict) -> list[tuple[str, str, str]]:
@@ -135,7 +135,7 @@ def important_warnings(cal, card_warnings: list[str]) -> list[str]:
     return list(dict.fromkeys(out))
 
 
-def verdict_html(cal, status: str, check: dict, card_warnings: list[str],
+def verdict_html(cal, interrupted: bool, check: dict, card_warnings: list[str],
                  no_cards: dict | None = None) -> str:
     """The verdict box: its colour is the worst grade of the fit and of its cards (a
     warning that matters makes a good one fair); the cards' rows, then the solvers
@@ -147,7 +147,7 @@ def verdict_html(cal, status: str, check: dict, card_warnings: list[str],
     if cal.stability is not None and not cal.stability.stable:
         cls = "bad"  # an unstable law is no result to use, whatever its error
     parts = [f'<div class="verdict {cls}" id="verdict">',
-             f'<p class="headline">{esc(headline(cal, status))}</p>',
+             f'<p class="headline">{esc(headline(cal, interrupted))}</p>',
              f"<p>{esc(cal.model.spec().describe())}, "
              f"'{esc(cal.model.formulation)}' formulation; stop: {esc(cal.stop_reason)}; "
              f"{int(cal.nit)} generations, {esc(num(cal.wall_time, 3))} s</p>"]
