@@ -281,7 +281,7 @@ class _RouteKeys:
     keywords of a calibrate call."""
 
     def __init__(self, method: str, kwargs: dict):
-        self.method = method
+        self.space = SPACES[method]
         self.tau_strategy = kwargs.get("tau_strategy", DEFAULT_TAU_STRATEGY)
         self.bounds = kwargs.get("bounds", "auto")
 
