@@ -51,6 +51,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from vhfit import Calibration
+from vhfit.calibration import Stop
 from vhfit.cli import _main as cli_main
 from vhfit.cli import main
 
@@ -1520,7 +1521,7 @@ def check_checkpoint(case, cb: dict, rng: np.random.Generator) -> str:
     idx = solver._random_population_index
     assert sorted(idx.tolist()) == list(range(len(pop))), idx  # SciPy's donor draw
     assert isinstance(evaluations, int) and evaluations >= 0, evaluations
-    assert done is None or (isinstance(done, str) and done), done
+    assert done is None or (isinstance(done, Stop) and done.message), done
     assert math.isfinite(elapsed) and elapsed >= 0, elapsed
     if case["expect"] == "same":
         np.testing.assert_array_equal(pop.ravel(), cb["base"]["solver"]["population"]["data"])
