@@ -2620,4 +2620,28 @@ MUTANTS: list[Mutant] = [
       "        if groups and tau[i] <= first * (1.0 + rtol):\n",
       "a faster neighbour in a user's term order is merged into a slower term",
       ("tests/test_bounds_named.py",)),
+    # the Stop record: the code decides by the kind, the reader sees the sentence
+    M("stop_kinds_swapped", "vhfit/calibration/_stop.py",
+      '    StopKind.TARGET: "target reached",\n'
+      '    StopKind.TARGET_POLISHED: "target reached by a polish of the best member",\n',
+      '    StopKind.TARGET_POLISHED: "target reached",\n'
+      '    StopKind.TARGET: "target reached by a polish of the best member",\n',
+      "the two target stops swap sentences: a search ended by the target says a polish did",
+      ("tests/test_stop.py",)),
+    M("stop_interrupted_is_callback", "vhfit/calibration/_stop.py",
+      "        return self.kind is StopKind.INTERRUPTED\n",
+      "        return self.kind is StopKind.CALLBACK\n",
+      "a search stopped by the user's callback counts as interrupted (and Ctrl-C does not)",
+      ("tests/test_stop.py",)),
+    M("stop_read_loses_the_kind", "vhfit/calibration/_stop.py",
+      "        kind = _BY_MESSAGE.get(message)\n",
+      "        kind = None\n",
+      "a sentence read back (a results file, a checkpoint) is of no kind: an old maxiter "
+      "fit's card is not marked, a resumed gathered search not polished again",
+      ("tests/test_stop.py",)),
+    M("stop_status_word_ignored", "vhfit/calibration/_stop.py",
+      "    return _INTERRUPTED_BY_WORD.get(record.get(\"status\"), False)\n",
+      "    return False\n",
+      "a record that says \"status\": \"interrupted\" without its flag reads as complete",
+      ("tests/test_stop.py",)),
 ]
