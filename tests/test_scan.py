@@ -76,8 +76,8 @@ def test_two_processes_fit_in_both(monkeypatch):
     calls = []
     real = _scan._Fits._run
 
-    def spy(self, n, callback=None):
-        cal = real(self, n, callback)
+    def spy(self, n, callback=None, floor=False):
+        cal = real(self, n, callback, floor)
         calls.append(n)  # in this process only: the child's list is its own copy
         return cal
 
