@@ -121,6 +121,41 @@ def test_an_interrupt_ends_the_child_even_where_it_raises(monkeypatch):
     assert not multiprocessing.active_children()
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_each_n_starts_from_n_minus_1_where_it_is_done_and_is_floored_by_it(
+        monkeypatch, workers):
+    """N terms contain N − 1. N = 2 and 4 begin after N − 1 has ended (on two processes
+    too) and get its fit as ``prior``; N = 3 and 5, fitted beside N − 1 on two
+    processes, get none on one process as well, and N = 3, ending above N = 2 here, is
+    fitted again from it, in this process; N = 5, below N = 4, is not."""
+    parent = os.getpid()
+    # the plain searches of each N, and of N = 3 again from N = 2's fit
+    plain = {1: 10.0, 2: 5.0, 3: 6.0, 4: 2.0, 5: 1.0}
+    calls = []
+
+    def calibrate_n(curves, s, n, prior=None, **kw):
+        if os.getpid() == parent:  # (the child's own list is a copy)
+            calls.append((n, None if prior is None else prior.n_prony))
+        if n == 3 and prior is not None:
+            assert prior.rmsape == 5.0
+            return Fit(4.0, n)
+        return Fit(plain[n], n, pid=os.getpid())
+
+    monkeypatch.setattr(_scan, "fork_is_safe", lambda serial_child=False: True)
+    monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
+    settings = CalibrationSettings(n_prony="auto", max_prony=5, order_tol=0.05,
+                                   scan_workers=workers)
+    cal = _scan.order_scan([], settings, 0.0, calibrate_n)
+    assert [r["rmsape"] for r in cal.order_scan] == [10.0, 5.0, 4.0, 2.0, 1.0]
+    here = [(1, None), (2, 1), (3, 2), (4, 3)]  # N = 3 again, from N = 2
+    if workers == 1:
+        here = [(1, None), (2, 1), (3, None), (3, 2), (4, 3), (5, None)]
+    assert calls == here
+    assert [_scan.beside(n, 5) for n in range(1, 7)] == [False, False, True, False, True,
+                                                         False]
+    assert [_scan.beside(n, 2) for n in (1, 2)] == [False, True]
+
+
 def test_scan_workers_is_checked():
     with pytest.raises(ValueError, match=r"^scan_workers = 3: give 'auto', 1"):
         CalibrationSettings(scan_workers=3)
