@@ -156,6 +156,56 @@ def test_each_n_starts_from_n_minus_1_where_it_is_done_and_is_floored_by_it(
     assert [_scan.beside(n, 2) for n in (1, 2)] == [False, True]
 
 
+def test_the_child_hands_its_remembered_fits_to_this_process(monkeypatch):
+    """The fits the child remembered (its N's contained laws) are remembered here once
+    it is collected, as they would be on one process: they seed the later N here."""
+    import numpy as np
+
+    from vhfit.calibration import _nesting
+
+    parent = os.getpid()
+
+    def calibrate_n(curves, s, n, **kw):
+        _nesting.keep([(("test", n, os.getpid() == parent), (float(n), np.zeros(2)))])
+        return Fit((10.0, 5.0, 4.0)[n - 1], n)
+
+    monkeypatch.setattr(_scan, "fork_is_safe", lambda serial_child=False: True)
+    monkeypatch.setattr(_scan, "usable_cpus", lambda: 2)
+    settings = CalibrationSettings(n_prony="auto", max_prony=3, scan_workers=2)
+    cal = _scan.order_scan([], settings, 0.0, calibrate_n)
+    assert cal.options["scan_processes"] == 2
+    kept = _nesting.snapshot()
+    assert {("test", 1, True), ("test", 2, True), ("test", 3, False)} <= kept
+    assert ("test", 3, True) not in kept  # N = 3 was fitted in the child only
+
+
+def test_a_contained_law_follows_the_fits_own_seeding_by_n_minus_1():
+    """N fitted beside N − 1 (``fewer=False``): the contained laws' fits are not seeded
+    by their remembered N − 1 fits either, so that the result does not depend on which
+    process fits it; otherwise they are."""
+    import numpy as np
+
+    from vhfit.calibration import _nesting
+
+    seen = []
+
+    def calibrate_n(curves, s, n, prior=None, **kw):
+        seen.append((s.hyperelastic, n, prior))
+        return _Cal(1.0, np.array([0.1]))
+
+    s = CalibrationSettings("yeoh", 2, uncertainty=False)
+    for fewer in (False, True):
+        _nesting.clear_cache()
+        _nesting.nested_fits([], s, 2, calibrate_n, fewer=fewer)
+    assert seen == [("neo_hooke", 2, None), ("neo_hooke", 2, _nesting.REMEMBERED)]
+
+
+@dataclass(frozen=True)
+class _Cal:
+    rmsape: float
+    x: object
+
+
 def test_scan_workers_is_checked():
     with pytest.raises(ValueError, match=r"^scan_workers = 3: give 'auto', 1"):
         CalibrationSettings(scan_workers=3)
