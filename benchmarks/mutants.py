@@ -2488,7 +2488,8 @@ MUTANTS: list[Mutant] = [
       "the remembered fit of another N seeds (and floors) this one",
       ("tests/test_nesting_guarantee.py",)),
     M("nesting_bounds_not_checked", "vhfit/calibration/_nesting.py",
-      "    if isinstance(s.bounds, dict) and set(s.bounds) & set(law.param_names):\n"
+      "    if (smaller != law.name and isinstance(s.bounds, dict)\n"
+      "            and set(s.bounds) & set(law.param_names)):\n"
       "        return None\n",
       "",
       "bounds on the law's own constants are passed to the contained law's fit",

@@ -307,12 +307,22 @@ def test_a_fixed_n_fit_starts_from_the_remembered_fit_of_n_minus_1(monkeypatch):
     assert "nested" not in fresh.options and len(made) == 1
 
 
-def test_a_max_time_leaves_a_fixed_n_fit_unseeded_by_n_minus_1():
+def test_a_max_time_leaves_a_fit_unseeded_by_n_minus_1():
+    import time
+
+    from vhfit.calibration import CalibrationSettings, _workflow
+
     curves = _nh_curves(noise=0.03, seed=5)
     kw = dict(method="full", popsize=8, maxiter=3, polish=False)
-    _fit(curves, "neo_hooke", n_prony=1, max_time=60.0, **kw)
-    _fit(curves, "neo_hooke", n_prony=1, **kw)
+    one = _fit(curves, "neo_hooke", n_prony=1, **kw)
+    # remembered without a max_time: a fit with one does not take it
     assert "nested" not in _fit(curves, "neo_hooke", n_prony=2, max_time=60.0, **kw).options
+    # nor the fit of N - 1 that an order scan hands it
+    for max_time, want in ((60.0, None), (None, {"neo_hooke N=1": one.rmsape})):
+        s = CalibrationSettings("neo_hooke", 2, max_time=max_time, uncertainty=False, **kw)
+        cal = _workflow._calibrate_n(curves, s, 2, checkpoint=None, max_time=max_time,
+                                     t0=time.perf_counter(), prior=one)
+        assert cal.options.get("nested") == want
 
 
 def _scan_errors(curves, law="neo_hooke", **kw):
