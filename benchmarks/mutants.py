@@ -2546,6 +2546,12 @@ MUTANTS: list[Mutant] = [
       "the contained-law fits of the child's N are not remembered here (later N here "
       "are seeded otherwise than on one process)",
       ("tests/test_scan.py",)),
+    M("scan_target_level_ignored", "vhfit/calibration/_scan.py",
+      "    return max(cal.rmsape, target)",
+      "    return cal.rmsape",
+      "errors below the target are compared as they are: the scan goes on, and chooses, "
+      "by the rounding of exact data",
+      ("tests/test_scan.py", "tests/test_calibrate.py")),
     M("ogden1_complex_step_again", "vhfit/hyperelastic/_laws.py",
       'mu0=lambda mu1, a1: mu1, linear_params=("mu1",), derivatives=_ogden_dW,',
       'mu0=lambda mu1, a1: mu1, linear_params=("mu1",), general_derivatives=_ogden_dW,',

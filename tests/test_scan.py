@@ -71,6 +71,16 @@ def test_the_order_scan_ends_when_a_term_gains_less_than_order_tol(
     assert cal.options["scan_processes"] == workers
 
 
+@pytest.mark.parametrize("workers", [1, 2])
+def test_errors_below_the_target_count_as_the_target(monkeypatch, workers):
+    """Exact data: N = 3 is 20 % below N = 2, both far below the target (1e-4 %, the
+    default), where they differ by rounding: no term gained, the scan ends and keeps
+    N = 2."""
+    cal, _ = _scan_of((10.0, 1e-12, 8e-13, 1e-13, 1e-14), monkeypatch, workers)
+    assert [r["rmsape"] for r in cal.order_scan] == [10.0, 1e-12, 8e-13]
+    assert cal.options["n_prony_chosen"] == 2
+
+
 def test_two_processes_fit_in_both(monkeypatch):
     """Side by side, N = 3 (and N = 5 beside N = 4) are fitted in the child."""
     calls = []

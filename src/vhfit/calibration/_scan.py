@@ -72,12 +72,19 @@ def beside(n: int, max_prony: int) -> bool:
     return n >= first and (n - first) % 2 == 0 and n >= 2
 
 
-def _needed(n: int, results: dict, order_tol: float) -> bool:
+def _level(cal, target: float) -> float:
+    """The error the rule compares: the fit's, or the target where it is below it (errors
+    below the target differ by the rounding of exact data: no term gains there)."""
+    return max(cal.rmsape, target)
+
+
+def _needed(n: int, results: dict, s: CalibrationSettings) -> bool:
     """Whether the rule goes on to N = n, from the errors of N < n (all known)."""
     if n <= 2:
         return True
-    last = results[n - 1].rmsape
-    return last <= min(results[k].rmsape for k in range(1, n - 1)) * (1 - order_tol)
+    last = _level(results[n - 1], s.target)
+    return last <= min(_level(results[k], s.target)
+                       for k in range(1, n - 1)) * (1 - s.order_tol)
 
 
 def order_scan(curves, settings: CalibrationSettings, t0: float,
@@ -87,7 +94,9 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
     order_tol of the best.
 
     A term that gains less than order_tol ends the scan: a further one is not worth its
-    constants by the same rule that chooses N, and each N costs a global search. Two
+    constants by the same rule that chooses N, and each N costs a global search. An error
+    below the target counts as the target (on exact data the fits of N and N + 1 differ
+    there by rounding alone, which an N fitted again from N − 1 can lower). Two
     processes where :func:`side_by_side` allows (see the module).
     """
     s = settings
@@ -99,7 +108,7 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
             stack.push(fit.cancel)
             fit.start(min(FIRST_CHILD, s.max_prony))
         for n in range(1, s.max_prony + 1):
-            if not _needed(n, results, s.order_tol) or fit.time_left() == 0.0:
+            if not _needed(n, results, s) or fit.time_left() == 0.0:
                 break
             if fit.child_n == n:
                 results[n] = fit.collect()
@@ -225,8 +234,9 @@ def _choose(results: list[Calibration], s: CalibrationSettings, t0: float,
             side: bool) -> Calibration:
     """The smallest N within order_tol of the best, with the scan's record."""
     order_tol = s.order_tol
-    best = min(r.rmsape for r in results)
-    chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
+    best = min(_level(r, s.target) for r in results)
+    chosen = next(r for r in results
+                  if _level(r, s.target) <= best * (1 + order_tol) + 1e-12)
     heads = []
     if results.index(chosen) + 1 == len(results) == s.max_prony:
         heads.append(_spectrum.cap_message(
