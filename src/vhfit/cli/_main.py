@@ -7,7 +7,7 @@ import warnings
 from collections.abc import Sequence
 
 from vhfit.cli._common import EXIT_FAILED, EXIT_USAGE, FitFailed, UsageError, one_line
-from vhfit.cli._parser import build_parser, glue_windows
+from vhfit.cli._parser import build_parser, command_in, glue_windows
 
 __all__ = ["main"]
 
@@ -34,8 +34,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     try:
-        parser = build_parser()
-        args = parser.parse_args(glue_windows(argv))
+        words = glue_windows(argv)
+        parser = build_parser(command_in(words))  # only the flags of the command run
+        args = parser.parse_args(words)
         if args.command is None:
             parser.print_help()
             return EXIT_USAGE

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import json
 
-from vhfit import hyperelastic
+from vhfit import export, hyperelastic
 from vhfit.cli._common import EXIT_OK
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins, tau_strategies
-from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
+from vhfit.formulations import FORMULATIONS
 
 __all__ = ["cmd_models"]
 
@@ -30,8 +30,10 @@ def cmd_models(args, argv=()) -> int:
             "doc": (hm.doc or "").strip().splitlines()[0] if hm.doc else "",
         })
     strategies = tau_strategies()
+    # each solver's formulation, from the records the export package registers
+    own = {s: export.get_solver(s).formulation for s in export.solvers()}
     forms = [{"name": n, "description": f.description,
-              "solvers": [s for s, g in SOLVER_FORMULATIONS.items() if g == n]}
+              "solvers": [s for s, g in own.items() if g == n]}
              for n, f in FORMULATIONS.items()]
     if args.json:
         print(json.dumps({"models": models, "tau_strategies": strategies,
