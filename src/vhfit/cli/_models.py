@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import json
 
-from vhfit import export, hyperelastic
+from vhfit import export, hyperelastic  # noqa: F401 - export registers the solvers
 from vhfit.cli._common import EXIT_OK
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins, tau_strategies
-from vhfit.formulations import FORMULATIONS
+from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS
 
 __all__ = ["cmd_models"]
 
@@ -30,10 +30,8 @@ def cmd_models(args, argv=()) -> int:
             "doc": (hm.doc or "").strip().splitlines()[0] if hm.doc else "",
         })
     strategies = tau_strategies()
-    # each solver's formulation, from the records the export package registers
-    own = {s: export.get_solver(s).formulation for s in export.solvers()}
     forms = [{"name": n, "description": f.description,
-              "solvers": [s for s, g in own.items() if g == n]}
+              "solvers": [s for s, g in SOLVER_FORMULATIONS.items() if g == n]}
              for n, f in FORMULATIONS.items()]
     if args.json:
         print(json.dumps({"models": models, "tau_strategies": strategies,
