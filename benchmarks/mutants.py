@@ -2218,6 +2218,48 @@ MUTANTS: list[Mutant] = [
       "from vhfit.cli._fit import cmd_fit  # noqa: F401\n",
       "the parser imports the fit command's module (vhfit --help pays for the fit code)",
       ("tests/test_fit_imports.py",)),
+    # ------------------------- the front door: imports on demand, teardown, the drawer
+    M("s34fd_parser_builds_every_command", "vhfit/cli/_parser.py",
+      "        if commands is None or name in commands:\n",
+      "        if True:\n",
+      "the command line builds every command's flags: --version and --help load numpy and "
+      "the registries again",
+      ("tests/test_fit_imports.py",)),
+    M("s34fd_command_is_the_last_word", "vhfit/cli/_parser.py",
+      "    return tuple(a for a in argv if not a.startswith(\"-\"))[:1]\n",
+      "    return tuple(a for a in argv if not a.startswith(\"-\"))[-1:]\n",
+      "the parser of the command line takes the last word for the command (a file name): "
+      "the command run has no flags",
+      ("tests/test_fit_imports.py::"
+       "test_the_parser_of_one_command_reads_its_arguments_as_the_full_parser",)),
+    M("s34fd_models_solvers_unregistered", "vhfit/cli/_models.py",
+      "from vhfit import export, hyperelastic  # noqa: F401 - export registers the solvers\n",
+      "from vhfit import hyperelastic\n",
+      "vhfit models reads the solvers' formulations without the export package that "
+      "registers them (the parser no longer imports it): no solver beside any formulation",
+      ("tests/test_fit_imports.py",)),
+    M("s34fd_program_teardown", "vhfit/cli/_main.py",
+      "    atexit.register(_exit_now, done)\n", "",
+      "the program exits through the interpreter's teardown again (half a second or more "
+      "after a fit)",
+      ("tests/test_cli.py::test_the_program_exits_with_the_code_after_the_exit_handlers_of_"
+       "its_run",)),
+    M("s34fd_program_unflushed", "vhfit/cli/_main.py",
+      "            stream.flush()\n", "            pass\n",
+      "the program ends the process without flushing standard output: a piped CSV is cut",
+      ("tests/test_cli.py::test_the_program_exits_with_the_code_after_the_exit_handlers_of_"
+       "its_run",)),
+    M("s34fd_drawer_sends_the_callback", "vhfit/cli/_outputs.py",
+      "        if cal.settings is not None and cal.settings.callback is not None:\n",
+      "        if False:\n",
+      "the drawer is sent the calibration with the progress closure, which does not "
+      "pickle: every figure is drawn in the command's process again",
+      ("tests/test_cli_drawer.py",)),
+    M("s34fd_drawer_left_running", "vhfit/cli/_fit.py",
+      "            (nullcontext() if drawer is None else closing(drawer)), \\\n",
+      "            nullcontext(), \\\n",
+      "a fit that fails leaves its drawer process waiting",
+      ("tests/test_cli_drawer.py::test_a_failed_fit_leaves_no_drawer_behind",)),
     M("s34_zero_mean_unnamed", "vhfit/objective.py",
       "            raise worded(ValueError, f\"{where} {exc.what}\") from None\n",
       "            raise\n",
