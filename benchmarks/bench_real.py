@@ -70,9 +70,10 @@ of both (``calibrate(seed=0)``, the dataset's reading options, ``uncertainty=Fal
 and a violation where err(bigger) > 1.02 err(contained) + 0.02 points (goal: none).
 A fit that fails is listed with its reason and not counted. The laws are fitted in
 the order of the pairs in one process, so a contained law's fit made for a pair
-serves the seeds of the others (docs/optimizer.md, "Nesting"); the wall time of each
-bigger fit is printed beside its error, and of each order scan with and without the
-seeding (``--scan-times``, fresh processes).
+serves the seeds of the others (docs/optimizer.md, "Nesting"), and a law's fit of
+N = 1 made first seeds its fit of N = 2 (N terms contain N − 1); the wall time of each
+bigger fit is printed beside its error (the time of the default fits against a release
+before the seeding: ``bench_speed_real.py``, fresh processes).
 """
 
 from __future__ import annotations

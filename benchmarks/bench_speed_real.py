@@ -49,7 +49,7 @@ def worker(name: str, data: Path, repeats: int) -> None:
     import vhfit
 
     sys.path.insert(0, str(HERE))
-    from bench_modes import _cpu
+    from bench_modes import _cpu, forget_fits
     from bench_real import DATASETS, read
 
     ds = next(d for d in DATASETS if d.name == name)
@@ -63,6 +63,7 @@ def worker(name: str, data: Path, repeats: int) -> None:
         vhfit.calibrate(curves, hyperelastic=ds.law, seed=0, maxiter=1, polish=False,
                         uncertainty=False, **{**ds.fit, "n_prony": 1 if ds.fit else None})
         for _ in range(repeats):
+            forget_fits()  # each repeat as a fresh process's fit
             t0, c0 = time.perf_counter(), _cpu()
             cal = vhfit.calibrate(curves, hyperelastic=ds.law, seed=0, **ds.fit)
             walls.append(time.perf_counter() - t0)

@@ -91,3 +91,15 @@ def ctrl_c_in_fit(monkeypatch):
             yield
 
     return cut
+
+
+@pytest.fixture(autouse=True)
+def _fresh_nesting_cache():
+    """Each test starts as in a fresh process: no fit remembered by an earlier test seeds
+    its fits (vhfit.calibration._nesting), whatever order the tests run in."""
+    import sys
+
+    nesting = sys.modules.get("vhfit.calibration._nesting")  # (not loaded: nothing kept)
+    if nesting is not None:
+        nesting.clear_cache()
+    yield

@@ -401,6 +401,46 @@ def test_python_m_vhfit(tmp_path):
     assert proc.returncode == 0 and proc.stdout.strip() == f"vhfit {vhfit.__version__}"
 
 
+PROGRAM = r"""
+import atexit, sys
+from vhfit.cli import _main, program
+atexit.register(print, "registered before the program")
+given = _main.main
+
+
+def main():  # the command registers an exit handler, as multiprocessing's pools do
+    atexit.register(print, "registered by the command")  # left in the buffer
+    return given(sys.argv[1:])
+
+
+_main.main = main
+program()
+"""
+
+
+def test_the_program_exits_with_the_code_after_the_exit_handlers_of_its_run(tmp_path):
+    """``vhfit`` ends without the interpreter's teardown: the exit handlers registered
+    during the run still run, the code and every byte written reach the caller; one
+    registered before the program started is passed over (the teardown is skipped)."""
+    # standard output buffered, as it is in a pipe unless PYTHONUNBUFFERED says otherwise
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    ok = subprocess.run([sys.executable, "-c", PROGRAM, "simulate", "--model", "neo_hooke",
+                         "--param", "C10=0.1", "--rate", "0.1", "--points", "3000"],
+                        cwd=tmp_path, capture_output=True, text=True, timeout=300, env=env)
+    assert ok.returncode == 0, ok.stderr
+    lines = ok.stdout.splitlines()
+    assert lines[-1] == "registered by the command"
+    assert "registered before the program" not in ok.stdout
+    # all 3000 rows of the ramp, past any pipe buffer: flushed before the exit
+    rows = [ln for ln in lines[:-1] if ln.startswith("rate 0.1 1/s,")]
+    assert len(rows) == 3000, len(rows)
+    bad = subprocess.run([sys.executable, "-c", PROGRAM, "export", "nope.json", "--to",
+                          "json"], cwd=tmp_path, capture_output=True, text=True, timeout=300,
+                         env=env)
+    assert bad.returncode == 2 and bad.stderr.startswith("vhfit: error: "), bad.stderr
+    assert bad.stdout.splitlines() == ["registered by the command"]
+
+
 # ============================================================ fit in-process
 def test_fit_writes_everything(noisy, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)

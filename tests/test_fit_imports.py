@@ -11,8 +11,10 @@ they are the fits of the same data made with those packages loaded.
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -76,24 +78,88 @@ from vhfit import cli
 out = io.StringIO()
 with contextlib.redirect_stdout(out):
     try:
-        code = cli.main(sys.argv[1:2])
+        code = cli.main(sys.argv[1].split())
     except SystemExit as exc:  # argparse's --version / --help
         code = exc.code
-heavy = ("numba", "scipy", "matplotlib", "vhfit.calibration", "vhfit.optimize._de")
 print(json.dumps({"code": code, "text": out.getvalue(),
-                  "loaded": [m for m in heavy if m in sys.modules]}))
+                  "loaded": [m for m in sys.argv[2:] if m in sys.modules]}))
 """
 
+#: what a fit loads and the quick commands must not: the compiled kernels, the search,
+#: the figures, the fit code and the file readers
+FIT_ONLY = ("numba", "scipy", "matplotlib", "vhfit.calibration", "vhfit.optimize._de",
+            "vhfit.data")
 
-def test_version_help_and_models_load_no_numba_scipy_matplotlib_or_fit_code():
-    """The quick commands import on demand: none of the fit's packages in a fresh process."""
-    for argv in ("--version", "--help", "models"):
-        proc = subprocess.run([sys.executable, "-c", QUICK, argv], capture_output=True,
-                              text=True, env=dict(os.environ), timeout=300)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-        child = json.loads(proc.stdout.strip().splitlines()[-1])
-        assert child["code"] in (0, None), (argv, child)
-        assert child["loaded"] == [], (argv, child["loaded"])
-        assert child["text"].strip(), argv  # it printed something
-    # the models listing still names the τ strategies, read without the search's scipy
+
+def _quick(argv: str, unused) -> dict:
+    """``vhfit ARGV`` in a fresh interpreter: its exit code, output and which of
+    ``unused`` it imported."""
+    proc = subprocess.run([sys.executable, "-c", QUICK, argv, *unused], capture_output=True,
+                          text=True, env=dict(os.environ), timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    child = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert child["code"] in (0, None), (argv, child)
+    assert child["text"].strip(), argv  # it printed something
+    return child
+
+
+def test_version_and_help_load_no_numpy_nor_any_registry():
+    """--version and --help print what the parser holds: argparse and the standard library
+    only, not numpy (nor the law, test and solver registries that the commands' flags name,
+    which come with it)."""
+    unused = ("numpy", *FIT_ONLY, "vhfit.hyperelastic", "vhfit.modes", "vhfit.export")
+    for argv in ("--version", "--help"):
+        assert _quick(argv, unused)["loaded"] == [], argv
+
+
+def test_help_lists_every_command_the_full_parser_has():
+    """The command line builds only the flags of the command it runs: --help still lists
+    every command, with the same line as the parser of every command's flags."""
+    from vhfit.cli._parser import build_parser
+
+    text = _quick("--help", ())["text"]
+    full = build_parser()
+    subs = next(a for a in full._actions if isinstance(a, argparse._SubParsersAction))
+    for choice in subs._choices_actions:
+        assert re.search(rf"^\s+{choice.dest}\s+{re.escape(choice.help)}$", text, re.M), (
+            choice.dest)
+
+
+def test_the_parser_of_one_command_reads_its_arguments_as_the_full_parser():
+    from vhfit.cli._parser import build_parser, command_in, glue_windows
+
+    for argv in (["fit", "a.csv", "b.csv", "--prony", "auto", "--model", "yeoh",
+                  "--trim-strain", "-0.3:", "--for", "lsdyna", "--abaqus-explicit", "-q"],
+                 ["--debug", "export", "r.json", "--to", "abaqus", "--poisson", "0.49"],
+                 ["simulate", "--model", "neo_hooke", "--param", "C10=1", "--rate", "0.1"],
+                 ["check", "r.json", "--points", "20"], ["models", "--json"],
+                 ["demo", "--prony", "2"]):
+        words = glue_windows(argv)
+        assert command_in(words) == (argv[1] if argv[0] == "--debug" else argv[0],)
+        ns = build_parser(command_in(words)).parse_args(words)
+        ref = build_parser().parse_args(words)
+        assert {k: v for k, v in vars(ns).items() if k != "func"} == {
+            k: v for k, v in vars(ref).items() if k != "func"}
+        assert ns.func.__name__ == ref.func.__name__
+    assert command_in(["--version"]) == () and command_in([]) == ()
+
+
+def test_models_loads_no_numba_scipy_matplotlib_fit_code_or_readers():
+    """``vhfit models`` reads the registries (the laws' numpy code) and nothing the fit
+    needs besides."""
+    child = _quick("models", FIT_ONLY)
+    assert child["loaded"] == [], child["loaded"]
+    # the listing still names the τ strategies, read without the search's scipy
     assert "tau strategies" in child["text"] and "semifree" in child["text"]
+
+
+def test_models_names_the_solvers_of_each_formulation_from_their_records():
+    """The formulations' solvers come from the solver records, which the export package
+    registers: the listing loads them itself (the parser no longer does)."""
+    from vhfit import export
+
+    listed = json.loads(_quick("models --json", ())["text"])["formulations"]
+    for form in listed:
+        own = [s for s in export.solvers() if export.get_solver(s).formulation == form["name"]]
+        assert form["solvers"] == own, form
+    assert sum(len(f["solvers"]) for f in listed) == len(export.solvers()) > 0

@@ -225,6 +225,19 @@ def test_a_results_file_of_format_1_loads_and_simulates_the_same_stresses():
             assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.max(np.abs(want)))
 
 
+def test_a_format_1_fit_keeps_the_accuracy_its_options_recorded(tmp_path):
+    """Format 1 holds a fit's rtol only in its options: the model comes back with it."""
+    raw = json.loads((OLD / "results.json").read_text())
+    raw["options"]["rtol"] = 1e-4
+    for fit in raw["fits"].values():
+        fit["options"]["rtol"] = 1e-4
+    path = tmp_path / "results.json"
+    path.write_text(json.dumps(raw))
+    cal = vhfit.Calibration.load(path)
+    assert cal.model.rtol == 1e-4
+    assert {f.model.rtol for f in cal.fits.values()} == {1e-4}
+
+
 def test_a_material_json_without_a_spec_still_reads():
     doc = json.loads((OLD / "material.json").read_text())
     assert "spec" not in doc

@@ -58,6 +58,21 @@ def test_a_cubic_law_fits_neo_hooke_data_with_a_small_strain_point_as_well(law):
     assert _err(curves, law) <= REL * small + ABS
 
 
+@pytest.mark.parametrize("law", ["yeoh", "polynomial3"])
+def test_the_search_alone_fits_a_cubic_law_where_the_contained_law_fits(law):
+    """The cause, not the floor: a bound on C10 leaves the fit unseeded by neo-Hooke
+    (no nesting; its settings differ), and the search's own shapes, drawn in term units,
+    reach neo-Hooke's error (in the constants' own search ranges they end at 41 %/23 %)."""
+    curves = _curves(0.01, 0.05, 20.0, 0.03, 1)
+    small = _err(curves, "neo_hooke")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cal = vhfit.calibrate(curves, hyperelastic=law, n_prony=1, seed=0,
+                              bounds={"C10": (0.0, 10.0)})
+    assert "nested" not in cal.options
+    assert cal.rmsape <= REL * small + ABS
+
+
 @settings(max_examples=4, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.too_slow])
 @given(C10=st.floats(1e-3, 1.0), g=st.floats(0.5, 10.0), log_tau=st.floats(0.5, 2.0),

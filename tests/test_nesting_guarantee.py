@@ -258,3 +258,104 @@ def test_a_seed_no_better_than_the_draw_changes_nothing():
     seeded._vh_initial()
     np.testing.assert_array_equal(seeded.population, plain.population)
     np.testing.assert_array_equal(seeded.population_energies, plain.population_energies)
+
+
+# ------------------------------------------------- N Prony terms contain N − 1
+def _solvers(monkeypatch):
+    """The DE solvers the calibrations create from now on (their generation 0 is the
+    first population, seeds entered)."""
+    from vhfit.calibration import _search
+
+    made, real = [], _search.new_solver
+
+    def spy(*a, **kw):
+        made.append(real(*a, **kw))
+        return made[-1]
+
+    monkeypatch.setattr(_search, "new_solver", spy)
+    return made
+
+
+def test_the_contained_fit_enters_the_first_population(monkeypatch):
+    # the all-parameter search compares the calibration's own problem: the lowest
+    # member of its first population (generation 0) is the embedded neo-Hooke fit,
+    # to the rounding of the two laws' formulas for the same stress
+    # (polished: the neo-Hooke fit is far below anything the 8 members drawn reach)
+    curves = _nh_curves(noise=0.05, seed=3)
+    kw = dict(n_prony=1, method="full", popsize=8, maxiter=3)
+    e_small = _fit(curves, "neo_hooke", **kw).rmsape  # remembered: no fit of it below
+    made = _solvers(monkeypatch)
+    _fit(curves, "mooney_rivlin", **kw)
+    # (a member drawn at random does not match a fit's error to 1e-9)
+    assert made[0].history.best[0] == pytest.approx(e_small, rel=1e-9)
+
+
+def test_a_fixed_n_fit_starts_from_the_remembered_fit_of_n_minus_1(monkeypatch):
+    curves = _nh_curves(noise=0.03, seed=5, rates=(0.01, 0.1, 1.0))
+    kw = dict(method="full", popsize=8, maxiter=3)
+    one = _fit(curves, "neo_hooke", n_prony=1, **kw)
+    made = _solvers(monkeypatch)
+    two = _fit(curves, "neo_hooke", n_prony=2, **kw)
+    assert two.options["nested"] == {"neo_hooke N=1": one.rmsape}
+    # its first population holds N = 1's fit (G2 = 0), lower than anything drawn
+    assert made[0].history.best[0] == pytest.approx(one.rmsape, rel=1e-6)
+    assert two.rmsape <= one.rmsape * (1 + TOL)
+    # nothing remembered (a fresh process): no seed, and no fit of N = 1 is made for it
+    _nesting.clear_cache()
+    made.clear()
+    fresh = _fit(curves, "neo_hooke", n_prony=2, **kw)
+    assert "nested" not in fresh.options and len(made) == 1
+
+
+def test_a_max_time_leaves_a_fit_unseeded_by_n_minus_1():
+    import time
+
+    from vhfit.calibration import CalibrationSettings, _workflow
+
+    curves = _nh_curves(noise=0.03, seed=5)
+    kw = dict(method="full", popsize=8, maxiter=3, polish=False)
+    one = _fit(curves, "neo_hooke", n_prony=1, **kw)
+    # remembered without a max_time: a fit with one does not take it
+    assert "nested" not in _fit(curves, "neo_hooke", n_prony=2, max_time=60.0, **kw).options
+    # nor the fit of N - 1 that an order scan hands it
+    for max_time, want in ((60.0, None), (None, {"neo_hooke N=1": one.rmsape})):
+        s = CalibrationSettings("neo_hooke", 2, max_time=max_time, uncertainty=False, **kw)
+        cal = _workflow._calibrate_n(curves, s, 2, checkpoint=None, max_time=max_time,
+                                     t0=time.perf_counter(), prior=one)
+        assert cal.options.get("nested") == want
+
+
+def _scan_errors(curves, law="neo_hooke", **kw):
+    cal = _fit(curves, law, n_prony="auto", scan_workers=1, order_tol=0.0, **kw)
+    return [r["rmsape"] for r in cal.order_scan], cal
+
+
+def test_the_order_scan_never_ends_worse_with_more_terms():
+    # a short search (3 generations of 8 members) with N = 2, 3 alone ends above the
+    # fit of N = 1, 2 on these data; the scan's never does
+    curves = _nh_curves(noise=0.04, seed=2, rates=(0.01, 0.1, 1.0))
+    kw = dict(method="full", popsize=8, maxiter=3, polish=False, max_prony=3)
+    errs, cal = _scan_errors(curves, **kw)
+    plain = {}
+    for n in (1, 2, 3):
+        _nesting.clear_cache()
+        plain[n] = _fit(curves, "neo_hooke", n_prony=n, **kw).rmsape
+    assert plain[2] > plain[1] * (1 + 1e-3) or plain[3] > plain[2] * (1 + 1e-3)
+    assert len(errs) == 3
+    for n in (2, 3):
+        assert errs[n - 1] <= errs[n - 2] * (1 + TOL)
+    assert errs[0] == plain[1]  # N = 1 has no fewer terms to start from
+
+
+@settings(max_examples=5, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
+@given(C10=st.floats(1e-3, 1.0), g=st.floats(0.3, 5.0), log_tau=st.floats(-0.5, 1.5),
+       noise=st.sampled_from([0.0, 0.03]), seed=st.integers(0, 50),
+       law=st.sampled_from(["neo_hooke", "mooney_rivlin"]),
+       method=st.sampled_from(["separable", "full"]))
+def test_the_order_scans_error_never_rises_with_n(C10, g, log_tau, noise, seed, law,
+                                                  method):
+    curves = _nh_curves(C10, g * C10, 10.0**log_tau, noise, seed, n=8)
+    errs, _ = _scan_errors(curves, law, method=method, popsize=8, maxiter=4, max_prony=3)
+    for a, b in zip(errs, errs[1:]):
+        assert b <= a * (1 + TOL)

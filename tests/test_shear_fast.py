@@ -5,7 +5,7 @@ factors in one compiled pass — checked against references written here.
   hereditary integral of docs/theory.md §13 by adaptive quadrature, with the principal
   Kirchhoff stresses rotated by an eigen-decomposition of B = F Fᵀ;
 * a fit on the new path (closed form) against the same fit with the law's complex step
-  (the one-term Ogden law's former path), equal errors to 1e-10 relative;
+  (a user law written without one), equal errors to 1e-10 relative;
 * the compiled factors against the formula of docs/theory.md §13 written here.
 """
 
@@ -120,14 +120,40 @@ def test_a_shear_fit_by_the_closed_form_has_the_complex_steps_error(complex_step
     assert 0.5 < new.rmsape < 2.0  # 1 % noise: the fit reached it, no better or worse
 
 
-def test_the_one_term_ogden_law_has_a_closed_form_off_the_uniaxial_path():
+def test_the_one_term_ogden_law_has_a_closed_form_on_every_path():
     og = hyperelastic.get("ogden")
-    assert og.derivatives is None  # its uniaxial stress keeps the complex step
     lam = np.array([0.7, 1.3, 2.0])
-    got = og.kirchhoff_derivatives(lam, 1 / lam, np.ones(3), np.array([[MU]]),
-                                   np.array([[ALPHA]]))
-    for k, x in enumerate((lam, 1 / lam, np.ones(3))):
-        np.testing.assert_allclose(got[k][0], 2 * MU / ALPHA * x**ALPHA, rtol=1e-14)
+    for f in (og.derivatives, og.kirchhoff_derivatives):
+        got = f(lam, 1 / lam, np.ones(3), np.array([[MU]]), np.array([[ALPHA]]))
+        for k, x in enumerate((lam, 1 / lam, np.ones(3))):
+            np.testing.assert_allclose(got[k][0], 2 * MU / ALPHA * x**ALPHA, rtol=1e-14)
+    # its uniaxial stress, 2μ/α (λ^α − λ^(−α/2)), on the closed form
+    want = 2 * MU / ALPHA * (lam**ALPHA - lam ** (-ALPHA / 2))
+    np.testing.assert_allclose(og.stress(lam, [MU, ALPHA]), want, rtol=1e-13)
+
+
+def test_a_laws_general_derivatives_serve_every_test_but_uniaxial():
+    # a stretch law with a closed form for the tests off the uniaxial path only: its
+    # uniaxial stress by the complex step, the others by the closed form given
+    calls = []
+
+    def closed(l1, l2, l3, mu1, alpha1):
+        calls.append(1)
+        return tuple(2 * mu1 / alpha1 * x**alpha1 for x in (l1, l2, l3))
+
+    name = "_test_general_only"
+    hyperelastic.register(name, units=("MPa", "1"), example=(0.1, 2.0),
+                          mu0=lambda mu1, a1: mu1, linear_params=("mu1",),
+                          general_derivatives=closed, overwrite=True)(_complex_step_ogden)
+    try:
+        law = hyperelastic.get(name)
+        assert law.derivatives is None and law.kirchhoff_derivatives is closed
+        lam = np.array([0.7, 1.3, 2.0])
+        want = 2 * MU / ALPHA * (lam**ALPHA - lam ** (-ALPHA / 2))
+        np.testing.assert_allclose(law.stress(lam, [MU, ALPHA]), want, rtol=1e-12)
+        assert not calls  # the uniaxial stress did not use it
+    finally:
+        hyperelastic.unregister(name)
 
 
 def test_general_derivatives_are_refused_for_an_invariant_law():

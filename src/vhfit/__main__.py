@@ -1,8 +1,6 @@
 """``python -m vhfit``: the same command line as the ``vhfit`` console script."""
 
-import sys
-
-from vhfit.cli import main
+from vhfit.cli import program
 
 if __name__ == "__main__":
-    sys.exit(main())
+    program()

@@ -71,8 +71,8 @@ def fork_is_safe(serial_child: bool = False) -> bool:
     """
     if not sys.platform.startswith("linux") or threading.active_count() > 1:
         return False
-    if serial_child:
-        return True
+    if serial_child or "numba.np.ufunc.parallel" not in sys.modules:
+        return True  # (not imported: its thread pool never started, and numba unloaded)
     try:
         from numba.np.ufunc import parallel as nb_parallel
     except ImportError:  # pragma: no cover - numba is a dependency

@@ -203,5 +203,8 @@ NEEDS_TMP = {"checkpoint_resume", "cli_fit"}
 
 
 def run(name: str, tmp: Path):
+    from vhfit.calibration import _nesting
+
+    _nesting.clear_cache()  # each case as in a fresh process: no earlier case's fit seeds it
     fn = CASES[name]
     return fn(tmp) if name in NEEDS_TMP else fn()

@@ -12,9 +12,19 @@ if it is lower (*accept if lower*). The fits are remembered by (law, N, data,
 settings), so that ``compare`` and ``--model all``, which fit the smaller laws anyway,
 search each one once. docs/optimizer.md, "Nesting".
 
+N Prony terms contain N − 1 (the missing term at G = 0: :func:`padded`), by the same
+mechanism, a :class:`Nested` record of the same law with ``n_prony = N − 1``
+(:func:`fewer_terms`), and no extra fit: the order scan hands each N the fit of N − 1
+it has made (where that fit is done when N's begins; an N fitted beside N − 1 is fitted
+again from it if it ended higher, :mod:`._scan`), and a call with a fixed N takes the
+fit of N − 1 where it is remembered (an earlier call, the scan, ``compare``), never
+fitting it for the purpose. Such a call can end lower than the same call in a fresh
+process, never higher than the remembered fit.
+
 The guarantee holds for the same settings: bounds given on the law's own constants (no
 such setting of the smaller law), a start population of the caller's own, or a
-``max_time`` (a search cut short promises nothing) leave a fit unseeded.
+``max_time`` (a search cut short promises nothing) leave a fit unseeded by smaller
+laws; the last two leave it unseeded by N − 1 too.
 """
 
 from __future__ import annotations
@@ -33,12 +43,20 @@ from vhfit.calibration._settings import CalibrationSettings
 from vhfit.calibration._space import log_tau_to_tau, search_vector
 from vhfit.hyperelastic import get as get_law
 
-__all__ = ["Nested", "nested_fits", "seed_rows", "accept_if_lower", "clear_cache",
-           "CACHE_SIZE", "remember"]
+__all__ = ["Nested", "nested_fits", "fewer_terms", "seed_rows", "accept_if_lower",
+           "clear_cache", "CACHE_SIZE", "remember", "REMEMBERED", "FLOOR_RTOL", "snapshot",
+           "added_since", "keep"]
 
-#: Fits remembered for the seeds of later ones (the least recently used dropped first).
+#: Fits remembered for the seeds of later ones (the least recently used dropped first),
+#: each as (its RMSAPE, its constants).
 CACHE_SIZE = 32
 _CACHE: OrderedDict = OrderedDict()
+#: ``prior`` of :func:`fewer_terms`: the remembered fit of N − 1, if any.
+REMEMBERED = "remembered"
+#: A fit of N terms above its fit of N − 1 by more than this (relative) misses the floor:
+#: the rounding of two models' integrations of the same stress and the terms pruned
+#: below ``prune_tol`` stay within it.
+FLOOR_RTOL = 1e-6
 #: Settings that do not change a fit at a given N (the scan's, the process layout's and
 #: those of the checkpoint and the user's callback, which a seeding fit runs without).
 _NOT_THE_FIT = {"hyperelastic", "n_prony", "max_prony", "order_tol", "callback",
@@ -53,6 +71,13 @@ class Nested:
     law: str  # the contained law
     rmsape: float  # its fit's error
     x: np.ndarray  # its constants embedded in the containing law (its Prony terms kept)
+    n_prony: int | None = None  # N − 1: the same law's fit with fewer terms; None: N's
+
+    @property
+    def label(self) -> str:
+        """Its name in the result's ``options["nested"]``: the law, "law N=k" for k
+        Prony terms."""
+        return self.law if self.n_prony is None else f"{self.law} N={self.n_prony}"
 
 
 def clear_cache() -> None:
@@ -60,14 +85,21 @@ def clear_cache() -> None:
     _CACHE.clear()
 
 
+def _seedable(s: CalibrationSettings) -> bool:
+    """Whether a fit with these settings takes seeds (see the module)."""
+    opts = s.de_options or {}
+    return s.max_time is None and "init" not in opts and "x0" not in opts
+
+
 def _settings_for(settings: CalibrationSettings, smaller: str) -> CalibrationSettings | None:
-    """The settings of the contained law's fit, or None where the guarantee does not
-    apply (see the module)."""
+    """The settings of the fit of ``smaller`` (a contained law, or the law itself with
+    other N), or None where the guarantee does not apply (see the module)."""
     s = settings
     law = get_law(s.hyperelastic)
-    if s.max_time is not None or "init" in (s.de_options or {}) or "x0" in (s.de_options or {}):
+    if not _seedable(s):
         return None
-    if isinstance(s.bounds, dict) and set(s.bounds) & set(law.param_names):
+    if (smaller != law.name and isinstance(s.bounds, dict)
+            and set(s.bounds) & set(law.param_names)):
         return None
     # (no intervals: the seed needs the constants only)
     return replace(s, hyperelastic=smaller, callback=None, checkpoint=None, resume=False,
@@ -88,7 +120,7 @@ def _key(curves, settings: CalibrationSettings, n_prony: int):
 
 
 def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
-                calibrate_n) -> list[Nested]:
+                calibrate_n, fewer: bool = True) -> list[Nested]:
     """The fits of the laws that the settings' law contains, each embedded in it.
 
     Parameters
@@ -102,6 +134,10 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
     calibrate_n : callable
         The calibration at one N (``_calibrate_n`` of the workflow), which seeds the
         contained law's own search the same way.
+    fewer : bool
+        Whether a contained law's fit is seeded by its remembered fit of N − 1 too
+        (:func:`fewer_terms`): as this fit is (False where the order scan fits N beside
+        N − 1, so that its result does not depend on which process fits it).
 
     Returns
     -------
@@ -121,22 +157,63 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
         if s2 is None:
             continue
         key = _key(curves, s2, n_prony)
-        cal = _CACHE.get(key) if key is not None else None
-        if cal is None:
+        fit = _CACHE.get(key) if key is not None else None
+        if fit is None:
             with warnings.catch_warnings():  # its warnings are about another fit
                 warnings.simplefilter("ignore")
                 cal = calibrate_n(curves, s2, n_prony, checkpoint=None, max_time=None,
-                                  t0=time.perf_counter())
+                                  t0=time.perf_counter(), prior=REMEMBERED if fewer else None)
+            fit = _record(cal)
             if key is not None:
-                _store(key, cal)
+                _store(key, fit)
         else:
             _CACHE.move_to_end(key)
         small = get_law(smaller)
-        x = np.asarray(cal.x, dtype=np.float64)
+        rmsape, x = fit
         hyper = law.embed(small, x[: small.n_params])
-        out.append(Nested(small.name, float(cal.rmsape),
-                          np.concatenate([hyper, x[small.n_params:]])))
+        out.append(Nested(small.name, rmsape, np.concatenate([hyper, x[small.n_params:]])))
     return out
+
+
+def fewer_terms(curves, settings: CalibrationSettings, n_prony: int,
+                prior=REMEMBERED) -> list[Nested]:
+    """The fit of the same law with N − 1 Prony terms, a point of this fit's space.
+
+    Parameters
+    ----------
+    curves : list
+        The calibration's curves.
+    settings : CalibrationSettings
+        Its settings.
+    n_prony : int
+        Prony terms of this fit (N).
+    prior : Calibration, None or REMEMBERED
+        The fit of N − 1 (the order scan's); None: none; :data:`REMEMBERED`: the one
+        remembered for the same data and settings, if any (no fit is made for it).
+
+    Returns
+    -------
+    list of Nested
+        One record (``n_prony = N − 1``), or none.
+    """
+    if n_prony < 1 or prior is None or not _seedable(settings):
+        return []
+    law = get_law(settings.hyperelastic)
+    if prior is REMEMBERED:
+        s2 = _settings_for(settings, law.name)
+        key = None if s2 is None else _key(curves, s2, n_prony - 1)
+        fit = _CACHE.get(key) if key is not None else None
+        if fit is None:
+            return []
+        _CACHE.move_to_end(key)
+    else:
+        fit = _record(prior)
+    return [Nested(law.name, fit[0], fit[1], n_prony - 1)]
+
+
+def _record(cal) -> tuple[float, np.ndarray]:
+    """What a fit's seeds need of it: (its RMSAPE, its constants)."""
+    return float(cal.rmsape), np.array(cal.x, dtype=np.float64)
 
 
 def remember(curves, settings: CalibrationSettings, n_prony: int, cal) -> None:
@@ -145,13 +222,32 @@ def remember(curves, settings: CalibrationSettings, n_prony: int, cal) -> None:
     s2 = _settings_for(settings, get_law(settings.hyperelastic).name)
     key = None if s2 is None else _key(curves, s2, n_prony)
     if key is not None:
-        _store(key, cal)
+        _store(key, _record(cal))
 
 
-def _store(key, cal) -> None:
-    _CACHE[key] = cal
+def _store(key, fit) -> None:
+    _CACHE[key] = fit
+    _CACHE.move_to_end(key)
     while len(_CACHE) > CACHE_SIZE:
         _CACHE.popitem(last=False)
+
+
+def snapshot() -> set:
+    """The keys of the fits remembered now (for :func:`added_since`)."""
+    return set(_CACHE)
+
+
+def added_since(keys: set) -> list:
+    """The fits remembered since :func:`snapshot` gave ``keys``: (key, fit) pairs that
+    pickle, which :func:`keep` remembers in another process (the order scan's child
+    hands its fits to the parent)."""
+    return [(k, v) for k, v in _CACHE.items() if k not in keys]
+
+
+def keep(entries: list) -> None:
+    """Remember the fits of :func:`added_since`."""
+    for k, v in entries:
+        _store(k, v)
 
 
 def seed_rows(space, nested: list[Nested]) -> list[np.ndarray]:
@@ -187,7 +283,8 @@ def _in_box(space, x: np.ndarray) -> bool:
 def accept_if_lower(prob, space, nested: list[Nested], x: np.ndarray, err: float,
                     polish: bool) -> tuple[np.ndarray, float, str | None]:
     """The search's result ``(x, err)``, or the lowest nested fit where that is lower
-    (polished in this law's space when ``polish``): ``(x, err, law kept or None)``."""
+    (polished in this law's space when ``polish``): ``(x, err, label of the fit kept
+    or None)``."""
     kept = None
     for n in nested:
         xn = padded(prob, n.x)
@@ -200,5 +297,5 @@ def accept_if_lower(prob, space, nested: list[Nested], x: np.ndarray, err: float
             xp, ep, _ = polish_fit(prob, xn)
             if ep < en:
                 xn, en = xp, ep
-        x, err, kept = xn, en, n.law
+        x, err, kept = xn, en, n.label
     return x, err, kept

@@ -16,6 +16,15 @@ generations too (relayed when this process is between its own); Ctrl-C, or a cal
 asking to stop, reaches the child at its next generation boundary, so its checkpoint
 is as consistent as this process's. A child that dies or cannot send its result back
 leaves its N to this process.
+
+*N terms contain N − 1* (:mod:`._nesting`): the fit of N starts from the fit of N − 1
+(a member of its first population, and the floor of its error) where the scan has that
+fit when N's begins side by side: N = 2, 4, 6, ... (N = 1 has none). N = 3, 5, ... (2
+when max_prony is 2), fitted beside N − 1, start without it, and one that ends above
+N − 1's error (beyond :data:`._nesting.FLOOR_RTOL`) is fitted again from it, in this
+process. The rule is the same on one process, so that the result stays the same to
+the bit; the child hands the fits it made of the laws the law contains to this
+process, whose later N are seeded by them as on one process.
 """
 
 from __future__ import annotations
@@ -29,7 +38,7 @@ from dataclasses import replace
 
 from vhfit import _kernels
 from vhfit._pools import INTERRUPT, ChildLost, ForkedCall, fork_is_safe, usable_cpus
-from vhfit.calibration import _spectrum
+from vhfit.calibration import _nesting, _spectrum
 from vhfit.calibration._result import Calibration, CalibrationWarning
 from vhfit.calibration._settings import CalibrationSettings
 
@@ -56,12 +65,26 @@ def side_by_side(settings: CalibrationSettings) -> bool:
     return fork_is_safe(serial_child=True)  # both sides run serial kernels
 
 
-def _needed(n: int, results: dict, order_tol: float) -> bool:
+def beside(n: int, max_prony: int) -> bool:
+    """Whether a two-process scan fits N = n beside N − 1 (in the child, begun before
+    N − 1 ends): N = 3, 5, 7, ..., or 2 when max_prony is 2."""
+    first = min(FIRST_CHILD, max_prony)
+    return n >= first and (n - first) % 2 == 0 and n >= 2
+
+
+def _level(cal, target: float) -> float:
+    """The error the rule compares: the fit's, or the target where it is below it (errors
+    below the target differ by the rounding of exact data: no term gains there)."""
+    return max(cal.rmsape, target)
+
+
+def _needed(n: int, results: dict, s: CalibrationSettings) -> bool:
     """Whether the rule goes on to N = n, from the errors of N < n (all known)."""
     if n <= 2:
         return True
-    last = results[n - 1].rmsape
-    return last <= min(results[k].rmsape for k in range(1, n - 1)) * (1 - order_tol)
+    last = _level(results[n - 1], s.target)
+    return last <= min(_level(results[k], s.target)
+                       for k in range(1, n - 1)) * (1 - s.order_tol)
 
 
 def order_scan(curves, settings: CalibrationSettings, t0: float,
@@ -71,19 +94,21 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
     order_tol of the best.
 
     A term that gains less than order_tol ends the scan: a further one is not worth its
-    constants by the same rule that chooses N, and each N costs a global search. Two
+    constants by the same rule that chooses N, and each N costs a global search. An error
+    below the target counts as the target (on exact data the fits of N and N + 1 differ
+    there by rounding alone, which an N fitted again from N − 1 can lower). Two
     processes where :func:`side_by_side` allows (see the module).
     """
     s = settings
-    fit = _Fits(curves, s, t0, calibrate_n)
     results: dict[int, Calibration] = {}
+    fit = _Fits(curves, s, t0, calibrate_n, results)
     with contextlib.ExitStack() as stack:
         if side_by_side(s):
             stack.enter_context(_kernels.serial())
             stack.push(fit.cancel)
             fit.start(min(FIRST_CHILD, s.max_prony))
         for n in range(1, s.max_prony + 1):
-            if not _needed(n, results, s.order_tol) or fit.time_left() == 0.0:
+            if not _needed(n, results, s) or fit.time_left() == 0.0:
                 break
             if fit.child_n == n:
                 results[n] = fit.collect()
@@ -94,6 +119,11 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
             if results[n].interrupted:  # Ctrl-C ends the whole scan
                 fit.interrupt()
                 break
+            if fit.below_floor(n):  # fitted beside N − 1 and above it: again from it
+                results[n] = fit.here(n, floor=True)
+                if results[n].interrupted:
+                    fit.interrupt()
+                    break
     scan = [results[n] for n in sorted(results)]
     return _choose(scan, s, t0, fit.side)
 
@@ -101,8 +131,10 @@ def order_scan(curves, settings: CalibrationSettings, t0: float,
 class _Fits:
     """The scan's fits: here, or in the one forked child at a time."""
 
-    def __init__(self, curves, settings: CalibrationSettings, t0: float, calibrate_n):
+    def __init__(self, curves, settings: CalibrationSettings, t0: float, calibrate_n,
+                 results: dict):
         self.curves, self.s, self.t0, self.calibrate_n = curves, settings, t0, calibrate_n
+        self.results = results  # the fits of N so far (the seeds of later N)
         self.side = False
         self.child_n: int | None = None
         self.child: ForkedCall | None = None
@@ -112,43 +144,57 @@ class _Fits:
             return None
         return max(0.0, self.s.max_time - (time.perf_counter() - self.t0))
 
-    def _checkpoint(self, n: int):
-        ckpt = self.s.checkpoint
-        return None if ckpt is None else f"{ckpt}.N{n}"  # one checkpoint per N of the scan
+    def _checkpoint(self, n: int, floor: bool = False):
+        ckpt = self.s.checkpoint  # one checkpoint per N of the scan (and per fit again)
+        return None if ckpt is None else f"{ckpt}.N{n}{'.floor' if floor else ''}"
 
-    def _run(self, n: int, callback=None) -> Calibration:
+    def below_floor(self, n: int) -> bool:
+        """Whether N = n, fitted beside N − 1 (without its seed), ended above N − 1's
+        error: fitted again from it, unless a max_time cuts the scan."""
+        r = self.results
+        return (beside(n, self.s.max_prony) and n - 1 in r and self.s.max_time is None
+                and r[n].rmsape > r[n - 1].rmsape * (1 + _nesting.FLOOR_RTOL))
+
+    def _run(self, n: int, callback=None, floor: bool = False) -> Calibration:
         s = self.s if callback is None else replace(self.s, callback=callback)
-        cal = self.calibrate_n(self.curves, s, n, checkpoint=self._checkpoint(n),
-                               max_time=self.time_left(), t0=time.perf_counter())
+        # the fit of N − 1 where the scan has it when N's begins on two processes
+        prior = (self.results.get(n - 1) if floor or not beside(n, self.s.max_prony)
+                 else None)
+        cal = self.calibrate_n(self.curves, s, n, checkpoint=self._checkpoint(n, floor),
+                               max_time=self.time_left(), t0=time.perf_counter(),
+                               prior=prior)
         return replace(cal, settings=self.s)  # the caller's, not a relaying callback's
 
-    def _in_child(self, n: int, callback) -> Calibration:
-        # the settings stay behind: the user's callables need not pickle
-        return replace(self._run(n, callback), settings=None)
+    def _in_child(self, n: int, callback):
+        # the settings stay behind: the user's callables need not pickle; the fits it
+        # made of the contained laws go to the parent (the seeds of its later N)
+        before = _nesting.snapshot()
+        cal = replace(self._run(n, callback), settings=None)
+        return cal, _nesting.added_since(before)
 
     def start(self, n: int) -> None:
         """Fork the child that fits N = n."""
         self.side, self.child_n = True, n
         self.child = ForkedCall(self._in_child, n, forward=self.s.callback is not None)
 
-    def here(self, n: int) -> Calibration:
-        """Fit N = n in this process; the child's messages reach the user's callback
-        between this process's generations."""
+    def here(self, n: int, floor: bool = False) -> Calibration:
+        """Fit N = n in this process (``floor``: again, from the fit of N − 1); the
+        child's messages reach the user's callback between this process's generations."""
         user, child = self.s.callback, self.child
         if user is None or child is None:
-            return self._run(n)
+            return self._run(n, floor=floor)
 
         def callback(d):
             child.poll(user)
             return user(d)
 
-        return self._run(n, callback)
+        return self._run(n, callback, floor)
 
     def collect(self) -> Calibration:
         """The child's fit, once it is done; its N fitted here if the child was lost."""
         n, child = self.child_n, self.child
         try:
-            cal = child.result(self.s.callback)
+            cal, fits = child.result(self.s.callback)
         except ChildLost as exc:
             self.child_n = self.child = None
             warnings.warn(f"the order scan's N = {n} is fitted again in this process "
@@ -156,6 +202,7 @@ class _Fits:
             return self._run(n)
         # (any other exception leaves the child to cancel(), which ends it)
         self.child_n = self.child = None
+        _nesting.keep(fits)
         return replace(cal, settings=self.s)
 
     def interrupt(self) -> None:
@@ -187,8 +234,9 @@ def _choose(results: list[Calibration], s: CalibrationSettings, t0: float,
             side: bool) -> Calibration:
     """The smallest N within order_tol of the best, with the scan's record."""
     order_tol = s.order_tol
-    best = min(r.rmsape for r in results)
-    chosen = next(r for r in results if r.rmsape <= best * (1 + order_tol) + 1e-12)
+    best = min(_level(r, s.target) for r in results)
+    chosen = next(r for r in results
+                  if _level(r, s.target) <= best * (1 + order_tol) + 1e-12)
     heads = []
     if results.index(chosen) + 1 == len(results) == s.max_prony:
         heads.append(_spectrum.cap_message(

@@ -450,10 +450,11 @@ def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
 
 
 def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpoint, max_time,
-                 t0) -> Calibration:
+                 t0, prior=_nesting.REMEMBERED) -> Calibration:
     """One calibration with N Prony terms: bounds, global search, polish, a second search
     with widened bounds where a constant ended on one, report (``checkpoint`` and
-    ``max_time``: this one's, of a scan over N)."""
+    ``max_time``: this one's, of a scan over N; ``prior``: the fit of N − 1 that seeds
+    and floors it, :func:`._nesting.fewer_terms`)."""
     s = settings
     model = model_from_spec(s.model_spec(n_prony))
     tau_b, auto = search_bounds(model, curves, s.tau_strategy, s.decades_below,
@@ -468,8 +469,10 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     if stable_widened or not stable:
         prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user,
                        constrained=stable)
-    # the fits of the laws this one contains: seeds of its search, and a floor of its error
-    nested = _nesting.nested_fits(curves, s, n_prony, _calibrate_n)
+    # the fits of the laws this one contains, and of N − 1 terms: seeds of its search,
+    # and floors of its error
+    nested = (_nesting.nested_fits(curves, s, n_prony, _calibrate_n, fewer=prior is not None)
+              + _nesting.fewer_terms(curves, s, n_prony, prior))
     found, x, err, nfev, kept = _search_polish(prob, curves, s, n_prony, checkpoint,
                                                max_time, t0, nested)
     hits = bound_hits(prob, x)
@@ -484,7 +487,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
                             constrained=stable)
             found2, x2, err2, nfev2, kept2 = _search_polish(
                 prob2, curves, s, n_prony, None if checkpoint is None else f"{checkpoint}.widened",
-                left, time.perf_counter())
+                left, time.perf_counter(), nested)
             nfev += nfev2
             if err2 <= err:
                 prob, found, x, err, kept = prob2, found2, x2, err2, kept2
@@ -501,7 +504,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     free = (unconstrained_fit(prob, x, err) if s.space.separable and n_prony == 0
             and stable else None)
     space = SPACES[s.method]
-    nest = ({"nested": {n.law: n.rmsape for n in nested},
+    nest = ({"nested": {n.label: n.rmsape for n in nested},
              "nested_kept": kept or "search"} if nested else {})
     cal = finish(prob, curves, model, x, err, found, nfev, s, dict(
         hyperelastic=model.hyperelastic.name, n_prony=n_prony,
@@ -584,9 +587,9 @@ def unconstrained_fit(prob: Problem, x: np.ndarray, err: float):
 def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
                    checkpoint, max_time, t0, nested=()):
     """The global search over the method's space, then the polish: (found, x, err, nfev,
-    kept). ``nested``: the fits of contained laws (:mod:`._nesting`), members of the
-    first population; the result is the lowest of them where the search's is higher
-    (``kept``: that law's name, else None)."""
+    kept). ``nested``: the fits of contained laws and of N − 1 terms (:mod:`._nesting`),
+    members of the first population; the result is the lowest of them where the
+    search's is higher (``kept``: its label, else None)."""
     space = SPACES[settings.method](prob)
     short = search_problem(prob, curves) if settings.space.separable else prob
     searched = space if short is prob else SPACES[settings.method](short)  # coarser

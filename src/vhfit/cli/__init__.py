@@ -24,7 +24,7 @@ from vhfit.cli._common import (
     Progress,
     UsageError,
 )
-from vhfit.cli._main import main
+from vhfit.cli._main import main, program
 from vhfit.cli._parser import build_parser
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
 
@@ -40,6 +40,7 @@ def __getattr__(name: str):
 
 __all__ = [
     "main",
+    "program",
     "build_parser",
     "load_plugins",
     "PLUGIN_GROUP",

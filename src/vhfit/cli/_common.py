@@ -9,7 +9,6 @@ import time
 from pathlib import Path
 from typing import TextIO
 
-from vhfit._io import atomic_write
 from vhfit._words import on_command_line, raw
 
 __all__ = [
@@ -99,6 +98,8 @@ def emit(text: str, out: str | None, *, what: str) -> None:
     if out in (None, "-"):
         sys.stdout.write(text)
         return
+    from vhfit._io import atomic_write  # numpy (its JSON encoder): not for every command
+
     try:
         parent = Path(out).resolve().parent
         if not parent.is_dir():

@@ -15,7 +15,7 @@ import shutil
 import sys
 import warnings
 from collections.abc import Iterator, Sequence
-from contextlib import contextmanager, nullcontext
+from contextlib import closing, contextmanager, nullcontext
 from dataclasses import replace
 from pathlib import Path
 
@@ -51,7 +51,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._inputs import read_curves, sha256
-from vhfit.cli._outputs import write_outputs
+from vhfit.cli._outputs import Drawer, write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.cli._settings import check_shift, cli_bounds, fit_settings
 from vhfit.comparison import compare
@@ -386,7 +386,9 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
     sigs = signals if signals is not None else Signals()
     fits: dict[str, Calibration] = {}
     interrupted = False
+    drawer = Drawer.start(args)  # loads matplotlib on the other CPU while the fit runs
     with (nullcontext() if signals is not None else sigs), \
+            (nullcontext() if drawer is None else closing(drawer)), \
             warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for form in plan:
@@ -408,7 +410,7 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
         sigs.writing = True
         files = write_outputs(fits, plan, curves, inputs, args, out, label=label,
                                command=command, interrupted=interrupted, demo=demo,
-                               at_ref=at_ref, comparison=comparison)
+                               at_ref=at_ref, comparison=comparison, drawer=drawer)
     _show_warnings(caught, [w for c in fits.values() for w in c.warnings],
                    _file_names(inputs))
     print(files.pop("_summary"))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from vhfit import hyperelastic
+from vhfit import export, hyperelastic  # noqa: F401 - export registers the solvers
 from vhfit.cli._common import EXIT_OK
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins, tau_strategies
 from vhfit.formulations import FORMULATIONS, SOLVER_FORMULATIONS

@@ -1,15 +1,24 @@
 """What ``vhfit fit`` writes beside ``results.json``: the summary, the fitted curves, the
-solver cards (through ``_cards``), the plots and ``report.html`` (through ``_report``)."""
+solver cards (through ``_cards``), the plots and ``report.html`` (through ``_report``).
+
+The figures (the PNG plots and the report's own) are drawn by a second process where
+two CPUs are free (:class:`Drawer`): it loads matplotlib while the fit runs, and draws
+while the cards are written and checked here. They are the figures drawn here
+otherwise, by the same function (:func:`draw_figures`).
+"""
 
 from __future__ import annotations
 
 import contextlib
 import csv
+import dataclasses
 import io
+import multiprocessing
 from pathlib import Path
 
-from vhfit import plot
+from vhfit import plot, report
 from vhfit._io import atomic_write
+from vhfit._pools import ChildLost, ForkedCall, fork_is_safe, usable_cpus
 from vhfit.calibration import (
     Calibration,
 )
@@ -25,18 +34,20 @@ from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation
 
-__all__ = ["write_outputs"]
+__all__ = ["write_outputs", "Drawer", "draw_figures"]
 
 RESULTS = "results.json"
 
 
 # ================================================================== outputs
 def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, label, command,
-                   interrupted, demo, at_ref=None, comparison=None) -> dict[str, str]:
+                   interrupted, demo, at_ref=None, comparison=None,
+                   drawer: Drawer | None = None) -> dict[str, str]:
     """results JSON, fitted curves CSV, solver cards, plots and summary into ``out``; the
     first fit of ``plan`` is the results' own, the others are listed under ``fits``
     (``at_ref``: the tests at the reference temperature, if shifted; ``comparison``: the
-    laws compared by ``--model a,b``, whose table heads the summary)."""
+    laws compared by ``--model a,b``, whose table heads the summary; ``drawer``: the
+    process that draws the figures meanwhile, else they are drawn here)."""
     cal = next(iter(fits.values()))
     raw, curves = curves, at_ref or curves  # tests at T_ref
     written: dict[str, str] = {}
@@ -44,6 +55,9 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     # top-down: the verdict, the data, the warnings, then the cards and the constants
     verdict = [cal.verdict(interrupted=interrupted)]
     head = [f"data: {label}"] if label else []
+    note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
+    job = (cal, curves, out, args.no_plot, demo, raw, note and note.split(";")[0])
+    drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
 
     fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
@@ -55,14 +69,12 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
     cards = write_cards(fits, plan, curves, out, args, interrupted=interrupted)
     written.update({f: f"{solver} card" for solver, f in cards.files.items()})
-    note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
-    with plot.marked(note.split(";")[0]) if note else contextlib.nullcontext():
-        plots, plot_note = _draw_plots(cal, curves, out, skip=args.no_plot, demo=demo,
-                                       raw=raw)
-        written.update({p: "plot" for p in plots.values()})
-        page, no_page = write_fit_report(cal, curves, out, cards, plots, args,
-                                         command=command, label=label, inputs=inputs,
-                                         interrupted=interrupted, comparison=comparison)
+    drawn = drawer.result() if drawing else None
+    plots, plot_note, figures = drawn if drawn is not None else draw_figures(*job)
+    written.update({p: "plot" for p in plots.values()})
+    page, no_page = write_fit_report(cal, curves, out, cards, plots, args, command=command,
+                                     label=label, inputs=inputs, interrupted=interrupted,
+                                     comparison=comparison, drawn=figures)
     written.update(page)
     plot_note = "; ".join(n for n in (plot_note, no_page) if n) or None
 
@@ -105,6 +117,105 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     written[RESULTS] = "results"
     written["_summary"] = text
     return written
+
+
+# ================================================================== figures
+def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, raw,
+                 mark: str | None) -> tuple[dict[str, str], str | None, tuple | None]:
+    """The plots into ``out`` ({kind: file}, a note on those not drawn) and the report's
+    figures (:func:`vhfit.report.draw_figures`; None without figures), every one marked
+    with ``mark`` (an unfinished search's line, or None)."""
+    with plot.marked(mark) if mark else contextlib.nullcontext():
+        plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw)
+        figures = None
+        if not skip and plot.have_matplotlib():
+            figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()})
+    return plots, plot_note, figures
+
+
+class Drawer:
+    """A second process that draws the figures of a fit.
+
+    Forked before the fit, it loads matplotlib and draws a figure nobody sees (the first
+    figure of a process pays for the fonts and the canvas) on the other CPU, then waits.
+    :func:`write_outputs` hands it the fit (:meth:`send`) and writes the cards while it
+    draws (:func:`draw_figures`); :meth:`result` is what it drew, or None if it was lost
+    (then they are drawn here). :meth:`close` ends it, used or not.
+
+    Start one with :meth:`start`, which gives None where it does not pay (no figures
+    asked, no matplotlib, one usable CPU) or a fork is not safe.
+    """
+
+    def __init__(self):
+        jobs, self._send = multiprocessing.get_context("fork").Pipe(duplex=False)
+        self._call = ForkedCall(_draw_when_asked, jobs, self._send)
+        jobs.close()
+
+    @classmethod
+    def start(cls, args) -> Drawer | None:
+        """A drawer for the fit of ``args``, or None (see the class)."""
+        if (args.no_plot or not plot.have_matplotlib() or usable_cpus() < 2
+                or not fork_is_safe()):
+            return None
+        return cls()
+
+    def send(self, job: tuple) -> bool:
+        """Hand over :func:`draw_figures`' arguments; False if they cannot go (drawn here).
+
+        The calibration goes without its settings' callback (the command line's progress
+        closure, which does not pickle and draws nothing).
+        """
+        cal, *rest = job
+        if cal.settings is not None and cal.settings.callback is not None:
+            cal = dataclasses.replace(cal, settings=dataclasses.replace(cal.settings,
+                                                                        callback=None))
+        try:
+            self._send.send((cal, *rest))
+        except Exception:  # noqa: BLE001 - e.g. not picklable: the figures are drawn here
+            self.close()
+            return False
+        return True
+
+    def result(self) -> tuple | None:
+        """What :func:`draw_figures` returned there, or None if the process was lost."""
+        try:
+            return self._call.result()
+        except ChildLost:
+            return None
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """End the process if it still runs (its figures not wanted, or already read)."""
+        if not self._send.closed:
+            self._send.close()  # a drawer still waiting reads the end of its jobs
+        if self._call.process.is_alive():
+            self._call.cancel()
+
+
+def _draw_when_asked(jobs, send, callback) -> tuple | None:
+    """The drawer's process: warm matplotlib, then draw the figures it is sent."""
+    send.close()  # the parent's end alone keeps the pipe open: its end is ours
+    try:
+        from matplotlib.figure import Figure
+
+        # what the figures use first: text, markers, a legend beside, a log axis
+        fig = Figure(figsize=(3, 2), layout="constrained")
+        ax, log = fig.subplots(1, 2)
+        ax.plot([0.0, 1.0], [-1.0, 1.0], "o-", label="λ σ γ ε")
+        ax.set_xlabel("strain")
+        ax.set_title("stress")
+        plot.legend_beside(ax)
+        log.semilogy([1.0, 2.0, 3.0], [1e-3, 1.0, 1e2])
+        log.grid(True, which="both")
+        fig.savefig(io.BytesIO(), format="png", dpi=100)
+    except Exception:  # noqa: BLE001 - the real figures report their own failures
+        pass
+    try:
+        job = jobs.recv()
+    except EOFError:  # the fit ended without outputs
+        return None
+    return draw_figures(*job)
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,

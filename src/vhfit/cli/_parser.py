@@ -8,18 +8,18 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Collection, Sequence
 from typing import Any
 
 from vhfit._version import __version__
 from vhfit.cli._common import DEMO_PRONY, UsageError
 from vhfit.cli._plugins import PLUGIN_GROUP, load_plugins
-from vhfit.data import MAX_POINTS
-from vhfit.export import get_solver, solvers
-from vhfit.formulations import FORMULATIONS
-from vhfit.modes import deformation_named, get_deformation, registered_deformations
 
-__all__ = ["build_parser", "glue_windows"]
+# The registries the flags name (solvers, tests, formulations) come with numpy and the
+# model code: each command's flags import them when that command's parser is built
+# (build_parser), so that --version, --help and the light commands never load them.
+
+__all__ = ["build_parser", "command_in", "glue_windows"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -73,6 +73,8 @@ def _ramp_points(text: str) -> int:
 
 
 def _deformation(text: str) -> str:
+    from vhfit.modes import deformation_named, registered_deformations
+
     name = deformation_named(text)  # a registered test, by its name or an alias
     if name is None:  # perhaps a plug-in's test
         load_plugins()
@@ -85,6 +87,8 @@ def _deformation(text: str) -> str:
 
 def _one_stretch_tests() -> str:
     """Help of simulate's --deformation: the tests it can drive, and their strains."""
+    from vhfit.modes import get_deformation, registered_deformations
+
     tests = [get_deformation(n) for n in registered_deformations()]
     tests = [t for t in tests if not t.second_stretch]
     own = "".join(f"; {t.name}: {t.strain_label}" for t in tests
@@ -250,6 +254,8 @@ def _add_data_choices(p: argparse.ArgumentParser, default: Any = None) -> None:
 
 def _solvers(text: str) -> list[str]:
     """``--for A,B`` -> ['A', 'B'] (names or aliases of the solver records, as their names)."""
+    from vhfit.export import get_solver, solvers
+
     out = []
     for part in text.split(","):
         try:
@@ -291,6 +297,8 @@ def _bulk(text: str) -> float:
 def _add_card_options(p: argparse.ArgumentParser, *, fit: bool) -> None:
     """--density, --poisson / --bulk-modulus and the solvers' card variants
     (``--NAME-VARIANT`` for fit and demo, ``--VARIANT`` for export)."""
+    from vhfit.export import get_solver, solvers
+
     p.add_argument("--density", type=_density, metavar="RHO",
                    help="mass density in tonne/mm^3 (1e-9 for 1000 kg/m^3), written as "
                         "*DENSITY, RO, MP,DENS (default: none, and the cards say so)")
@@ -335,8 +343,21 @@ def glue_windows(argv: list[str]) -> list[str]:
 
 
 # ================================================================== commands
-def build_parser() -> argparse.ArgumentParser:
-    """The ``vhfit`` argument parser (all sub-commands).
+def build_parser(commands: Collection[str] | None = None) -> argparse.ArgumentParser:
+    """The ``vhfit`` argument parser.
+
+    Parameters
+    ----------
+    commands : collection of str, optional
+        Build only these commands' flags (the command line's own parser, see
+        :func:`command_in`): every command is still listed with its one-line help, as
+        ``vhfit --help`` shows them, but the registries that the other commands' flags
+        name are not imported. Default: every command's flags.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser.
 
     Examples
     --------
@@ -357,19 +378,24 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"vhfit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    _add_fit(sub, common)
-    _add_demo(sub, common)
-    _add_simulate(sub, common)
-    _add_export(sub, common)
-    _add_check(sub, common)
-    _add_models(sub, common)
+    for name, (flags, summary, description) in _COMMANDS.items():
+        p = sub.add_parser(name, parents=[common], help=summary, description=description)
+        if commands is None or name in commands:
+            flags(p)
     return parser
 
 
-def _add_fit(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("fit", parents=[common], help="calibrate a model to CSV curves",
-                       description="Calibrate a model to stress-strain curves (CSV) and write "
-                                   "results JSON, fitted curves, solver cards and plots.")
+def command_in(argv: Sequence[str]) -> tuple[str, ...]:
+    """The command an argument list runs, as ``build_parser(commands=...)`` takes it: its
+    first word that is not a flag (the top-level flags take no value), or none
+    (``--help``, ``--version``, no arguments)."""
+    return tuple(a for a in argv if not a.startswith("-"))[:1]
+
+
+def _fit_flags(p: argparse.ArgumentParser) -> None:
+    from vhfit.data import MAX_POINTS
+    from vhfit.modes import registered_deformations
+
     p.add_argument("curves", nargs="+", metavar="CURVES",
                    help="CSV files: one curve per file, or long files with a strain_rate column")
     p.add_argument("--rate", type=_float("--rate"), action="append", metavar="R",
@@ -413,13 +439,7 @@ def _add_fit(sub, common: argparse.ArgumentParser) -> None:
     p.set_defaults(func=_command("_fit:cmd_fit"))
 
 
-def _add_demo(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("demo", parents=[common],
-                       help="calibrate the bundled synthetic SEBS set end to end",
-                       description="Calibrate Mooney-Rivlin + 4 Prony terms (semifree) to the "
-                                   "bundled synthetic SEBS curves (generated from the paper's "
-                                   "Table 5 parameters at -0.0018, -0.18, -59.5, -820 1/s) and "
-                                   "write every output into a fresh folder.")
+def _demo_flags(p: argparse.ArgumentParser) -> None:
     _add_fit_options(p, demo=True)
     # one temperature: no shift; the default search limits
     p.set_defaults(func=_command("_fit:cmd_demo"), shift=None, tref=None, bounds=None)
@@ -427,6 +447,9 @@ def _add_demo(sub, common: argparse.ArgumentParser) -> None:
 
 def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     """The search and output flags of ``fit`` and ``demo``."""
+    from vhfit.export import get_solver, solvers
+    from vhfit.formulations import FORMULATIONS
+
     if not demo:
         p.add_argument("--model", default="mooney_rivlin",
                        help="hyperelastic model (default mooney_rivlin; see 'vhfit models'); "
@@ -508,10 +531,7 @@ def _add_fit_options(p: argparse.ArgumentParser, *, demo: bool) -> None:
     p.add_argument("-q", "--quiet", action="store_true", help="no progress lines")
 
 
-def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("simulate", parents=[common], help="stress-strain curves of a material",
-                       description="Stress of a material along constant-rate ramps or measured "
-                                   "histories, as CSV.")
+def _simulate_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--results", metavar="RESULTS.json", help="material from a results file")
     p.add_argument("--model", help="hyperelastic model (with --param)")
     p.add_argument("--param", action="append", metavar="NAME=VALUE[,NAME=VALUE...]",
@@ -534,10 +554,9 @@ def _add_simulate(sub, common: argparse.ArgumentParser) -> None:
     p.set_defaults(func=_command("_simulate:cmd_simulate"))
 
 
-def _add_export(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("export", parents=[common], help="solver card of a results file",
-                       description="Write the material card of a results file for an FE "
-                                   "solver.")
+def _export_flags(p: argparse.ArgumentParser) -> None:
+    from vhfit.export import solvers
+
     p.add_argument("results", metavar="RESULTS.json")
     p.add_argument("--to", required=True, choices=(*solvers(), "json"),
                    help=f"{', '.join(solvers())} or json")
@@ -547,12 +566,7 @@ def _add_export(sub, common: argparse.ArgumentParser) -> None:
     p.set_defaults(func=_command("_export:cmd_export"))
 
 
-def _add_check(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("check", parents=[common],
-                       help="what each solver will compute from the cards, against the data",
-                       description="Parse the solver cards of a results folder back, "
-                                   "re-simulate each in its solver's viscoelastic formulation "
-                                   "on every test history, and score it against the data.")
+def _check_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("results", metavar="RESULTS.json",
                    help="results.json of 'vhfit fit' (its cards are read from its folder)")
     p.add_argument("--data", nargs="+", metavar="FILE",
@@ -580,11 +594,30 @@ def _add_check(sub, common: argparse.ArgumentParser) -> None:
     p.set_defaults(func=_command("_check:cmd_check"))
 
 
-def _add_models(sub, common: argparse.ArgumentParser) -> None:
-    p = sub.add_parser("models", parents=[common],
-                       help="registered hyperelastic models and tau strategies",
-                       description="List the hyperelastic models (built-in and plug-ins of "
-                                   f"the '{PLUGIN_GROUP}' entry-point group) and tau "
-                                   "strategies.")
+def _models_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=_command("_models:cmd_models"))
+
+
+#: command -> (its flags, its line in --help, its description), in --help's order
+_COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], str, str]] = {
+    "fit": (_fit_flags, "calibrate a model to CSV curves",
+            "Calibrate a model to stress-strain curves (CSV) and write results JSON, fitted "
+            "curves, solver cards and plots."),
+    "demo": (_demo_flags, "calibrate the bundled synthetic SEBS set end to end",
+             "Calibrate Mooney-Rivlin + 4 Prony terms (semifree) to the bundled synthetic "
+             "SEBS curves (generated from the paper's Table 5 parameters at -0.0018, -0.18, "
+             "-59.5, -820 1/s) and write every output into a fresh folder."),
+    "simulate": (_simulate_flags, "stress-strain curves of a material",
+                 "Stress of a material along constant-rate ramps or measured histories, "
+                 "as CSV."),
+    "export": (_export_flags, "solver card of a results file",
+               "Write the material card of a results file for an FE solver."),
+    "check": (_check_flags, "what each solver will compute from the cards, against the data",
+              "Parse the solver cards of a results folder back, re-simulate each in its "
+              "solver's viscoelastic formulation on every test history, and score it against "
+              "the data."),
+    "models": (_models_flags, "registered hyperelastic models and tau strategies",
+               f"List the hyperelastic models (built-in and plug-ins of the '{PLUGIN_GROUP}' "
+               "entry-point group) and tau strategies."),
+}

@@ -2,11 +2,8 @@
 
 from __future__ import annotations
 
-import inspect
-from importlib.metadata import entry_points
 from typing import Any
 
-from vhfit import hyperelastic
 from vhfit.cli._common import UsageError
 
 __all__ = ["PLUGIN_GROUP", "load_plugins", "resolve_model_name", "tau_strategies"]
@@ -40,6 +37,11 @@ def load_plugins(strict: bool = False) -> list[dict[str, Any]]:
     >>> all(set(p) >= {"name", "models", "error"} for p in load_plugins())
     True
     """
+    import inspect
+    from importlib.metadata import entry_points
+
+    from vhfit import hyperelastic
+
     out = []
     for ep in entry_points(group=PLUGIN_GROUP):
         before = set(hyperelastic.available())
@@ -63,6 +65,8 @@ def load_plugins(strict: bool = False) -> list[dict[str, Any]]:
 
 def resolve_model_name(name: str) -> str:
     """A registered model name, loading plug-ins if it is not (yet) known."""
+    from vhfit import hyperelastic
+
     if name in hyperelastic.available():
         return name
     plugins = load_plugins()

@@ -16,13 +16,14 @@ FILE = "report.html"
 
 
 def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, command,
-                     label, inputs, interrupted: bool,
-                     comparison=None) -> tuple[dict[str, str], str | None]:
+                     label, inputs, interrupted: bool, comparison=None,
+                     drawn: tuple | None = None) -> tuple[dict[str, str], str | None]:
     """Write ``report.html`` into ``out``: ({file: what it is}, None), or ({}, why not).
 
     The cards are read back from the files written (what the user gets), the PNG plots
-    already drawn are inlined rather than drawn again; a failure never stops the other
-    outputs, it becomes a note in the summary.
+    already drawn are inlined rather than drawn again, and so are the report's own
+    figures where ``drawn`` holds them (:func:`vhfit.report.draw_figures`); a failure
+    never stops the other outputs, it becomes a note in the summary.
     """
     try:
         report.write_report(
@@ -35,7 +36,7 @@ def write_fit_report(cal, curves, out: Path, cards, plots: dict, args, *, comman
             card_notes={**cards.notes, **{s: [f"no card: {e}"] for s, e in cards.errors.items()}},
             interrupted=interrupted, title=label, inputs=inputs,
             figures=not args.no_plot, images={k: out / f for k, f in plots.items()},
-            comparison=comparison)
+            comparison=comparison, drawn=drawn)
     except Exception as exc:  # the report never stops the other outputs
         return {}, f"no report: {one_line(exc)}"
     return {FILE: "everything above as one page to open in a browser"}, None

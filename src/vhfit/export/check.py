@@ -46,7 +46,6 @@ from vhfit.export import parse
 from vhfit.export._solvers import card_body, records, solver_of
 from vhfit.formulations import SOLVER_FORMULATIONS
 from vhfit.model import ViscoHyperelastic, model_from_spec
-from vhfit.objective import Objective
 
 __all__ = [
     "SOLVER_FORMULATIONS",
@@ -189,6 +188,10 @@ def _stress(model: ViscoHyperelastic, params, curves: Sequence) -> np.ndarray:
 
 def _scores(curves: Sequence, stress: np.ndarray) -> tuple[float, list[float]]:
     """RMSAPE and per-curve RMSAPE (Eq. 20) of ``stress`` on the curves."""
+    # on demand: the objective brings the file readers, which the card writers (this
+    # module is imported with vhfit.export) and 'vhfit models' do not need
+    from vhfit.objective import Objective
+
     obj = Objective(list(curves), "rmsape")
     return float(obj(stress)), [float(v) for v in obj.per_curve(stress)]
 

@@ -65,9 +65,9 @@ class Hyperelastic:
     general_derivatives : callable or None
         A stretch model's closed form (as :attr:`derivatives`) for every test but the
         uniaxial stress (:meth:`stress`), when :attr:`derivatives` is None: a law whose
-        recorded uniaxial calibrations keep the complex step bit for bit (the one-term
-        Ogden law) still evaluates the other tests, simple shear among them, by its
-        closed form and compiled sums (:attr:`kirchhoff_derivatives`).
+        recorded uniaxial calibrations keep the complex step bit for bit still evaluates
+        the other tests, simple shear among them, by its closed form and compiled sums
+        (:attr:`kirchhoff_derivatives`).
     linear : bool
         Whether σ_h is linear in all of the constants (``basis`` gives its columns).
     linear_params : tuple of str

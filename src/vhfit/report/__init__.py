@@ -29,7 +29,7 @@ from vhfit.calibration import interrupted_in, set_html_report
 from vhfit.data import is_moduli
 from vhfit.report import _figures, _html
 
-__all__ = ["build_report", "write_report", "verdict", "repr_html", "versions"]
+__all__ = ["build_report", "write_report", "draw_figures", "verdict", "repr_html", "versions"]
 
 #: the solvers whose cards a report made in Python carries
 
@@ -113,10 +113,29 @@ def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
     return cards, notes, check
 
 
-def _figures_of(cal, curves, images: dict) -> tuple[list, dict]:
-    """(fit figures, other figures by key) of the calibration; ``images``: the PNG files
-    of vhfit.plot's figures already drawn (``fit``, ``moduli``, ``order_scan``,
-    ``history``), inlined instead of drawn again."""
+def draw_figures(cal, curves: Sequence, images: dict | None = None) -> tuple[list, dict]:
+    """The report's figures of a calibration, drawn (:func:`build_report` takes them as
+    ``drawn=``, e.g. from another process: they are plain data).
+
+    Parameters
+    ----------
+    cal : Calibration
+    curves : sequence of Curve
+        The data it was fitted to (at its reference temperature).
+    images : dict, optional
+        The PNG files of :mod:`vhfit.plot`'s figures already drawn (``fit``, ``moduli``,
+        ``order_scan``, ``history``), inlined instead of drawn again.
+
+    Returns
+    -------
+    tuple
+        (the fit figures, the other figures by key).
+
+    Examples
+    --------
+    >>> main, other = draw_figures(cal, curves)  # doctest: +SKIP
+    """
+    curves, images = list(curves), dict(images or {})
     fits = cal.fitted_curves(curves) if curves else []
     # plot_fit's labels are right only without sweeps among the curves: else redraw
     drawn = None if any(is_moduli(c) for c in curves) else images.get("fit")
@@ -147,7 +166,7 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
                  command: str | None = None,
                  interrupted: bool | None = None, title: str | None = None, inputs=None,
                  figures: bool = True, images: dict | None = None,
-                 comparison=None) -> str:
+                 comparison=None, drawn: tuple[list, dict] | None = None) -> str:
     """The report as one HTML document (see the module's description).
 
     Parameters
@@ -190,6 +209,9 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
     comparison : vhfit.Comparison, optional
         The laws compared when this fit was chosen among several: its ranked table
         follows the verdict.
+    drawn : tuple, optional
+        The figures already drawn by :func:`draw_figures` (of the same calibration,
+        curves and ``images``): used instead of drawing them here.
 
     Returns
     -------
@@ -222,7 +244,8 @@ def build_report(cal, curves: Sequence | None = None, *, cards: dict | None = No
         note = "figures not drawn (asked for none)"
     elif not plot.have_matplotlib():
         note = f"figures not drawn: {plot.INSTALL_HINT}"
-    main, other = _figures_of(cal, curves, dict(images or {})) if note is None else ([], {})
+    main, other = ([], {}) if note is not None else (
+        drawn if drawn is not None else draw_figures(cal, curves, images))
     if note is None and not curves:
         note = "no fit figures: the data are not at hand (give curves= to Calibration.report)"
     name = cal.model.spec().describe()
