@@ -12,7 +12,7 @@ Three counts, docstrings and comments excluded (only code nodes are read):
 2. **``ViscoHyperelastic(`` calls** in code (the model built, or rebuilt from another
    model's fields).
 3. **Stop sentences compared as strings**: a comparison (``==``, ``!=``, ``in``,
-   ``not in``) of a ``stop``/``status``/``message`` name or attribute with a string
+   ``not in``) of a ``stop``/``stop_reason``/``status``/``message`` name or attribute with a string
    constant or a tuple of them.
 
 Usage::
@@ -42,7 +42,7 @@ PRONY = re.compile(
 SOLVERS = {"export/abaqus.py", "export/lsdyna.py", "export/ansys.py"}
 
 #: Names whose string comparisons are stop reasons used as state.
-STOPS = re.compile(r"^(stop|status|message|reason)$")
+STOPS = re.compile(r"^(stop|stop_reason|status|message|reason)$")
 
 #: The start of an f-string that builds a Prony parameter name.
 PRONY_NAME = re.compile(r"^(G|g|tau)$")
