@@ -167,8 +167,11 @@ def test_fit_draws_the_sweeps_as_measured_so_that_temperature_colours_them(
         tts_files, tmp_path, capsys, monkeypatch):
     # the moduli plot shifts the sweeps itself: it must get them at their temperatures
     from vhfit import plot
+    from vhfit.cli import _outputs
 
     seen = []
+    # drawn in this process, where the replaced plot function records what it is given
+    monkeypatch.setattr(_outputs.Drawer, "start", classmethod(lambda cls, args: None))
     monkeypatch.setattr(plot, "plot_moduli_fit",
                         lambda cal, items, path: seen.extend(items) or Path(path).touch())
     out = tmp_path / "out"
