@@ -128,3 +128,14 @@ def test_the_space_of_a_method_says_whether_it_is_separable():
     s = vhfit.CalibrationSettings(method="full")
     assert s.space is FullSpace and s.effective_tol == 1e-5  # the paper's gap
     assert vhfit.CalibrationSettings().space is SeparableSpace
+
+
+def test_a_stop_equals_its_sentence_as_the_string_it_replaced():
+    """A user's ``cal.stop_reason == "maxiter"`` keeps working (and in sets and dicts)."""
+    from vhfit.calibration import Stop, StopKind
+
+    stop = Stop.of(StopKind.MAX_ITER)
+    assert stop == "maxiter" and "maxiter" == stop and stop != "converged"
+    assert stop in {"maxiter"} and {stop: 1}["maxiter"] == 1
+    assert stop == Stop.read("maxiter") and stop != Stop.of(StopKind.CONVERGED)
+    assert stop != 3

@@ -56,7 +56,9 @@ class StopKind(Enum):
 class Stop:
     """Why a search stopped: its kind and the sentence shown for it.
 
-    ``str(stop)`` is the sentence, so that a stop prints as the sentence did.
+    ``str(stop)`` is the sentence, so that a stop prints as the sentence did, and a stop
+    equals its sentence (``cal.stop_reason == "maxiter"``, as for a string): the user's
+    comparisons keep working, while vhfit's own code asks the kind.
 
     Examples
     --------
@@ -66,6 +68,8 @@ class Stop:
     ('max_time', False)
     >>> Stop.read("interrupted").kind is StopKind.INTERRUPTED
     True
+    >>> stop == "max_time"
+    True
     """
 
     kind: StopKind
@@ -73,6 +77,16 @@ class Stop:
 
     def __str__(self) -> str:
         return self.message
+
+    def __eq__(self, other: object) -> bool:
+        if isinstance(other, Stop):
+            return self.kind is other.kind and self.message == other.message
+        if isinstance(other, str):
+            return self.message == other
+        return NotImplemented
+
+    def __hash__(self) -> int:  # equal to its sentence, so hashed as the sentence
+        return hash(self.message)
 
     @property
     def interrupted(self) -> bool:
