@@ -265,3 +265,15 @@ def test_sweeps_are_one_temperature_level_within_half_a_degree(tmp_path, gap, le
     path.write_text("frequency_Hz,storage_MPa,loss_MPa,temperature_C\n"
                     + "".join(f"{f:g},{e:g},{lo:g},{T:.2f}\n" for f, e, lo, T in rows))
     assert len(vhfit.read_csv(path)) == levels
+
+
+def test_a_file_without_a_header_is_refused_in_command_line_words(tmp_path, capsys):
+    from vhfit import cli
+
+    f = tmp_path / "numbers.csv"
+    f.write_text("0,0\n0.1,1\n0.2,2\n")
+    code = cli.main(["fit", str(f), "--no-plot", "-q", "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "numbers.csv, line 1: the first line holds numbers" in err
+    assert "add a header row" in err and "names=" not in err
