@@ -193,10 +193,9 @@ def test_the_child_hands_its_remembered_fits_to_this_process(monkeypatch):
     assert ("test", 3, True) not in kept  # N = 3 was fitted in the child only
 
 
-def test_a_contained_law_follows_the_fits_own_seeding_by_n_minus_1():
-    """N fitted beside N − 1 (``fewer=False``): the contained laws' fits are not seeded
-    by their remembered N − 1 fits either, so that the result does not depend on which
-    process fits it; otherwise they are."""
+def test_a_contained_laws_fit_is_never_seeded_by_n_minus_1():
+    """The contained laws' fits are made as the same call alone would make them (no N − 1
+    seed), so that remembering them changes no later result."""
     import numpy as np
 
     from vhfit.calibration import _nesting
@@ -208,10 +207,9 @@ def test_a_contained_law_follows_the_fits_own_seeding_by_n_minus_1():
         return _Cal(1.0, np.array([0.1]))
 
     s = CalibrationSettings("yeoh", 2, uncertainty=False)
-    for fewer in (False, True):
-        _nesting.clear_cache()
-        _nesting.nested_fits([], s, 2, calibrate_n, fewer=fewer)
-    assert seen == [("neo_hooke", 2, None), ("neo_hooke", 2, _nesting.REMEMBERED)]
+    _nesting.clear_cache()
+    _nesting.nested_fits([], s, 2, calibrate_n)
+    assert seen == [("neo_hooke", 2, None)]
 
 
 @dataclass(frozen=True)

@@ -16,10 +16,10 @@ N Prony terms contain N − 1 (the missing term at G = 0: :func:`padded`), by th
 mechanism, a :class:`Nested` record of the same law with ``n_prony = N − 1``
 (:func:`fewer_terms`), and no extra fit: the order scan hands each N the fit of N − 1
 it has made (where that fit is done when N's begins; an N fitted beside N − 1 is fitted
-again from it if it ended higher, :mod:`._scan`), and a call with a fixed N takes the
-fit of N − 1 where it is remembered (an earlier call, the scan, ``compare``), never
-fitting it for the purpose. Such a call can end lower than the same call in a fresh
-process, never higher than the remembered fit.
+again from it if it ended higher, :mod:`._scan`). A call with a fixed N is not seeded by
+N − 1 (no fit is made for it), and a fit seeded by N − 1 is not remembered: a
+remembered fit is then the same whatever the process fitted before, so that the same
+call gives the same result in any process.
 
 The guarantee holds for the same settings: bounds given on the law's own constants (no
 such setting of the smaller law), a start population of the caller's own, or a
@@ -44,15 +44,13 @@ from vhfit.calibration._space import log_tau_to_tau, search_vector
 from vhfit.hyperelastic import get as get_law
 
 __all__ = ["Nested", "nested_fits", "fewer_terms", "seed_rows", "accept_if_lower",
-           "clear_cache", "CACHE_SIZE", "remember", "REMEMBERED", "FLOOR_RTOL", "snapshot",
+           "clear_cache", "CACHE_SIZE", "remember", "FLOOR_RTOL", "snapshot",
            "added_since", "keep"]
 
 #: Fits remembered for the seeds of later ones (the least recently used dropped first),
 #: each as (its RMSAPE, its constants).
 CACHE_SIZE = 32
 _CACHE: OrderedDict = OrderedDict()
-#: ``prior`` of :func:`fewer_terms`: the remembered fit of N − 1, if any.
-REMEMBERED = "remembered"
 #: A fit of N terms above its fit of N − 1 by more than this (relative) misses the floor:
 #: the rounding of two models' integrations of the same stress and the terms pruned
 #: below ``prune_tol`` stay within it.
@@ -120,7 +118,7 @@ def _key(curves, settings: CalibrationSettings, n_prony: int):
 
 
 def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
-                calibrate_n, fewer: bool = True) -> list[Nested]:
+                calibrate_n) -> list[Nested]:
     """The fits of the laws that the settings' law contains, each embedded in it.
 
     Parameters
@@ -134,11 +132,6 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
     calibrate_n : callable
         The calibration at one N (``_calibrate_n`` of the workflow), which seeds the
         contained law's own search the same way.
-    fewer : bool
-        Whether a contained law's fit is seeded by its remembered fit of N − 1 too
-        (:func:`fewer_terms`): as this fit is (False where the order scan fits N beside
-        N − 1, so that its result does not depend on which process fits it).
-
     Returns
     -------
     list of Nested
@@ -162,7 +155,7 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
             with warnings.catch_warnings():  # its warnings are about another fit
                 warnings.simplefilter("ignore")
                 cal = calibrate_n(curves, s2, n_prony, checkpoint=None, max_time=None,
-                                  t0=time.perf_counter(), prior=REMEMBERED if fewer else None)
+                                  t0=time.perf_counter(), prior=None)
             fit = _record(cal)
             if key is not None:
                 _store(key, fit)
@@ -176,7 +169,7 @@ def nested_fits(curves, settings: CalibrationSettings, n_prony: int,
 
 
 def fewer_terms(curves, settings: CalibrationSettings, n_prony: int,
-                prior=REMEMBERED) -> list[Nested]:
+                prior=None) -> list[Nested]:
     """The fit of the same law with N − 1 Prony terms, a point of this fit's space.
 
     Parameters
@@ -187,9 +180,8 @@ def fewer_terms(curves, settings: CalibrationSettings, n_prony: int,
         Its settings.
     n_prony : int
         Prony terms of this fit (N).
-    prior : Calibration, None or REMEMBERED
-        The fit of N − 1 (the order scan's); None: none; :data:`REMEMBERED`: the one
-        remembered for the same data and settings, if any (no fit is made for it).
+    prior : Calibration or None
+        The fit of N − 1 (the order scan's); None: none.
 
     Returns
     -------
@@ -199,15 +191,7 @@ def fewer_terms(curves, settings: CalibrationSettings, n_prony: int,
     if n_prony < 1 or prior is None or not _seedable(settings):
         return []
     law = get_law(settings.hyperelastic)
-    if prior is REMEMBERED:
-        s2 = _settings_for(settings, law.name)
-        key = None if s2 is None else _key(curves, s2, n_prony - 1)
-        fit = _CACHE.get(key) if key is not None else None
-        if fit is None:
-            return []
-        _CACHE.move_to_end(key)
-    else:
-        fit = _record(prior)
+    fit = _record(prior)
     return [Nested(law.name, fit[0], fit[1], n_prony - 1)]
 
 

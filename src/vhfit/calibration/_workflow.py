@@ -450,7 +450,7 @@ def _by_spectrum(curves, settings: CalibrationSettings, n_prony: int | None,
 
 
 def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpoint, max_time,
-                 t0, prior=_nesting.REMEMBERED) -> Calibration:
+                 t0, prior=None) -> Calibration:
     """One calibration with N Prony terms: bounds, global search, polish, a second search
     with widened bounds where a constant ended on one, report (``checkpoint`` and
     ``max_time``: this one's, of a scan over N; ``prior``: the fit of N − 1 that seeds
@@ -471,7 +471,7 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
                        constrained=stable)
     # the fits of the laws this one contains, and of N − 1 terms: seeds of its search,
     # and floors of its error
-    nested = (_nesting.nested_fits(curves, s, n_prony, _calibrate_n, fewer=prior is not None)
+    nested = (_nesting.nested_fits(curves, s, n_prony, _calibrate_n)
               + _nesting.fewer_terms(curves, s, n_prony, prior))
     found, x, err, nfev, kept = _search_polish(prob, curves, s, n_prony, checkpoint,
                                                max_time, t0, nested)
@@ -517,7 +517,8 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         **({} if stable else {"no_stable_law": True}),
         **({"unconstrained_fit": free[0]} if free else {})),
         headlines=heads, notes=notes + ([free[1]] if free else []))
-    _nesting.remember(curves, s, n_prony, cal)  # the seed of a later fit that contains it
+    if prior is None:  # (a fit seeded by N − 1 is not what the same call makes alone)
+        _nesting.remember(curves, s, n_prony, cal)  # the seed of a later fit containing it
     return cal
 
 
