@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from vhfit._words import setting, worded
+from vhfit.calibration._settings import _PRONY_NAME
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
@@ -427,7 +428,7 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
     hm, out = prob.hm, []
     for k, name in enumerate(prob.model.param_names):
         if (name in skip or not np.isfinite(x[k]) or name not in prob.user_bounds
-                or name not in prob.bounds or _tau_index(name) is not None):
+                or name not in prob.bounds or _is_tau(name)):
             continue  # automatic bounds of the searched shape: bound_hits' part
         lo, hi = (float(v) for v in prob.bounds[name])
         if not hi > lo:
@@ -443,9 +444,10 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
     return out
 
 
-def _tau_index(name: str) -> int | None:
-    """i of a relaxation time's name tau{i + 1}, else None."""
-    return int(name[3:]) - 1 if name.startswith("tau") and name[3:].isdigit() else None
+def _is_tau(name) -> bool:
+    """Whether a parameter's name is a relaxation time's (tau1, tau2, ...)."""
+    m = _PRONY_NAME.match(str(name))
+    return m is not None and m.group(1) == "tau"
 
 
 def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int, str]
@@ -471,10 +473,10 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
                                  settings.decades_above)[0]
     except ValueError:  # no rates (every τ bounded by the user): no automatic range
         whole = None
-    # the ends the user gave, by value: the terms were re-sorted by τ since the search, so
-    # the term a bound was given to may carry another name now
+    # the ends the user gave, by value: merged and pruned terms are numbered anew, so the
+    # term a bound was given to may carry another name now
     given = [math.log10(float(v)) for k, lim in (settings.bounds.items() if isinstance(
-        settings.bounds, dict) else ()) if _tau_index(k) is not None for v in lim]
+        settings.bounds, dict) else ()) if _is_tau(k) for v in lim]
     for i in range(tau_b.shape[0]):
         G, tau = float(x[nh + 2 * i]), float(x[nh + 2 * i + 1])
         a, b = (float(v) for v in tau_b[i])
