@@ -196,6 +196,45 @@ def test_the_order_scan_is_no_worse_at_each_n_than_the_contained_laws():
     assert cal.options["nested"]["neo_hooke"] == pytest.approx(small[chosen], rel=1e-12)
 
 
+def _ogden_curves(alpha=14.0, mu=0.02):
+    """Rate-free uniaxial tension of a one-term Ogden law whose α is past the automatic
+    range [-10, 10] of the exponents (its fit widens the bound it ends on)."""
+    lam = np.linspace(1.05, 1.6, 12)
+    s = 2 * mu / alpha * (lam**alpha - lam ** (-alpha / 2))  # σ = Σ 2μ/α (λ^α − λ^(−α/2))
+    return [vhfit.Curve(strain=lam - 1.0, stress=s, measure="true")]
+
+
+def test_the_box_grows_to_hold_a_contained_fit_outside_it():
+    curves = _ogden_curves()
+    model = vhfit.ViscoHyperelastic("ogden2", 0)
+    tau_b, bounds = search_bounds(model, curves, "free", 3.0, 1.0, "auto")
+    prob = Problem(model, curves, tau_b, bounds, 1e-6, stability_range=(0.9, 1.7),
+                   user_bounds={"alpha2"})
+    lo, hi = bounds["alpha1"]
+    inside = _nesting.Nested("ogden", 1.0, np.array([0.02, 0.5 * (lo + hi), 0.0, 2.0]))
+    assert _nesting.containing_box(prob, [inside]) == {}
+    past = _nesting.Nested("ogden", 1.0, np.array([0.02, hi + 4.0, 0.03, hi + 7.0]))
+    wide = _nesting.containing_box(prob, [inside, past])
+    # α1 is widened to hold hi + 4 (from the automatic bound, outward only); α2, whose
+    # bound the user gave, and the linear μ's are not
+    assert set(wide) == {"alpha1"}
+    assert wide["alpha1"][0] == lo and wide["alpha1"][1] >= hi + 4.0
+
+
+def test_a_law_keeps_a_contained_fit_that_widened_its_own_bound():
+    curves = _ogden_curves()
+    # a short search (3 generations of 8): alone, it ends wherever it happens to be
+    kw = dict(n_prony=0, popsize=8, maxiter=3)
+    small = _fit(curves, "ogden", **kw)
+    assert small.x[1] > 10.0  # the contained fit ended past the automatic range
+    cal = _fit(curves, "ogden2", **kw)
+    assert cal.rmsape <= small.rmsape * (1 + TOL)
+    # the box the result reports holds its constants (it is the box that was searched)
+    for name, v in cal.params.items():
+        lo, hi = cal.bounds[name]
+        assert lo <= v <= hi, name
+
+
 def test_the_contained_fit_is_a_member_of_the_first_population():
     # the all-parameter search compares the calibration's own problem: its first
     # generation's best is at most the seed's error, the contained law's fit

@@ -38,6 +38,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from vhfit.calibration._bounds import widen_bounds
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._settings import CalibrationSettings
 from vhfit.calibration._space import log_tau_to_tau, search_vector
@@ -45,7 +46,7 @@ from vhfit.hyperelastic import get as get_law
 
 __all__ = ["Nested", "nested_fits", "fewer_terms", "seed_rows", "accept_if_lower",
            "clear_cache", "CACHE_SIZE", "remember", "FLOOR_RTOL", "snapshot",
-           "added_since", "keep"]
+           "added_since", "keep", "containing_box"]
 
 #: Fits remembered for the seeds of later ones (the least recently used dropped first),
 #: each as (its RMSAPE, its constants).
@@ -255,6 +256,47 @@ class _AsFull:
 
     def __init__(self, prob):
         self.prob = prob
+
+
+def containing_box(prob, nested: list[Nested]) -> dict[str, tuple[float, float]]:
+    """The automatic bounds of the law's constants that a nested fit lies outside of,
+    widened (:func:`~vhfit.calibration._bounds.widen_bounds`, repeatedly) until each
+    nested fit is a point of the box: name -> (low, high); empty where each already is.
+
+    A contained law's fit may end outside this law's automatic box where its own search
+    widened a bound it ended on (Ogden-4's α3 past 10); its embedded point is then no
+    member of this law's search, and accept-if-lower could not keep it. Bounds the user
+    gave are kept (no nested fits are made under them), and so are the Prony terms' τ
+    bounds: the same strategy gives the same τ ranges to a contained law's fit, and N's
+    range of a term need not hold N − 1's (``semifree``).
+    """
+    hm = prob.hm
+    bounds, out = dict(prob.bounds), {}
+    for n in nested:
+        x = padded(prob, n.x)
+        for _ in range(8):  # each pass moves a bound WIDEN widths out (or to its limit)
+            hits = {}
+            for k, name in enumerate(hm.param_names):
+                lo, hi = (float(v) for v in bounds[name])
+                if name not in prob.user_bounds and np.isfinite(x[k]):
+                    if x[k] < lo:
+                        hits[name] = "low"
+                    elif x[k] > hi:
+                        hits[name] = "high"
+            if not hits:
+                break
+            wide = widen_bounds(_Boxed(prob, bounds), hits)
+            for name in hits:
+                bounds[name] = out[name] = wide[name]
+    return out
+
+
+class _Boxed:
+    """``prob`` seen with other bounds (for :func:`widen_bounds`)."""
+
+    def __init__(self, prob, bounds: dict):
+        self.hm, self.bounds = prob.hm, bounds
+        self.stability_range, self.user_bounds = prob.stability_range, prob.user_bounds
 
 
 def _in_box(space, x: np.ndarray) -> bool:

@@ -473,6 +473,13 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
     # and floors of its error
     nested = (_nesting.nested_fits(curves, s, n_prony, _calibrate_n)
               + _nesting.fewer_terms(curves, s, n_prony, prior))
+    # a contained law's fit outside this box (its own search widened a bound it ended
+    # on): the box grows to hold it, a point of this search that accept-if-lower can keep
+    for_nesting = _nesting.containing_box(prob, nested)
+    if for_nesting:
+        auto = {**prob.bounds, **for_nesting}
+        prob = Problem(model, curves, tau_b, auto, s.g_inf_min, s.objective, sr, user,
+                       constrained=stable)
     found, x, err, nfev, kept = _search_polish(prob, curves, s, n_prony, checkpoint,
                                                max_time, t0, nested)
     hits = bound_hits(prob, x)
@@ -514,6 +521,8 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
         rtol=s.rtol, stability_range=[float(v) for v in sr],
         **({"widened_bounds": widened} if widened else {}), **nest,
         **({"widened_for_stability": stable_widened} if stable_widened else {}),
+        **({"widened_for_nesting": {k: [float(v) for v in b] for k, b in for_nesting.items()}}
+           if for_nesting else {}),
         **({} if stable else {"no_stable_law": True}),
         **({"unconstrained_fit": free[0]} if free else {})),
         headlines=heads, notes=notes + ([free[1]] if free else []))
