@@ -2758,4 +2758,15 @@ MUTANTS: list[Mutant] = [
       "an order scan's fits, seeded by N − 1, are remembered: a later fit that contains the "
       "law depends on what the process fitted before",
       ("tests/test_nesting_guarantee.py",)),
+    M("nesting_box_not_grown", "vhfit/calibration/_workflow.py",
+      "    if for_nesting:\n",
+      "    if False:\n",
+      "a contained law's fit outside this law's automatic box (its own search widened a "
+      "bound) is no point of the search: accept-if-lower skips it",
+      ("tests/test_nesting_guarantee.py",)),
+    M("nesting_box_widens_user_bound", "vhfit/calibration/_nesting.py",
+      "                if name not in prob.user_bounds and np.isfinite(x[k]):\n",
+      "                if np.isfinite(x[k]):\n",
+      "the box grown for a contained fit moves a bound the user gave",
+      ("tests/test_nesting_guarantee.py",)),
 ]
