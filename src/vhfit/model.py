@@ -30,7 +30,7 @@ from vhfit.formulations import get_formulation
 from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction, get_deformation
 from vhfit.viscoelastic import check_prony, prony_g
-from vhfit.viscous._layout import ParamLayout
+from vhfit.viscous import ParamLayout
 
 __all__ = ["ViscoHyperelastic", "Batch", "ModelSpec", "Prony", "model_from_spec", "spec_from_dict",
            "SPEC_VERSION"]

@@ -81,6 +81,10 @@ class ParamLayout:
     law_units: tuple[str, ...]
     n_terms: int = 0
 
+    #: The roles (:data:`AMPLITUDE`, :data:`TIME`, :data:`LAW`), for use by name.
+    AMPLITUDE: ClassVar[str] = AMPLITUDE
+    TIME: ClassVar[str] = TIME
+    LAW: ClassVar[str] = LAW
     #: Units of a Prony modulus and of a relaxation time.
     AMPLITUDE_UNIT: ClassVar[str] = "MPa"
     TIME_UNIT: ClassVar[str] = "s"
@@ -251,7 +255,7 @@ class ParamLayout:
         n = 1 + max((t.index for t in terms), default=-1)
         if n > len(names):  # (G1000000000 alone: a gap too long to list)
             raise ValueError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
-                             f"{len(names)} names are given: check the term numbers")
+                             f"{len(names)} parameters are given: check the term numbers")
         missing = [ParamLayout.name(role, i) for i in range(n) for role in (AMPLITUDE, TIME)
                    if Term(role, i) not in terms]
         if missing:
