@@ -254,7 +254,8 @@ class ParamLayout:
         terms = {t for t in map(ParamLayout.parse, names) if t is not None}
         n = 1 + max((t.index for t in terms), default=-1)
         if n > len(names):  # (G1000000000 alone: a gap too long to list)
-            raise ValueError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
+            top = next(ParamLayout.name(t.role, t.index) for t in terms if t.index == n - 1)
+            raise ValueError(f"{top}: Prony terms need G_i and tau_i for i = 1..{n}, but only "
                              f"{len(names)} parameters are given: check the term numbers")
         missing = [ParamLayout.name(role, i) for i in range(n) for role in (AMPLITUDE, TIME)
                    if Term(role, i) not in terms]
