@@ -8,7 +8,9 @@ where h_i is the overstress of branch i per unit modulus, evaluated by the recur
 of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy. What
 h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
 docs/theory.md §14): the corrected Eq. 19 by default, or a solver's own law.
-Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
+Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``: the
+model's :attr:`~ViscoHyperelastic.layout` (a :class:`vhfit.viscous.ParamLayout`) says
+which value is what.
 
 A model is described by its :class:`ModelSpec` (the law, the viscous part and the
 accuracy): :meth:`ViscoHyperelastic.spec` writes it, :func:`model_from_spec` builds the

@@ -68,13 +68,14 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
     from scipy.special import stdtrit
 
     tq = float(stdtrit(dof, 0.5 + level / 2))
+    roles = model.layout.roles
     for k, name in enumerate(model.param_names):
         half = tq * math.sqrt(max(cov[k, k], 0.0))
         # a parameter along a (near-)null direction of J cannot be identified
         weak = any(abs(Vt[j, k]) > 0.1 for j in np.flatnonzero(tiny))
         if weak:
             unident.append(name)
-        if model.layout.roles[k] == ParamLayout.TIME:
+        if roles[k] == ParamLayout.TIME:
             with np.errstate(over="ignore"):  # an unidentifiable τ: an interval to inf
                 out[name] = (10 ** (z[k] - half), 10 ** (z[k] + half))
         else:

@@ -314,9 +314,9 @@ class Material:
             raise ValueError(f"{solver} card: {len(G)} Prony moduli but {len(tau)} times")
         model = model_from_spec(_card_spec(hyperelastic, len(G)))
         law = [float(constants.get(n, 0.0)) for n in model.hyperelastic.param_names]
-        params = model.layout.assemble(law, [float(v) for v in G], [float(v) for v in tau])
+        values = model.layout.assemble(law, [float(v) for v in G], [float(v) for v in tau])
         try:
-            x = model.check(params)
+            x = model.check(values)
         except ValueError as err:
             raise ValueError(f"{solver} card: {err}") from None
         return model, model.as_dict(x)
