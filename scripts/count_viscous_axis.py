@@ -15,10 +15,19 @@ Three counts, docstrings and comments excluded (only code nodes are read):
    ``not in``) of a ``stop``/``stop_reason``/``status``/``message`` name or attribute with a string
    constant or a tuple of them.
 
+Within count 1, the places that re-derive the parameter layout by hand instead of asking
+:class:`vhfit.viscous.ParamLayout` (issue smell S1) are also counted on their own: the
+stride-2 slices, the f-strings that build ``G<i>``/``tau<i>`` names, and the parsers of
+such names (a regular expression's string naming ``tau`` or ``G`` followed by a digit
+class, a group or an alternation, or ``.startswith("tau")``/``.startswith("G")``). Calls
+to the layout (``model.layout.times``, ``ParamLayout.parse(name)``) name no Prony word and
+are not counted.
+
 Usage::
 
     python scripts/count_viscous_axis.py           # the three counts
     python scripts/count_viscous_axis.py -v        # with the places counted
+    python scripts/count_viscous_axis.py --src OTHER/src/vhfit   # another tree (before/after)
 """
 
 from __future__ import annotations
@@ -46,6 +55,13 @@ STOPS = re.compile(r"^(stop|stop_reason|status|message|reason)$")
 
 #: The start of an f-string that builds a Prony parameter name.
 PRONY_NAME = re.compile(r"^(G|g|tau)$")
+
+#: A regular expression's text that parses Prony parameter names (``tau\\d+``,
+#: ``^(G|tau)([1-9]...``).
+PRONY_PARSE = re.compile(r"(tau|G)(\\d|\[|\)|\|)")
+
+#: The words of count 1 that are the layout re-derived by hand (smell S1).
+BY_HAND = ("::2 slice", "name parser")
 
 
 def _identifier(node: ast.AST) -> str | None:
@@ -80,6 +96,13 @@ def scan(path: Path) -> dict[str, list[tuple[int, str]]]:
     out: dict[str, list[tuple[int, str]]] = defaultdict(list)
     for node in ast.walk(tree):
         ident = _identifier(node)
+        if (isinstance(node, ast.Constant) and isinstance(node.value, str)
+                and len(node.value) < 60 and PRONY_PARSE.search(node.value)):
+            out["prony"].append((node.lineno, "name parser"))
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "startswith" and node.args
+                and isinstance(node.args[0], ast.Constant) and node.args[0].value in ("tau", "G")):
+            out["prony"].append((node.lineno, "name parser"))
         if ident and PRONY.search(ident):
             out["prony"].append((getattr(node, "lineno", 0), ident))
         if (isinstance(node, ast.Slice) and isinstance(node.step, ast.Constant)
@@ -104,15 +127,21 @@ def scan(path: Path) -> dict[str, list[tuple[int, str]]]:
     return out
 
 
+def _by_hand(word: str) -> bool:
+    return word in BY_HAND or word.startswith('f"')
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("-v", "--verbose", action="store_true", help="list the places counted")
+    ap.add_argument("--src", type=Path, default=SRC, help="the package tree to count")
     args = ap.parse_args(argv)
-    modules = sorted(p for p in SRC.rglob("*.py"))
+    src = args.src.resolve()
+    modules = sorted(p for p in src.rglob("*.py"))
     prony_mods, viscous_mods, solver_mods = [], [], []
     calls, stops = [], []
     for p in modules:
-        rel = p.relative_to(SRC).as_posix()
+        rel = p.relative_to(src).as_posix()
         found = scan(p)
         if found.get("prony"):
             (viscous_mods if rel.startswith("viscous/") else
@@ -123,6 +152,10 @@ def main(argv=None) -> int:
     print(f"modules naming Prony concepts in code (outside viscous/ and the solvers' card "
           f"writers): {len(prony_mods)}")
     print(f"  (under viscous/: {len(viscous_mods)}; solvers' card writers: {len(solver_mods)})")
+    by_hand = [(rel, [(n, w) for n, w in places if _by_hand(w)]) for rel, places in prony_mods]
+    by_hand = [(rel, places) for rel, places in by_hand if places]
+    print(f"  of them re-deriving the layout by hand (slices, name f-strings, name parsers): "
+          f"{sum(len(p) for _, p in by_hand)} places in {len(by_hand)} modules")
     print(f"ViscoHyperelastic( calls in code: {len(calls)}")
     print(f"stop sentences compared as strings: {len(stops)}")
     if args.verbose:
@@ -130,6 +163,8 @@ def main(argv=None) -> int:
             words = sorted({w for _, w in places})
             print(f"  prony  {rel}: {len(places)} ({', '.join(words[:8])}"
                   f"{', ...' if len(words) > 8 else ''})")
+        for rel, places in by_hand:
+            print(f"  layout {rel}: " + ", ".join(f"{n} {w}" for n, w in sorted(places)))
         for rel, line, _ in calls:
             print(f"  model  {rel}:{line}")
         for rel, line, text in stops:

@@ -8,7 +8,9 @@ where h_i is the overstress of branch i per unit modulus, evaluated by the recur
 of :mod:`vhfit._kernels` on an internal grid chosen from the requested accuracy. What
 h_i is depends on the model's viscoelastic formulation (:mod:`vhfit.formulations`,
 docs/theory.md §14): the corrected Eq. 19 by default, or a solver's own law.
-Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``.
+Parameters are the hyperelastic constants first, then ``G1, tau1, G2, tau2, ...``: the
+model's :attr:`~ViscoHyperelastic.layout` (a :class:`vhfit.viscous.ParamLayout`) says
+which value is what.
 
 A model is described by its :class:`ModelSpec` (the law, the viscous part and the
 accuracy): :meth:`ViscoHyperelastic.spec` writes it, :func:`model_from_spec` builds the
@@ -30,6 +32,7 @@ from vhfit.formulations import get_formulation
 from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction, get_deformation
 from vhfit.viscoelastic import check_prony, prony_g
+from vhfit.viscous import ParamLayout
 
 __all__ = ["ViscoHyperelastic", "Batch", "ModelSpec", "Prony", "model_from_spec", "spec_from_dict",
            "SPEC_VERSION"]
@@ -470,13 +473,10 @@ class ViscoHyperelastic:
         self.n_prony = spec.n_prony
         self.rtol = spec.rtol
         self._dlog = _dlog(self.rtol)
-        names = list(self.hyperelastic.param_names)
-        units = list(self.hyperelastic.units)
-        for i in range(1, self.n_prony + 1):
-            names += [f"G{i}", f"tau{i}"]
-            units += ["MPa", "s"]
-        self.param_names: list[str] = names
-        self.units: list[str] = units
+        #: What each parameter is and where it sits (the law's constants, then G_i, τ_i).
+        self.layout: ParamLayout = ParamLayout.of(self.hyperelastic, self.n_prony)
+        self.param_names: list[str] = list(self.layout.names)
+        self.units: list[str] = list(self.layout.units)
 
     def __repr__(self) -> str:
         form = "" if self.formulation == "hereditary" else f", formulation={self.formulation!r}"
@@ -547,9 +547,7 @@ class ViscoHyperelastic:
         >>> hyper.tolist(), G.tolist(), tau.tolist()
         ([0.1, 0.05], [2.0, 1.0], [0.001, 1.0])
         """
-        x = np.asarray(x, dtype=np.float64)
-        nh = self.hyperelastic.n_params
-        return x[..., :nh], x[..., nh::2], x[..., nh + 1::2]
+        return self.layout.split(x)
 
     def check(self, params) -> np.ndarray:
         """Validate one parameter set; raise ValueError naming the bad parameter.

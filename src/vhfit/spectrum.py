@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vhfit.viscous import ParamLayout
+
 __all__ = ["PronySpectrum", "prony_spectrum", "design_matrix", "rms_relative_error",
            "pruning_path"]
 
@@ -64,10 +66,8 @@ class PronySpectrum:
 
     def params(self) -> dict[str, float]:
         """``{"G1": ..., "tau1": ..., ...}`` in vhfit's parameter names."""
-        out: dict[str, float] = {}
-        for i, (g, t) in enumerate(zip(self.G, self.tau), start=1):
-            out[f"G{i}"], out[f"tau{i}"] = float(g), float(t)
-        return out
+        lay = ParamLayout((), (), self.n_prony)
+        return dict(zip(lay.names, lay.assemble([], self.G, self.tau).tolist()))
 
     def summary(self) -> str:
         rows = "\n".join(f"  N = {int(n):3d}   RMS relative error {e:.4%}" for n, e in self.table)

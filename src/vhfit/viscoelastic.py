@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from vhfit._linear import loss_shape, relaxation_shape, storage_shape
+from vhfit.viscous import ParamLayout
 
 __all__ = [
     "prony_g",
@@ -49,11 +50,13 @@ def check_prony(G, tau) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(
             f"G and tau need one value per Prony term, got shapes {G.shape} and {tau.shape}"
         )
-    for i, (g, t) in enumerate(zip(G, tau), start=1):
+    for i, (g, t) in enumerate(zip(G, tau)):
         if not (np.isfinite(g) and g >= 0):
-            raise ValueError(f"G{i} = {float(g)!r}: Prony moduli must be finite and >= 0 MPa")
+            raise ValueError(f"{ParamLayout.amplitude_name(i)} = {float(g)!r}: Prony moduli "
+                             "must be finite and >= 0 MPa")
         if not (t > 0) or np.isnan(t):
-            raise ValueError(f"tau{i} = {float(t)!r}: relaxation times must be > 0 s")
+            raise ValueError(f"{ParamLayout.time_name(i)} = {float(t)!r}: relaxation times "
+                             "must be > 0 s")
     return G, tau
 
 

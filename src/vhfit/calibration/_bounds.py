@@ -8,10 +8,10 @@ import math
 import numpy as np
 
 from vhfit._words import setting, worded
-from vhfit.calibration._settings import _PRONY_NAME
 from vhfit.data import is_moduli
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, long_term_stress
+from vhfit.viscous import ParamLayout
 
 __all__ = ["auto_bounds", "search_bounds", "SEARCH_RANGES", "bound_hits", "widen_bounds",
            "bound_hit_headlines", "pinned_headlines", "tau_bound_headlines", "enforced_bounds",
@@ -157,7 +157,7 @@ def auto_bounds(model: ViscoHyperelastic, curves, tau_b=None) -> dict[str, tuple
             h = np.abs(H[0, i])
             ok = h > 0
             gmax = float(np.max(yy[ok] / h[ok])) if ok.any() else float(np.max(yy))
-            out[f"G{i + 1}"] = (0.0, gmax)
+            out[model.layout.amplitude_name(i)] = (0.0, gmax)
     return out
 
 
@@ -177,11 +177,12 @@ def search_bounds(model: ViscoHyperelastic, curves, tau_strategy, decades_below:
     auto = auto_bounds(model, curves, tau_b)
     if isinstance(bounds, dict):
         for k, v in bounds.items():
-            if k.startswith("tau") and k[3:].isdigit() and 1 <= int(k[3:]) <= n_prony:
+            term = ParamLayout.parse(k)
+            if term is not None and term.role == ParamLayout.TIME and term.index < n_prony:
                 lo, hi = map(float, v)
                 if not 0 < lo <= hi:
                     raise ValueError(f"bounds[{k!r}] = {v!r}: need 0 < low <= high (s)")
-                tau_b[int(k[3:]) - 1] = np.log10([lo, hi])
+                tau_b[term.index] = np.log10([lo, hi])
             elif k in auto:
                 lo, hi = map(float, v)
                 if not lo <= hi:
@@ -211,7 +212,7 @@ def enforced_bounds(prob, box: bool) -> dict[str, tuple[float, float]]:
 
     τ_i: the τ range of the fit (s).
     """
-    hm, model = prob.hm, prob.model
+    hm, model, lay = prob.hm, prob.model, prob.model.layout
     out: dict[str, tuple[float, float]] = {}
     for k, name in enumerate(hm.param_names):
         plo, phi = (float(v) for v in hm.bounds[k])
@@ -227,13 +228,13 @@ def enforced_bounds(prob, box: bool) -> dict[str, tuple[float, float]]:
         else:
             out[name] = (max(lo, 0.0), hi) if box else (plo, phi)
     for i in range(model.n_prony):
-        g = f"G{i + 1}"
+        g = lay.amplitude_name(i)
         if g in prob.bounds and (g in prob.user_bounds or box):
             lo, hi = (float(v) for v in prob.bounds[g])
             out[g] = (max(lo, 0.0), hi)
         elif not box:
             out[g] = (0.0, math.inf)
-        out[f"tau{i + 1}"] = tuple(float(10.0 ** v) for v in prob.tau_b[i])
+        out[lay.time_name(i)] = tuple(float(10.0 ** v) for v in prob.tau_b[i])
     return out
 
 
@@ -428,7 +429,7 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
     hm, out = prob.hm, []
     for k, name in enumerate(prob.model.param_names):
         if (name in skip or not np.isfinite(x[k]) or name not in prob.user_bounds
-                or name not in prob.bounds or _is_tau(name)):
+                or name not in prob.bounds or ParamLayout.is_time(name)):
             continue  # automatic bounds of the searched shape: bound_hits' part
         lo, hi = (float(v) for v in prob.bounds[name])
         if not hi > lo:
@@ -442,12 +443,6 @@ def pinned_headlines(prob, x: np.ndarray, skip=()) -> list[str]:
             out.append(_on_bound(name, float(x[k]), side, lo if side == "low" else hi,
                                  "given in bounds=", _suggest(name, lo, hi, side, log=False)))
     return out
-
-
-def _is_tau(name) -> bool:
-    """Whether a parameter's name is a relaxation time's (tau1, tau2, ...)."""
-    m = _PRONY_NAME.match(str(name))
-    return m is not None and m.group(1) == "tau"
 
 
 def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int, str]
@@ -466,7 +461,7 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
     :func:`vhfit.calibration._report.time_windows`) adds that τ's time-window fact to its
     sentence, so that one line names each τ. A fixed τ (lower == upper) is never named.
     """
-    nh, out = prob.hm.n_params, {}
+    lay, out = prob.model.layout, {}
     tau_b = np.asarray(prob.tau_b, dtype=np.float64).reshape(-1, 2)
     try:
         whole = tau_bounds_log10(rates(curves), 1, "free", settings.decades_below,
@@ -476,9 +471,9 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
     # the ends the user gave, by value: merged and pruned terms are numbered anew, so the
     # term a bound was given to may carry another name now
     given = [math.log10(float(v)) for k, lim in (settings.bounds.items() if isinstance(
-        settings.bounds, dict) else ()) if _is_tau(k) for v in lim]
+        settings.bounds, dict) else ()) if ParamLayout.is_time(k) for v in lim]
     for i in range(tau_b.shape[0]):
-        G, tau = float(x[nh + 2 * i]), float(x[nh + 2 * i + 1])
+        G, tau = float(x[lay.amplitude_index(i)]), float(x[lay.time_index(i)])
         a, b = (float(v) for v in tau_b[i])
         if not (b > a and G > 0 and tau > 0 and np.isfinite(tau)):
             continue
@@ -486,7 +481,7 @@ def tau_bound_headlines(prob, x: np.ndarray, curves, settings, windows: dict[int
         side = "low" if z - a <= margin else "high" if b - z <= margin else None
         if side is None:
             continue
-        name = f"tau{i + 1}"
+        name = lay.time_name(i)
         lo, hi = 10.0 ** a, 10.0 ** b
         end = a if side == "low" else b
         outer = whole is not None and abs(end - whole[0 if side == "low" else 1]) <= 1e-9

@@ -41,7 +41,7 @@ import numpy as np
 from vhfit.calibration._bounds import widen_bounds
 from vhfit.calibration._polish import polish as polish_fit
 from vhfit.calibration._settings import CalibrationSettings
-from vhfit.calibration._space import log_tau_to_tau, search_vector
+from vhfit.calibration._space import search_vector
 from vhfit.hyperelastic import get as get_law
 
 __all__ = ["Nested", "nested_fits", "fewer_terms", "seed_rows", "accept_if_lower",
@@ -246,7 +246,7 @@ def seed_rows(space, nested: list[Nested]) -> list[np.ndarray]:
 def padded(prob, x: np.ndarray) -> np.ndarray:
     """The full parameter vector of ``prob``'s model from ``x`` with N or fewer Prony
     terms (the missing ones with G = 0 at the middle of their τ range)."""
-    return log_tau_to_tau(search_vector(_AsFull(prob), x), prob.hm.n_params)
+    return prob.model.layout.from_log(search_vector(_AsFull(prob), x))
 
 
 class _AsFull:

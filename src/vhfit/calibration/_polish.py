@@ -20,7 +20,7 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
     modulus not at all (the law's limits only: the admissible set keeps the law stable;
     :func:`vhfit.calibration._bounds.enforced_bounds` is the resulting box).
     """
-    model, nh = prob.model, prob.hm.n_params
+    model, lay = prob.model, prob.model.layout
     lo = np.empty(model.n_params)
     hi = np.empty(model.n_params)
     for k, name in enumerate(prob.hm.param_names):
@@ -33,24 +33,22 @@ def polish(prob: Problem, x0: np.ndarray, max_nfev: int = 200):
             lo[k], hi[k] = plo, phi
             continue
         lo[k], hi[k] = max(plo, min(blo, x0[k])), max(bhi, x0[k])
-    lo[nh::2], hi[nh::2] = 0.0, np.inf
-    for i in range(model.n_prony):
-        if f"G{i + 1}" in prob.user_bounds:
-            blo, bhi = prob.bounds[f"G{i + 1}"]
-            lo[nh + 2 * i], hi[nh + 2 * i] = max(0.0, blo), bhi
-    lo[nh + 1::2] = prob.tau_b[:, 0]
-    hi[nh + 1::2] = prob.tau_b[:, 1]
+    lo[lay.amplitudes], hi[lay.amplitudes] = 0.0, np.inf
+    for i in range(lay.n_terms):
+        if lay.amplitude_name(i) in prob.user_bounds:
+            blo, bhi = prob.bounds[lay.amplitude_name(i)]
+            lo[lay.amplitude_index(i)], hi[lay.amplitude_index(i)] = max(0.0, blo), bhi
+    lo[lay.times] = prob.tau_b[:, 0]
+    hi[lay.times] = prob.tau_b[:, 1]
     fixed = lo >= hi
     free = ~fixed
 
     def expand(z):
         x = np.array(z0_full, dtype=np.float64, copy=True)
         x[free] = z
-        x[nh + 1::2] = 10.0 ** x[nh + 1::2]
-        return x
+        return lay.from_log(x)
 
-    z0_full = x0.copy()
-    z0_full[nh + 1::2] = np.log10(x0[nh + 1::2])
+    z0_full = lay.to_log(x0)
     z0_full = np.clip(z0_full, lo, np.where(fixed, lo, hi))
     counter = {"n": 0}
 

@@ -13,11 +13,11 @@ from vhfit.calibration._admissible import data_stability_range
 from vhfit.calibration._bounds import enforced_bounds, tau_bound_headlines
 from vhfit.calibration._polish import polish
 from vhfit.calibration._result import Calibration, CalibrationWarning
-from vhfit.calibration._settings import _PRONY_NAME
 from vhfit.calibration._space import Problem
 from vhfit.model import model_from_spec
 from vhfit.stability import drucker
 from vhfit.viscoelastic import prony_g
+from vhfit.viscous import ParamLayout
 
 __all__ = ["finish", "merge_terms", "MERGE_RTOL", "confidence", "covariance",
            "time_windows", "time_window_warnings", "slack_warnings", "degenerate_warnings",
@@ -32,15 +32,12 @@ def covariance(prob: Problem, x: np.ndarray):
     right singular vectors of J and which singular values count as zero, ``s2`` the
     residual variance. None when J is not finite.
     """
-    nh = prob.hm.n_params
-    z = x.copy()
-    z[nh + 1::2] = np.log10(x[nh + 1::2])
+    lay = prob.model.layout
+    z = lay.to_log(x)
     n_par = z.size
     h = 1e-6 * np.maximum(np.abs(z), 1e-6)
     Z = np.vstack([z + np.diag(h), z - np.diag(h)])
-    X = Z.copy()
-    X[:, nh + 1::2] = 10.0 ** X[:, nh + 1::2]
-    R = prob.residuals(X)
+    R = prob.residuals(lay.from_log(Z))
     J = ((R[:n_par] - R[n_par:]) / (2 * h)[:, None]).T
     r0 = prob.residuals(x[None, :])[0]
     n = r0.size
@@ -59,7 +56,7 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
 
     ``cov`` is :func:`covariance` of the same fit when already computed.
     """
-    model, nh = prob.model, prob.hm.n_params
+    model = prob.model
     out, unident = {}, []
     got = covariance(prob, x) if cov is None else cov
     if got is None:
@@ -71,13 +68,14 @@ def confidence(prob: Problem, x: np.ndarray, level: float = 0.95, cov=None):
     from scipy.special import stdtrit
 
     tq = float(stdtrit(dof, 0.5 + level / 2))
+    roles = model.layout.roles
     for k, name in enumerate(model.param_names):
         half = tq * math.sqrt(max(cov[k, k], 0.0))
         # a parameter along a (near-)null direction of J cannot be identified
         weak = any(abs(Vt[j, k]) > 0.1 for j in np.flatnonzero(tiny))
         if weak:
             unident.append(name)
-        if k >= nh and (k - nh) % 2 == 1:
+        if roles[k] == ParamLayout.TIME:
             with np.errstate(over="ignore"):  # an unidentifiable τ: an interval to inf
                 out[name] = (10 ** (z[k] - half), 10 ** (z[k] + half))
         else:
@@ -111,10 +109,9 @@ def _fewer_terms(hm) -> str:
 
 def _negligible(model, x, names, units, moduli) -> tuple[list[str], set[int]]:
     """Constants below NEGLIGIBLE of the largest of their kind, one sentence per kind."""
-    nh = model.hyperelastic.n_params
     out, zero = [], set()
     for idx, kind in ((moduli, "hyperelastic modulus"),
-                      (list(range(nh, x.size, 2)), "Prony modulus G_i")):
+                      (list(range(x.size))[model.layout.amplitudes], "Prony modulus G_i")):
         top = max((abs(float(x[k])) for k in idx), default=0.0)
         tiny = [k for k in idx if len(idx) > 1 and abs(float(x[k])) < NEGLIGIBLE * top]
         zero.update(tiny)
@@ -199,7 +196,7 @@ def time_windows(model, x, curves) -> dict[int, str]:
     A τ longer than 10x every curve's duration cannot be told from a stiffer elastic law;
     one shorter than 0.01x every curve's first objective time is seen only through G·τ.
     """
-    nh = model.hyperelastic.n_params
+    lay = model.layout
     out = {}
     durations = [c.history.duration for c in curves]
     firsts = []
@@ -207,7 +204,7 @@ def time_windows(model, x, curves) -> dict[int, str]:
         t = np.asarray(c.history.out_time)
         firsts.append(float(np.min(t[t > 0])) if np.any(t > 0) else c.history.duration)
     for i in range(model.n_prony):
-        G, tau = x[nh + 2 * i], x[nh + 2 * i + 1]
+        G, tau = x[lay.amplitude_index(i)], x[lay.time_index(i)]
         if G <= 0:
             continue
         if tau > 10 * max(durations):
@@ -228,8 +225,8 @@ def time_windows(model, x, curves) -> dict[int, str]:
 def time_window_warnings(model, x, curves, named=()) -> list[str]:
     """One sentence per relaxation time of :func:`time_windows`, except the term indices
     ``named`` (a sentence naming that τ on a bound already carries its clause)."""
-    nh = model.hyperelastic.n_params
-    return [f"tau{i + 1} = {x[nh + 2 * i + 1]:.3g} s {clause}"
+    lay = model.layout
+    return [f"{lay.time_name(i)} = {x[lay.time_index(i)]:.3g} s {clause}"
             for i, clause in time_windows(model, x, curves).items() if i not in named]
 
 
@@ -387,20 +384,21 @@ def _merge_like_terms(prob, curves, model, x, err, msgs, heads):
 
 def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     """Sort the Prony terms by τ, merge coincident ones, drop negligible ones."""
-    nh = model.hyperelastic.n_params
+    lay = model.layout
     # present terms from fastest to slowest; but a bound the user gave to a term by its
     # name (tau2, G1) holds for that name, so such a fit keeps its terms' order
-    named = any(_PRONY_NAME.match(str(k)) for k in prob.user_bounds)
+    named = any(ParamLayout.parse(k) for k in prob.user_bounds)
     order = (np.arange(model.n_prony) if named else
-             np.argsort(x[nh + 1::2], kind="stable"))
-    x = np.concatenate([x[:nh]] + [x[nh + 2 * i: nh + 2 * i + 2] for i in order])
+             np.argsort(x[lay.times], kind="stable"))
+    x = np.concatenate([x[lay.law]] + [x[lay.term(i)] for i in order])
     prob.tau_b = prob.tau_b[order]
-    G, tau, groups = merge_terms(x[nh::2], x[nh + 1::2])
+    _, G, tau = lay.split(x)
+    G, tau, groups = merge_terms(G, tau)
     merged = [g for g in groups if len(g) > 1]
     if merged:
         msgs.append(
             "relaxation times that coincide were merged: "
-            + "; ".join(" and ".join(f"tau{i + 1}" for i in g) for g in merged)
+            + "; ".join(" and ".join(lay.time_name(i) for i in g) for g in merged)
             + f" (effective N = {len(groups)} before pruning)"
         )
     tau_b = np.array([[prob.tau_b[g, 0].min(), prob.tau_b[g, 1].max()] for g in groups]
@@ -415,7 +413,7 @@ def _reduce_terms(prob, curves, model, x, err, prune_tol, msgs):
     if len(keep) == model.n_prony:
         return prob, model, x, err
     reduced = model_from_spec(model.spec().with_terms(len(keep)))
-    x2 = np.concatenate([x[:nh]] + [np.array([G[i], tau[i]]) for i in keep])
+    x2 = reduced.layout.assemble(x[lay.law], G[keep], tau[keep])
     prob = Problem(reduced, curves, tau_b[keep] if keep else np.zeros((0, 2)), prob.bounds,
                    prob.g_inf_min, prob.objective_spec, prob.stability_range,
                    prob.user_bounds, prob.constrained)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import platform
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from datetime import datetime, timezone
@@ -19,6 +18,7 @@ from vhfit.data import TestItem
 from vhfit.history import History
 from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec, spec_from_dict
 from vhfit.stability import StabilityReport, drucker
+from vhfit.viscous import ParamLayout
 
 __all__ = ["Calibration", "CalibrationWarning", "RESULTS_FORMAT", "set_html_report", "grade",
            "GOOD_FIT", "WITHIN_FIT", "ROUGH_FIT"]
@@ -99,8 +99,8 @@ def _fine_history(h: History, points: int) -> tuple[np.ndarray, History]:
 
 def _n_prony(n, params: dict) -> int:
     """The number of Prony terms of a results entry: its ``n_prony``, which its
-    parameters must match (``G1, tau1 ... GN, tauN``)."""
-    found = sum(1 for k in params if re.fullmatch(r"tau\d+", str(k)))
+    parameters must match (``G1, tau1 ... GN, tauN``, all of them)."""
+    found = ParamLayout.count_terms(params)
     # compared before any model is built: n_prony = 2**70 would never finish building
     if isinstance(n, bool) or not isinstance(n, (int, float)) or n != found:
         raise ValueError(f"n_prony = {n!r} does not fit 'params', which hold {found} "

@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import numbers
 import os
-import re
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
@@ -14,6 +13,7 @@ from typing import Any
 from vhfit._words import setting, worded
 from vhfit.formulations import get_formulation
 from vhfit.model import ModelSpec, Prony
+from vhfit.viscous import ParamLayout
 
 __all__ = ["CalibrationSettings", "check_arguments", "DEFAULT_TOL", "RecordedCallable",
            "bound_problem", "bounds_terms", "bounds_for_terms"]
@@ -94,9 +94,6 @@ def _choices(a: dict) -> None:
         _fail("resume", a["resume"], "resuming needs checkpoint=PATH (the file to resume from)")
 
 
-_PRONY_NAME = re.compile(r"^(G|tau)([1-9][0-9]*)$")
-
-
 def bounds_terms(n_prony: Any, max_prony: int = 5) -> int:
     """The most Prony terms a fit with ``n_prony`` (a number, ``"auto"`` or None) may have:
     the Prony names a ``bounds=`` entry may use (``G1``, ``tau1``, ... up to this index).
@@ -159,12 +156,12 @@ def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
         law = _hyper.get(hyperelastic)
     except ValueError:
         law = None
-    prony = _PRONY_NAME.match(str(name))
+    prony = ParamLayout.parse(name)
     if law is None and not prony:
         return None  # a constant of a law not registered (yet): its fit names the law
     names = list(law.param_names) if law is not None else []
-    if str(name) not in names and not (prony and int(prony.group(2)) <= n_terms):
-        terms = [f"{g}{i}" for i in range(1, n_terms + 1) for g in ("G", "tau")]
+    if str(name) not in names and not (prony and prony.index < n_terms):
+        terms = list(ParamLayout((), (), n_terms).term_names())
         terms_txt = (f"with up to {n_terms} Prony term(s)" if n_terms else
                      "without Prony terms")
         what = (f"the {law.name} law {terms_txt}" if law is not None
@@ -184,9 +181,9 @@ def bound_problem(name: str, low: float, high: float, hyperelastic: Any,
     if not (math.isfinite(lo) and math.isfinite(hi)) and not unbounded_ok:
         return ("give finite limits (only a constant the law is linear in may be "
                 "unbounded)")
-    if prony and prony.group(1) == "tau":
+    if prony and prony.role == ParamLayout.TIME:
         return None if lo > 0 else "a relaxation time is > 0 s: give 0 < low"
-    if prony:
+    if prony and prony.role == ParamLayout.AMPLITUDE:
         return None if lo >= 0 else "a Prony modulus G_i is >= 0: give low >= 0"
     plo, phi = law.bounds[names.index(str(name))]
     if lo < plo or hi > phi:
@@ -220,8 +217,8 @@ def bounds_for_terms(bounds: Any, n_prony: int) -> Any:
         return bounds
     out = {}
     for k, v in bounds.items():
-        m = _PRONY_NAME.match(str(k))
-        if m is None or int(m.group(2)) <= n_prony:
+        term = ParamLayout.parse(k)
+        if term is None or term.index < n_prony:
             out[k] = v
     return out
 

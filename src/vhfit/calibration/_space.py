@@ -98,13 +98,6 @@ class Problem:
         return (self.batch(np.atleast_2d(X)) - self.y) * self.scale
 
 
-def log_tau_to_tau(Z: np.ndarray, nh: int) -> np.ndarray:
-    """Parameter vectors with τ from vectors with log10 τ (hyperelastic part first)."""
-    X = np.array(Z, dtype=np.float64, copy=True)
-    X[..., nh + 1::2] = 10.0 ** X[..., nh + 1::2]
-    return X
-
-
 class SeparableSpace:
     """Search over (shape of the law, log10 τ); the linear moduli by least squares.
 
@@ -158,8 +151,9 @@ class SeparableSpace:
                        for k in self.amp]
         self.limits = [(j, *map(float, prob.bounds[hm.param_names[k]]))
                        for j, k in enumerate(self.amp) if hm.param_names[k] in user]
-        self.g_limits = [(i, *map(float, prob.bounds[f"G{i + 1}"]))
-                         for i in range(prob.model.n_prony) if f"G{i + 1}" in user]
+        lay = prob.model.layout
+        self.g_limits = [(i, *map(float, prob.bounds[lay.amplitude_name(i)]))
+                         for i in range(lay.n_terms) if lay.amplitude_name(i) in user]
         self.angle = not self.exact and len(self.amp) == 2
         if self.angle:
             self.theta = self._arc()
@@ -207,7 +201,7 @@ class SeparableSpace:
         X[:, :nh] = np.asarray(hm.example, dtype=np.float64)
         X[:, amp] = 1.0
         X[np.arange(1, m + 1), amp] += 1.0
-        X[:, nh + 1::2] = 10.0 ** np.mean(prob.tau_b, axis=1)  # G_i = 0: τ is idle
+        X[:, prob.model.layout.times] = 10.0 ** np.mean(prob.tau_b, axis=1)  # G_i = 0: τ idle
         with np.errstate(all="ignore"):
             S = prob.batch(X)
             size = np.linalg.norm((S[1:] - S[:1]) * prob.scale, axis=1)
@@ -558,7 +552,7 @@ class SeparableSpace:
         """:meth:`assemble` of many: shapes (P, n_h), amplitudes (E∞, G_i) (P, 1 + N) and
         τ (P, N); (P, n_params)."""
         hm = self.prob.hm
-        P, nh = shapes.shape[0], hm.n_params
+        P = shapes.shape[0]
         shape = np.array(shapes, dtype=np.float64)
         with np.errstate(all="ignore"):
             E_shape = 3.0 * np.asarray(hm.initial_shear_modulus(shape),
@@ -579,11 +573,7 @@ class SeparableSpace:
             shape[stiff, k] = np.minimum(np.maximum(shape[stiff, k], lo), hi)
         for i, lo, hi in self.g_limits:
             G[:, i] = np.minimum(np.maximum(G[:, i], lo), hi)
-        x = np.empty((P, self.prob.model.n_params))
-        x[:, :nh] = shape
-        x[:, nh::2] = G
-        x[:, nh + 1::2] = tau
-        return x
+        return self.prob.model.layout.assemble(shape, G, tau)
 
 
 class FullSpace:
@@ -619,12 +609,12 @@ class FullSpace:
     def bounds(self) -> list[tuple[float, float]]:
         # the paper's box: its moduli non-negative unless the user's bounds say otherwise
         # (Problem.errors rejects the inadmissible laws inside it)
-        pb, hm = self.prob.bounds, self.prob.hm
+        pb, hm, lay = self.prob.bounds, self.prob.hm, self.prob.model.layout
         b = [(max(pb[n][0], 0.0), pb[n][1])
              if hm.units[k] == "MPa" and n not in self.prob.user_bounds else pb[n]
              for k, n in enumerate(hm.param_names)]
-        for i in range(self.prob.model.n_prony):
-            b.append(pb[f"G{i + 1}"])
+        for i in range(lay.n_terms):
+            b.append(pb[lay.amplitude_name(i)])
             b.append(tuple(self.prob.tau_b[i]))
         return b
 
@@ -633,7 +623,7 @@ class FullSpace:
         return self.prob.errors(self.to_params(Z))
 
     def to_params(self, z: np.ndarray) -> np.ndarray:
-        return log_tau_to_tau(z, self.prob.hm.n_params)
+        return self.prob.model.layout.from_log(z)
 
 
 SPACES = {"separable": SeparableSpace, "full": FullSpace}
@@ -646,12 +636,13 @@ def search_vector(space, x: np.ndarray) -> np.ndarray:
     A fit with fewer Prony terms (pruned, or of N − 1 terms) is a point of the space of
     N terms: each of its terms goes to the slot whose τ range holds it, else the nearest.
     """
-    prob, nh = space.prob, space.prob.hm.n_params
-    n = prob.model.n_prony
+    prob, lay = space.prob, space.prob.model.layout
+    n = lay.n_terms
     logtau = np.mean(prob.tau_b, axis=1)
     g = np.zeros(n)
     free = list(range(n))
-    for gi, t in zip(x[nh::2], np.log10(x[nh + 1::2])):  # a pruned fit has fewer terms:
+    hyper, G, tau = lay.split(x)
+    for gi, t in zip(G, np.log10(tau)):  # a pruned fit has fewer terms:
         if not free:  # each goes to the slot whose τ range holds it, else the nearest
             break
         lo, hi = prob.tau_b[free, 0], prob.tau_b[free, 1]
@@ -659,15 +650,13 @@ def search_vector(space, x: np.ndarray) -> np.ndarray:
         free.remove(i)
         logtau[i], g[i] = t, gi
     if not space.separable:
-        z = np.empty(nh + 2 * n)
-        z[:nh], z[nh::2], z[nh + 1::2] = x[:nh], g, logtau
-        return z
+        return lay.assemble(hyper, g, logtau)
     amp = [x[k] for k in space.amp]
     z = []
     if space.angle:  # the direction of the two linear constants, turned onto the arc
         th, mid = math.atan2(amp[1], amp[0]), 0.5 * sum(space.theta)
         th += 2 * math.pi * round((mid - th) / (2 * math.pi))
-        z.append(float(space.places(th, x[:nh])[0]) if space.on_arc else th)
+        z.append(float(space.places(th, hyper)[0]) if space.on_arc else th)
     elif space.redundant:
         z += list(space.shape_coords(np.asarray(amp)))
     z += [x[k] for k in space.other]

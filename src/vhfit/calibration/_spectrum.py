@@ -52,6 +52,7 @@ from vhfit.calibration._space import Problem, SeparableSpace
 from vhfit.calibration._stop import Stop, StopKind
 from vhfit.data import is_moduli
 from vhfit.spectrum import pruning_path
+from vhfit.viscous import ParamLayout
 
 __all__ = ["applies", "tau_grid", "spectrum_fit", "seed_from_moduli", "ROUTE", "cap_message"]
 
@@ -86,7 +87,7 @@ def applies(curves, settings) -> bool:
     if not settings.space.separable or settings.tau_strategy != "free":
         return False
     b = settings.bounds
-    return not (isinstance(b, dict) and any(k.startswith("tau") for k in b))
+    return not (isinstance(b, dict) and any(ParamLayout.is_time(k) for k in b))
 
 
 def tau_grid(curves, tau_b: np.ndarray) -> np.ndarray:
@@ -455,7 +456,7 @@ def _spectrum_fit(curves, settings, model_for, n_prony: int | None, t0: float):
     # with the moduli exact, and a polish moved the error by 1e-6 relative at most on
     # the master curves while it cost a third of the fit)
     nfev = mod.nfev
-    found = Search(np.log10(x[model.hyperelastic.n_params + 1::2]), 0, nfev,
+    found = Search(np.log10(x[model.layout.times]), 0, nfev,
                    Stop.of(StopKind.SPECTRUM), _history(None), t0)
     options = dict(
         hyperelastic=model.hyperelastic.name, n_prony=n, tau_strategy=str(s.tau_strategy),

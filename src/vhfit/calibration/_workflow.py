@@ -741,7 +741,7 @@ def _finite_at(prob: Problem, k: int, values: list[float]) -> np.ndarray:
     X = np.zeros((len(values), prob.model.n_params))
     X[:, :nh] = np.asarray(hm.example, dtype=np.float64)
     X[:, k] = values
-    X[:, nh + 1::2] = 10.0 ** prob.tau_b[:, 0]
+    X[:, prob.model.layout.times] = 10.0 ** prob.tau_b[:, 0]
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         return np.isfinite(prob.errors(X))

@@ -16,6 +16,7 @@ from vhfit.data import DataError, read_history
 from vhfit.history import History
 from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec
 from vhfit.modes import get_deformation
+from vhfit.viscous import ParamLayout
 
 __all__ = ["cmd_simulate", "parse_params", "count_prony"]
 
@@ -163,18 +164,7 @@ def parse_params(item: str) -> dict[str, float]:
 
 def count_prony(params: dict) -> int:
     """The number N of Prony terms in ``params`` (``G1, tau1 ... GN, tauN``, all needed)."""
-    idx = set()
-    for k in params:
-        for pre in ("G", "tau"):
-            if k.startswith(pre) and k[len(pre):].isdigit():
-                idx.add(int(k[len(pre):]))
-    n = max(idx) if idx else 0
-    if n > len(params):  # (G1000000000 alone: a gap too long to list)
-        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}, but only "
-                         f"{len(params)} constants are given: check the term numbers "
-                         "(give them with --param)")
-    missing = [f"{p}{i}" for i in range(1, n + 1) for p in ("G", "tau") if f"{p}{i}" not in params]
-    if missing:
-        raise UsageError(f"Prony terms need G_i and tau_i for i = 1..{n}: missing "
-                         f"{', '.join(missing)} (give them with --param)")
-    return n
+    try:
+        return ParamLayout.count_terms(params)
+    except ValueError as exc:
+        raise UsageError(f"{exc} (give them with --param)") from None

@@ -21,6 +21,7 @@ import numpy as np
 from vhfit import hyperelastic as _hyper
 from vhfit.export._solvers import records
 from vhfit.model import ModelSpec, Prony, ViscoHyperelastic, model_from_spec, spec_from_dict
+from vhfit.viscous import ParamLayout
 
 __all__ = [
     "Material",
@@ -142,7 +143,7 @@ def _model_of(doc: Mapping, params) -> ViscoHyperelastic:
     if n_prony is None:
         if not isinstance(params, Mapping):
             raise TypeError("give 'n_prony' when the parameters are an array")
-        n_prony = sum(1 for k in params if re.fullmatch(r"G\d+", str(k)))
+        n_prony = ParamLayout.count_terms(params)
     accuracy = {"rtol": float(doc["rtol"])} if "rtol" in doc else {}
     viscous = Prony(int(n_prony), str(doc.get("formulation", "hereditary")))
     return model_from_spec(ModelSpec(law, viscous, **accuracy))
@@ -300,11 +301,8 @@ class Material:
                 f"stiffness (E_inf = {E_inf:g} MPa)"
             )
         G0 = E_inf / self.g_inf
-        params = dict(zip(model.hyperelastic.param_names, hyper))
-        for i, (gi, ti) in enumerate(zip(self.g, self.tau), start=1):
-            params[f"G{i}"] = gi * G0
-            params[f"tau{i}"] = ti
-        return model, model.as_dict(model.check(params))
+        x = model.layout.assemble(hyper, [gi * G0 for gi in self.g], self.tau)
+        return model, model.as_dict(model.check(x))
 
     @staticmethod
     def params_from_moduli(
@@ -315,12 +313,10 @@ class Material:
         if len(G) != len(tau):
             raise ValueError(f"{solver} card: {len(G)} Prony moduli but {len(tau)} times")
         model = model_from_spec(_card_spec(hyperelastic, len(G)))
-        params = {n: float(constants.get(n, 0.0)) for n in model.hyperelastic.param_names}
-        for i, (Gi, ti) in enumerate(zip(G, tau), start=1):
-            params[f"G{i}"] = float(Gi)
-            params[f"tau{i}"] = float(ti)
+        law = [float(constants.get(n, 0.0)) for n in model.hyperelastic.param_names]
+        values = model.layout.assemble(law, [float(v) for v in G], [float(v) for v in tau])
         try:
-            x = model.check(params)
+            x = model.check(values)
         except ValueError as err:
             raise ValueError(f"{solver} card: {err}") from None
         return model, model.as_dict(x)
