@@ -2783,4 +2783,16 @@ MUTANTS: list[Mutant] = [
       "                if np.isfinite(x[k]):\n",
       "the box grown for a contained fit moves a bound the user gave",
       ("tests/test_nesting_guarantee.py",)),
+    M("nesting_check_grid_unseeded", "vhfit/calibration/_workflow.py",
+      "                                             time.perf_counter(), nested)\n",
+      "                                             time.perf_counter())\n",
+      "the fit again on the stability check's grid forgets the contained fits: it can end "
+      "above them",
+      ("tests/test_nesting_guarantee.py",)),
+    M("nesting_check_grid_unfloored", "vhfit/calibration/_workflow.py",
+      "        x1, e1, kept1 = _nesting.accept_if_lower(fine, SPACES[settings.method](fine),\n",
+      "        kept1 = kept\n        _ = (fine, SPACES[settings.method](fine),\n",
+      "the constants solved again on the stability check's grid (no Prony terms) are not "
+      "floored by the contained fits",
+      ("tests/test_nesting_guarantee.py",)),
 ]

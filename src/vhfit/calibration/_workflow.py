@@ -500,7 +500,8 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
                 prob, found, x, err, kept = prob2, found2, x2, err2, kept2
             hits = bound_hits(prob, x)
     if stable:  # unstable between the search's grid stretches: again on the check's own
-        prob, x, err, n_fine = _on_check_grid(prob, curves, s, n_prony, x, err, max_time, t0)
+        prob, x, err, n_fine, kept = _on_check_grid(prob, curves, s, n_prony, x, err,
+                                                    max_time, t0, nested, kept)
         nfev += n_fine
     heads = bound_hit_headlines(prob, x, hits, widened) + pinned_headlines(prob, x, hits)
     if not stable:
@@ -532,33 +533,38 @@ def _calibrate_n(curves, settings: CalibrationSettings, n_prony: int, *, checkpo
 
 
 def _on_check_grid(prob: Problem, curves, settings: CalibrationSettings, n_prony: int,
-                   x: np.ndarray, err: float, max_time, t0):
+                   x: np.ndarray, err: float, max_time, t0, nested=(), kept=None):
     """The fit again with the admissible set on the final check's stretches, where the
     search's coarser grid let it be unstable between two of its stretches: without Prony
     terms the linear constants solved again for the fit's nonlinear ones, then polished;
-    otherwise the search and polish again. Returns (prob, x, err, evaluations); the fit
-    as it was where the check already passes (or the second one finds nothing finite)."""
+    otherwise the search and polish again. Either way the result is floored by the same
+    ``nested`` fits (each passed its own check), and the search is seeded by them.
+    Returns (prob, x, err, evaluations, kept), ``kept`` the label of the nested fit kept;
+    the fit as it was (and ``kept`` as given) where the check already passes or the
+    second one finds nothing finite."""
     from vhfit.stability import drucker
 
     nh = prob.hm.n_params
     if drucker(prob.hm, x[:nh], prob.stability_range, principal=True).stable:
-        return prob, x, err, 0
+        return prob, x, err, 0, kept
     fine = Problem(prob.model, curves, prob.tau_b, prob.bounds, prob.g_inf_min,
                    prob.objective_spec, prob.stability_range, prob.user_bounds,
                    grid_points=CHECK_POINTS)
     if n_prony == 0 and prob.hm.linear_index:
         X, e = SPACES["separable"](fine).solve_constants(x[None, :nh])
         if not np.isfinite(e[0]):
-            return prob, x, err, 1
+            return prob, x, err, 1, kept
         x1, e1, n = polish(fine, X[0]) if settings.polish else (X[0], float(e[0]), 0)
-        return fine, x1, float(e1), n + 1
+        x1, e1, kept1 = _nesting.accept_if_lower(fine, SPACES[settings.method](fine),
+                                                 list(nested), x1, float(e1), settings.polish)
+        return fine, x1, e1, n + 1, kept1
     left = None if max_time is None else max_time - (time.perf_counter() - t0)
     try:
-        _, x1, e1, n, _ = _search_polish(fine, curves, settings, n_prony, None, left,
-                                         time.perf_counter())
+        _, x1, e1, n, kept1 = _search_polish(fine, curves, settings, n_prony, None, left,
+                                             time.perf_counter(), nested)
     except CalibrationError:
-        return prob, x, err, 0
-    return fine, x1, e1, n
+        return prob, x, err, 0, kept
+    return fine, x1, e1, n, kept1
 
 
 def stability_range_of(settings: CalibrationSettings, curves) -> tuple[float, float]:
