@@ -172,7 +172,7 @@ def _secant(g, guess: float) -> float | None:
         if not x1 > 0:
             return None
         if abs(x1 - x0) <= 4.0 * np.finfo(float).eps * x1:
-            return x1
+            return x0  # as good to the last bits, and its state is known
     return None
 
 
@@ -240,12 +240,17 @@ def creep(point: MaterialPoint, stress: float, time: np.ndarray, rtol: float) ->
         past, new = B[:, :-1] @ lam[k:n + 1], B[:, -1]
         guess = float(_lagrange(nodes[:-1], t[n + 1:n + 2])[0] @ lam[k:n + 1])
         start = float(lam[n])
+        tried: dict[float, np.ndarray] = {}  # the state at each stretch tried
 
-        def g(x: float, state=state, past=past, new=new, start=start, h=h) -> float:
-            return (point.step(state, _path(start, past, new, x), h)[0] - stress) / scale
+        def g(x: float, state=state, past=past, new=new, start=start, h=h,
+              tried=tried) -> float:
+            s, tried[x] = point.step(state, _path(start, past, new, x), h)
+            return (s - stress) / scale
 
         lam[n + 1] = _solve(g, start, guess if guess > 0 else start,
                             f"σ = {stress:g} MPa held at t = {t[n + 1]:g} s (the model "
                             "creeps without bound: its long-term law cannot carry it)")
-        state = point.step(state, _path(start, past, new, lam[n + 1]), h)[1]
+        if lam[n + 1] not in tried:  # a root the solver did not evaluate
+            g(lam[n + 1])
+        state = tried[lam[n + 1]]
     return lam[idx]
