@@ -81,10 +81,10 @@ MODE_FACTOR = {"uniaxial": 1.0, "equibiaxial": 2.0, "planar": 4.0 / 3.0}
 def test_small_strain_creep_is_the_maxwell_creep_compliance(deformation, formulation):
     """Two terms at σ = ±1e-4 E∞: the odd part in σ of the creep strain is σ J(t)/k.
 
-    The strain's even part, O(σ²), is the finite-strain correction (about 1e-5 of the
-    strain at this load: the kinematics of the hereditary kernel and of the laws); the
-    odd part keeps O(σ³), 1e-8 relative, so that the 1e-6 is the model's own accuracy
-    (its default rtol).
+    The strain's even part, O(σ²), is the finite-strain correction (4e-5 of the strain
+    at this load, for this law: the kinematics of the kernels and of the law); the odd
+    part keeps O(σ³), 1e-8 relative, so that the 1e-6 is the model's own accuracy (its
+    default rtol).
     """
     G, tau = [2.0 * E_INF, 5.0 * E_INF], [0.01, 1.0]
     m = ViscoHyperelastic("mooney_rivlin", 2, formulation=formulation)
