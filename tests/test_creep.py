@@ -97,16 +97,18 @@ def test_small_strain_creep_is_the_maxwell_creep_compliance(deformation, formula
     assert err < 1e-6, err
 
 
-def test_stiff_wide_spectrum_meets_the_accuracy():
+@pytest.mark.parametrize("rtol", [1e-3, 1e-4, 1e-6])
+def test_stiff_wide_spectrum_meets_the_accuracy(rtol):
     """G/E∞ = 1e3 and τ over ten decades (1e-5 s and 1e5 s), outputs over twelve: the
-    grid's fourth-order error is largest for the stiffest series and stays below 1e-6."""
+    grid's fourth-order error is largest for the stiffest series and stays below the
+    model's rtol (below 1e-6 the odd part's own O(σ²) = 1e-8 would blur the check)."""
     G, tau = [1e3 * E_INF, 1e-2 * E_INF], [1e-5, 1e5]
-    m = ViscoHyperelastic("mooney_rivlin", 2)
+    m = ViscoHyperelastic("mooney_rivlin", 2, rtol=rtol)
     t = np.concatenate([[0.0], np.logspace(-6, 6, 25)])
     s = 1e-4 * E_INF
     odd = 0.5 * (m.creep(params(G, tau), s, t) - m.creep(params(G, tau), -s, t))
     err = np.max(np.abs(odd / (s * creep_compliance(t, E_INF, G, tau)) - 1.0))
-    assert err < 1e-6, err
+    assert err < rtol, err
 
 
 # ------------------------------------------------------------------ finite strain
