@@ -134,6 +134,12 @@ def _psi(x):
     return e, psi0, psi1, psi2, psi3
 
 
+@_njit(cache=True, inline="always", error_model="numpy")
+def _decay_add(r, e, q0, q1, q2, q3, d0, d1, d2, d3):
+    """A running integral over one step: e^(−x) r + Σ_j d_j ψ_j(x) (the step of §6)."""
+    return e * r + d0 * q0 + d1 * q1 + d2 * q2 + d3 * q3
+
+
 @_njit(cache=True, error_model="numpy")
 def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out):
     """One parameter set on one curve: the recursion over the curve's steps.
@@ -191,8 +197,8 @@ def _job(p, c, s_hat, lam, h, sample_off, step_off, G, tau, D, columns, out):
         acc = 0.0
         for i in range(N):
             e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
-            Ps[i] = e * Ps[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
-            Qs[i] = e * Qs[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
+            Ps[i] = _decay_add(Ps[i], e, q0, q1, q2, q3, da0, da1, da2, da3)
+            Qs[i] = _decay_add(Qs[i], e, q0, q1, q2, q3, db0, db1, db2, db3)
             if columns:
                 out[p * N + i, node0 + k + 1] = 0.0 + 1.0 * (w2 * Ps[i] + w1 * Qs[i])
             else:
@@ -367,8 +373,8 @@ def _job_general(p, c, f0, f1, w, h, sample_off, step_off, G, tau, D, rep, d, ou
         acc = 0.0
         for i in range(N):
             e, q0, q1, q2, q3 = _psi(hk / tau[p, i])
-            R0[i] = e * R0[i] + da0 * q0 + da1 * q1 + da2 * q2 + da3 * q3
-            R1[i] = e * R1[i] + db0 * q0 + db1 * q1 + db2 * q2 + db3 * q3
+            R0[i] = _decay_add(R0[i], e, q0, q1, q2, q3, da0, da1, da2, da3)
+            R1[i] = _decay_add(R1[i], e, q0, q1, q2, q3, db0, db1, db2, db3)
             acc += G[p, i] * (w0 * R0[i] + w1 * R1[i])
         out[p, node] = acc
 
@@ -428,6 +434,62 @@ def overstress_general(f0, f1, w, h, sample_off, step_off, G, tau, D, parallel=N
     f = compiled("_general_par" if parallel else "_general_seq")
     return f(f0, f1, w, h, sample_off, step_off, G, tau, D, int(repeat),
              _NO_STEPS if steps is None else steps)
+
+
+# ------------------------------------------------------------ one step, from a state
+@_njit(cache=True, error_model="numpy")
+def _advance(R0, R1, f0, f1, h, tau, D):
+    """The running integrals R_0, R_1 of every τ after one step of length ``h``: the
+    arithmetic of :func:`_job_general`'s step, from a given state."""
+    d = np.zeros(8)
+    for m in range(STRIDE + 1):  # the kernel's order of summation: the same bits
+        for j in range(4):
+            d[j] += D[j, m] * f0[m]
+            d[4 + j] += D[j, m] * f1[m]
+    out0 = np.empty(tau.shape[0])
+    out1 = np.empty(tau.shape[0])
+    for i in range(tau.shape[0]):
+        e, q0, q1, q2, q3 = _psi(h / tau[i])
+        out0[i] = _decay_add(R0[i], e, q0, q1, q2, q3, d[0], d[1], d[2], d[3])
+        out1[i] = _decay_add(R1[i], e, q0, q1, q2, q3, d[4], d[5], d[6], d[7])
+    return out0, out1
+
+
+def advance(R0, R1, f0, f1, h: float, tau) -> tuple[np.ndarray, np.ndarray]:
+    """One step of the recursion from a state: the kernel stepped by hand.
+
+    The state of a Prony series is its running integrals, R_k,i (k = 0, 1; one per
+    relaxation time τ_i); over a step of length ``h`` they decay by e^(−h/τ_i) and gain
+    the step's integral of the factors' quartic interpolant (docs/theory.md §6, §13), as
+    in :func:`overstress_general`. A stress-controlled history (a creep test) takes its
+    steps one at a time, the stretch at a step's end being unknown until it is solved.
+
+    Parameters
+    ----------
+    R0, R1 : (N,) the running integrals at the step's start.
+    f0, f1 : (5,) the factors f_k at the step's Gauss–Lobatto points (``LOBATTO``).
+    h : float
+        Step length in s.
+    tau : (N,) relaxation times.
+
+    Returns
+    -------
+    R0, R1 : (N,) the running integrals at the step's end (new arrays).
+
+    Examples
+    --------
+    A constant factor only decays (here over one relaxation time):
+
+    >>> R0, R1 = advance(np.ones(1), np.zeros(1), np.full(5, 2.0), np.zeros(5), 1.0, np.ones(1))
+    >>> round(float(R0[0]), 12) == round(float(np.exp(-1.0)), 12), float(R1[0])
+    (True, 0.0)
+    """
+    f = compiled("_advance")
+    return f(np.ascontiguousarray(R0, dtype=np.float64),
+             np.ascontiguousarray(R1, dtype=np.float64),
+             np.ascontiguousarray(f0, dtype=np.float64),
+             np.ascontiguousarray(f1, dtype=np.float64), float(h),
+             np.ascontiguousarray(tau, dtype=np.float64), DERIV)
 
 
 # ------------------------------------------------- factors shared by every row

@@ -30,7 +30,7 @@ from vhfit import hyperelastic as _hyper
 from vhfit._batch import Batch
 from vhfit.formulations import get_formulation
 from vhfit.history import History
-from vhfit.modes import check_deformation, check_direction, get_deformation
+from vhfit.modes import check_deformation, check_direction, get_deformation, refusal_for
 from vhfit.viscoelastic import check_prony, prony_g
 from vhfit.viscous import ParamLayout
 
@@ -681,6 +681,100 @@ class ViscoHyperelastic:
         if shape_of is not None:
             out = out.reshape(np.shape(shape_of))
         return out
+
+    def creep(self, params, stress: float, time, *, deformation: str = "uniaxial",
+              measure: str = "true") -> np.ndarray:
+        """Stretch of a creep test: ``stress`` applied at once at t = 0, then held.
+
+        The load is a step: at t = 0 the stretch jumps to the instantaneous response,
+        what the recursion gives for a jump from rest (every branch at its instantaneous
+        state, h_i = ŝ in the "hereditary" formulation: the law with its instantaneous
+        modulus, σ_h/g∞), and then creeps towards the long-term response σ_h(λ) = σ.
+        It is found by time-stepping the model's state (the recursion of each Prony
+        term) and solving, at each node of a fixed grid, the scalar equation
+        σ(λ_(n+1); state_n) = ``stress``; the grid is chosen from ``time`` and
+        :attr:`rtol` alone (uniform in ln t, refined towards t = 0 where the creep is
+        fastest; docs/theory.md §15), never from the parameters.
+
+        Parameters
+        ----------
+        params : dict or array_like
+            One parameter set.
+        stress : float
+            The held stress in MPa (negative in compression), in ``measure``.
+        time : array_like
+            Times in s (>= 0, non-decreasing) at which the stretch is wanted; t = 0 gives
+            the instantaneous response.
+        deformation : str
+            A test driven by λ1 alone in principal axes: "uniaxial" (default),
+            "equibiaxial", "planar" (or a registered one of that kind).
+        measure : {"true", "engineering"}
+            The held stress is true (Cauchy) or engineering (nominal, force per
+            undeformed area: a dead load).
+
+        Returns
+        -------
+        ndarray
+            λ1 at each time (same shape as ``time``).
+
+        Raises
+        ------
+        ValueError
+            In one line: a test that is not driven by one stretch (simple shear, biaxial),
+            times out of order, or a stress the model cannot carry (at t = 0, or later
+            when its long-term law cannot).
+
+        Examples
+        --------
+        A neo-Hookean model with no Prony term does not creep: 2 C10 (λ² − 1/λ) = σ.
+
+        >>> m = ViscoHyperelastic("neo_hooke", n_prony=0)
+        >>> lam = m.creep([0.5], 3.5, [0.0, 1.0])
+        >>> [round(float(v), 12) for v in lam]
+        [2.0, 2.0]
+        """
+        from vhfit import _creep  # noqa: PLC0415 (the stepper: only a creep test needs it)
+
+        x = self.check(params)
+        check_deformation(deformation)
+        test = get_deformation(deformation)
+        if test.shear:
+            raise ValueError(
+                f"creep in {test.name} is refused: a shear creep test must also prescribe "
+                "the normal stresses that hold the shear (the Poynting effect), which a "
+                "single held stress does not; use uniaxial, equibiaxial or planar tension")
+        if test.second_stretch:
+            raise ValueError(
+                f"creep in {test.name} is refused: two prescribed stretches need two held "
+                "stresses; use uniaxial, equibiaxial or planar tension")
+        why = refusal_for(self.hyperelastic, test.name)
+        if why:
+            raise ValueError(why)
+        if measure not in ("true", "engineering"):
+            raise ValueError(f"measure = {measure!r}; choose 'true' or 'engineering'")
+        try:
+            s = float(stress)
+        except (TypeError, ValueError):
+            raise ValueError(f"stress must be a number in MPa, got {stress!r}") from None
+        if not np.isfinite(s):
+            raise ValueError(f"stress = {stress!r} must be finite (MPa)")
+        t = np.asarray(time, dtype=np.float64)
+        flat = t.reshape(-1)
+        if not flat.size:
+            raise ValueError("time is empty: give at least one time (0: the instantaneous "
+                             "response)")
+        bad = ~np.isfinite(flat) | (flat < 0)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(f"time[{i}] = {flat[i]!r} must be finite and >= 0 s (the load "
+                             "is applied at t = 0)")
+        back = np.flatnonzero(np.diff(flat) < 0)
+        if back.size:
+            i = int(back[0]) + 1
+            raise ValueError(f"time must not decrease, but time[{i}] = {flat[i]:g} < "
+                             f"time[{i - 1}] = {flat[i - 1]:g}: sort the times")
+        point = _creep.MaterialPoint(self, x, test.name, measure)
+        return _creep.creep(point, s, flat, self.rtol).reshape(t.shape)
 
     def batch(self, histories: Sequence, *, measure: str | Sequence[str] | None = None) -> Batch:
         """A compiled evaluation plan for many parameter sets on fixed histories.
