@@ -56,10 +56,11 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     verdict = [cal.verdict(interrupted=interrupted)]
     head = [f"data: {label}"] if label else []
     note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
-    job = (cal, curves, out, args.no_plot, demo, raw, note and note.split(";")[0])
+    fitted = cal.fitted_curves(curves)
+    job = (cal, curves, out, args.no_plot, demo, raw, note and note.split(";")[0],
+           None if drawer is None else _lines(cal, curves, args.no_plot), fitted)
     drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
 
-    fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
     moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
@@ -121,16 +122,37 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
 
 # ================================================================== figures
 def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, raw,
-                 mark: str | None) -> tuple[dict[str, str], str | None, tuple | None]:
+                 mark: str | None, lines: list | None = None, fits: list | None = None
+                 ) -> tuple[dict[str, str], str | None, tuple | None]:
     """The plots into ``out`` ({kind: file}, a note on those not drawn) and the report's
     figures (:func:`vhfit.report.draw_figures`; None without figures), every one marked
-    with ``mark`` (an unfinished search's line, or None)."""
+    with ``mark`` (an unfinished search's line, or None).
+
+    ``lines`` (:func:`vhfit.plot.model_lines`) and ``fits`` (``cal.fitted_curves``) of
+    ``curves``: the model's values, computed already (None: computed here). The drawer
+    gets them from the process of the fit, whose compiled kernels are loaded: loading
+    them again there would cost it half a second before its first figure.
+    """
     with plot.marked(mark) if mark else contextlib.nullcontext():
-        plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw)
+        plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw,
+                                       lines=lines)
         figures = None
         if not skip and plot.have_matplotlib():
-            figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()})
+            figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
+                                          fits=fits)
     return plots, plot_note, figures
+
+
+def _lines(cal: Calibration, curves, skip: bool) -> list | None:
+    """The model lines of ``fit.png`` (:func:`vhfit.plot.model_lines`), for the drawer;
+    None without that plot, or where they fail (the drawer then meets the failure and
+    says it, as when it draws alone)."""
+    if skip or all(is_moduli(c) for c in curves):
+        return None
+    try:
+        return plot.model_lines(cal, curves)
+    except Exception:  # noqa: BLE001 - reported by the plot that needs them
+        return None
 
 
 class Drawer:
@@ -219,9 +241,10 @@ def _draw_when_asked(jobs, send, callback) -> tuple | None:
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
-                raw=None) -> tuple[dict[str, str], str | None]:
+                raw=None, lines: list | None = None) -> tuple[dict[str, str], str | None]:
     """The plots that apply ({kind: file}) and a note on those not drawn (``raw``: the
-    tests as measured, whose temperatures colour the moduli plot; it shifts them)."""
+    tests as measured, whose temperatures colour the moduli plot; it shifts them;
+    ``lines``: the fit plot's model lines, computed already)."""
     if skip:
         return {}, "plots skipped (--no-plot)"
     if not plot.have_matplotlib():
@@ -232,7 +255,8 @@ def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
             plot.plot_fit(cal, curves, out / "fit.png",
                           title=None if not demo else
                           f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
-                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
+                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %",
+                          lines=lines)
             plots["fit"] = "fit.png"
         if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
             plot.plot_moduli_fit(cal, raw or curves, out / "moduli.png")
