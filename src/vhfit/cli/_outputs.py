@@ -14,6 +14,8 @@ import csv
 import dataclasses
 import io
 import multiprocessing
+import os
+import shutil
 from pathlib import Path
 
 from vhfit import plot, report
@@ -34,9 +36,11 @@ from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation
 
-__all__ = ["write_outputs", "Drawer", "draw_figures"]
+__all__ = ["write_outputs", "Drawer", "draw_figures", "figure_job", "send_early"]
 
 RESULTS = "results.json"
+#: Where the drawer puts the figures it draws before the outputs are written.
+STAGING = ".figures.partial"
 
 
 # ================================================================== outputs
@@ -56,10 +60,17 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     verdict = [cal.verdict(interrupted=interrupted)]
     head = [f"data: {label}"] if label else []
     note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
-    fitted = cal.fitted_curves(curves)
-    job = (cal, curves, out, args.no_plot, demo, raw, note and note.split(";")[0],
-           None if drawer is None else _lines(cal, curves, args.no_plot), fitted)
-    drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
+    mark = note and note.split(";")[0]
+    job = None if drawer is None else drawer.sent  # sent after the first fit (send_early)
+    if job is not None and not (job[0] is cal and job[1] is curves and job[6] == mark):
+        drawer.close()  # drawn for another state of the run (a later fit interrupted)
+        drawer = job = None
+    drawing = job is not None
+    if job is None:
+        job = figure_job(cal, curves, out, args, demo=demo, raw=raw, mark=mark,
+                         lines=drawer is not None)
+        drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
+    fitted = job[-1]
 
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
@@ -120,6 +131,31 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     return written
 
 
+def send_early(drawer: Drawer | None, fits: dict, curves, args, out: Path, *, demo: bool,
+               at_ref=None) -> None:
+    """Hand the first fit's figures to the drawer now, while the fits of the other
+    formulations run (they draw the first fit only), into a folder of their own
+    (:meth:`Drawer.send` ``staged``): a run that fails before its outputs leaves no
+    figure behind. :func:`write_outputs` takes them if they are still the run's (no
+    later fit was interrupted: its mark is on every figure), else draws them anew."""
+    if drawer is None or drawer.sent is not None:
+        return
+    cal = next(iter(fits.values()))
+    note = unfinished(cal, False)
+    drawer.send(figure_job(cal, at_ref or curves, out, args, demo=demo,
+                           raw=curves, mark=note and note.split(";")[0], lines=True),
+                staged=True)
+
+
+def figure_job(cal: Calibration, curves, out: Path, args, *, demo: bool, raw, mark,
+               lines: bool) -> tuple:
+    """The arguments of :func:`draw_figures` for the fit ``cal`` of ``curves`` (at the
+    reference temperature; ``raw`` as measured), with the fitted curves (the last item,
+    also the CSV's) and, if ``lines``, the fit plot's model lines, computed here."""
+    return (cal, curves, out, args.no_plot, demo, raw, mark,
+            _lines(cal, curves, args.no_plot) if lines else None, cal.fitted_curves(curves))
+
+
 # ================================================================== figures
 def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, raw,
                  mark: str | None, lines: list | None = None, fits: list | None = None
@@ -172,6 +208,9 @@ class Drawer:
         jobs, self._send = multiprocessing.get_context("fork").Pipe(duplex=False)
         self._call = ForkedCall(_draw_when_asked, jobs, self._send)
         jobs.close()
+        #: the job sent (:func:`draw_figures`' arguments), or None
+        self.sent: tuple | None = None
+        self._staged: Path | None = None  # the results folder of a staged job
 
     @classmethod
     def start(cls, args) -> Drawer | None:
@@ -181,38 +220,55 @@ class Drawer:
             return None
         return cls()
 
-    def send(self, job: tuple) -> bool:
+    def send(self, job: tuple, staged: bool = False) -> bool:
         """Hand over :func:`draw_figures`' arguments; False if they cannot go (drawn here).
 
-        The calibration goes without its settings' callback (the command line's progress
+        ``staged``: the figures are drawn into a folder ``STAGING`` of the job's results
+        folder, and :meth:`result` moves the plots into it (:func:`send_early`). The
+        calibration goes without its settings' callback (the command line's progress
         closure, which does not pickle and draws nothing).
         """
-        cal, *rest = job
+        cal, curves, out, *rest = job
         if cal.settings is not None and cal.settings.callback is not None:
             cal = dataclasses.replace(cal, settings=dataclasses.replace(cal.settings,
                                                                         callback=None))
         try:
-            self._send.send((cal, *rest))
+            if staged:
+                self._staged = out
+                shutil.rmtree(out / STAGING, ignore_errors=True)  # a killed run's
+                (out / STAGING).mkdir()
+                out = out / STAGING
+            self._send.send((cal, curves, out, *rest))
         except Exception:  # noqa: BLE001 - e.g. not picklable: the figures are drawn here
             self.close()
             return False
+        self.sent = job
         return True
 
     def result(self) -> tuple | None:
-        """What :func:`draw_figures` returned there, or None if the process was lost."""
+        """What :func:`draw_figures` returned there (its plots in the results folder), or
+        None if the process was lost."""
         try:
-            return self._call.result()
+            drawn = self._call.result()
+            if drawn is not None and self._staged is not None:
+                for name in drawn[0].values():
+                    os.replace(self._staged / STAGING / name, self._staged / name)
+            return drawn
         except ChildLost:
             return None
         finally:
             self.close()
 
     def close(self) -> None:
-        """End the process if it still runs (its figures not wanted, or already read)."""
+        """End the process if it still runs (its figures not wanted, or already read),
+        and remove what it staged."""
         if not self._send.closed:
             self._send.close()  # a drawer still waiting reads the end of its jobs
         if self._call.process.is_alive():
             self._call.cancel()
+        if self._staged is not None:
+            shutil.rmtree(self._staged / STAGING, ignore_errors=True)
+            self._staged = None
 
 
 def _draw_when_asked(jobs, send, callback) -> tuple | None:
