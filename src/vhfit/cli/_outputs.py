@@ -254,7 +254,7 @@ class Drawer:
                 for name in drawn[0].values():
                     os.replace(self._staged / STAGING / name, self._staged / name)
             return drawn
-        except ChildLost:
+        except (ChildLost, OSError):  # lost, or its plots not moved: drawn here
             return None
         finally:
             self.close()
