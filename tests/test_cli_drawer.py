@@ -28,10 +28,10 @@ mode, out, *files = sys.argv[1:]
 given = _outputs.draw_figures
 
 
-def draw(*job):  # which process draws (the drawer runs the name it finds here)
+def draw(*job, **kw):  # which process draws (the drawer runs the name it finds here)
     with open(out + ".pids", "a") as f:
         f.write(f"{os.getpid()}\n")
-    drawn = given(*job)
+    drawn = given(*job, **kw)
     open(out + ".drawn", "w").close()
     return drawn
 

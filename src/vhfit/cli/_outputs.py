@@ -20,7 +20,7 @@ from pathlib import Path
 
 from vhfit import plot, report
 from vhfit._io import atomic_write
-from vhfit._pools import ChildLost, ForkedCall, fork_is_safe, usable_cpus
+from vhfit._pools import ChildLost, ForkedCall, fork_is_safe, forked, usable_cpus
 from vhfit.calibration import (
     Calibration,
 )
@@ -35,6 +35,7 @@ from vhfit.cli._common import (
 from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation
+from vhfit.report._figures import residual_figure
 
 __all__ = ["write_outputs", "Drawer", "draw_figures", "figure_job", "send_early"]
 
@@ -158,8 +159,8 @@ def figure_job(cal: Calibration, curves, out: Path, args, *, demo: bool, raw, ma
 
 # ================================================================== figures
 def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, raw,
-                 mark: str | None, lines: list | None = None, fits: list | None = None
-                 ) -> tuple[dict[str, str], str | None, tuple | None]:
+                 mark: str | None, lines: list | None = None, fits: list | None = None,
+                 shared: bool = False) -> tuple[dict[str, str], str | None, tuple | None]:
     """The plots into ``out`` ({kind: file}, a note on those not drawn) and the report's
     figures (:func:`vhfit.report.draw_figures`; None without figures), every one marked
     with ``mark`` (an unfinished search's line, or None).
@@ -167,9 +168,14 @@ def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, ra
     ``lines`` (:func:`vhfit.plot.model_lines`) and ``fits`` (``cal.fitted_curves``) of
     ``curves``: the model's values, computed already (None: computed here). The drawer
     gets them from the process of the fit, whose compiled kernels are loaded: loading
-    them again there would cost it half a second before its first figure.
+    them again there would cost it half a second before its first figure. ``shared``:
+    the small figures are drawn by a copy of this process meanwhile (:func:`_shared`).
     """
     with plot.marked(mark) if mark else contextlib.nullcontext():
+        if shared and not skip and plot.have_matplotlib():
+            drawn = _shared(cal, curves, out, demo, raw, lines, fits)
+            if drawn is not None:
+                return drawn
         plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw,
                                        lines=lines)
         figures = None
@@ -177,6 +183,41 @@ def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, ra
             figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
                                           fits=fits)
     return plots, plot_note, figures
+
+
+#: The plots a copy of the drawer draws (:func:`_shared`), beside the report's residuals.
+SMALL_PLOTS = ("history", "order_scan")
+
+
+def _shared(cal: Calibration, curves, out: Path, demo: bool, raw, lines, fits
+            ) -> tuple[dict[str, str], None, tuple] | None:
+    """:func:`draw_figures` on two CPUs: a forked copy of this process (matplotlib
+    loaded) draws the small plots and the report's residuals while this one draws the
+    fit and moduli plots; then the report's figures are made with those residuals.
+
+    None if either part failed or the copy could not run: then everything is drawn
+    again, one figure after the other, and fails as it does alone.
+    """
+    curves = list(curves)
+    fits = cal.fitted_curves(curves) if fits is None else fits
+
+    def small():
+        plots, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw,
+                                  only=SMALL_PLOTS)
+        if note is not None or all(is_moduli(c) for c in curves):
+            return plots, note, None
+        return plots, note, residual_figure(cal, curves, fits)
+
+    answer = forked(small)
+    mine, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw, lines=lines,
+                             only=tuple(k for k in PLOT_FILES if k not in SMALL_PLOTS))
+    theirs = answer()
+    if note is not None or theirs is None or theirs[1] is not None:
+        return None
+    plots = {k: f for k in PLOT_FILES for d in (mine, theirs[0]) if k in d for f in [d[k]]}
+    given = {} if theirs[2] is None else {"residuals": theirs[2]}
+    return plots, None, report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
+                                            fits=fits, given=given)
 
 
 def _lines(cal: Calibration, curves, skip: bool) -> list | None:
@@ -293,36 +334,43 @@ def _draw_when_asked(jobs, send, callback) -> tuple | None:
         job = jobs.recv()
     except EOFError:  # the fit ended without outputs
         return None
-    return draw_figures(*job)
+    return draw_figures(*job, shared=True)
+
+
+#: The plots of ``vhfit fit``, kind -> file, in the order they are drawn.
+PLOT_FILES = {"fit": "fit.png", "moduli": "moduli.png", "history": "history.png",
+              "order_scan": "order_scan.png"}
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
-                raw=None, lines: list | None = None) -> tuple[dict[str, str], str | None]:
+                raw=None, lines: list | None = None, only: tuple | None = None
+                ) -> tuple[dict[str, str], str | None]:
     """The plots that apply ({kind: file}) and a note on those not drawn (``raw``: the
     tests as measured, whose temperatures colour the moduli plot; it shifts them;
-    ``lines``: the fit plot's model lines, computed already)."""
+    ``lines``: the fit plot's model lines, computed already; ``only``: these kinds)."""
     if skip:
         return {}, "plots skipped (--no-plot)"
     if not plot.have_matplotlib():
         return {}, f"plots skipped: {plot.INSTALL_HINT}"
     plots: dict[str, str] = {}
+    kinds = set(PLOT_FILES if only is None else only)
     try:
-        if not all(is_moduli(c) for c in curves):
-            plot.plot_fit(cal, curves, out / "fit.png",
+        if "fit" in kinds and not all(is_moduli(c) for c in curves):
+            plot.plot_fit(cal, curves, out / PLOT_FILES["fit"],
                           title=None if not demo else
                           f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
                           f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %",
                           lines=lines)
-            plots["fit"] = "fit.png"
-        if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
-            plot.plot_moduli_fit(cal, raw or curves, out / "moduli.png")
-            plots["moduli"] = "moduli.png"
-        if cal.history and cal.history.get("nit"):
-            plot.plot_history(cal, out / "history.png")
-            plots["history"] = "history.png"
-        if cal.order_scan:
-            plot.plot_order_scan(cal, out / "order_scan.png")
-            plots["order_scan"] = "order_scan.png"
+            plots["fit"] = PLOT_FILES["fit"]
+        if "moduli" in kinds and any(is_moduli(c) for c in curves):  # sweeps, relaxation
+            plot.plot_moduli_fit(cal, raw or curves, out / PLOT_FILES["moduli"])
+            plots["moduli"] = PLOT_FILES["moduli"]
+        if "history" in kinds and cal.history and cal.history.get("nit"):
+            plot.plot_history(cal, out / PLOT_FILES["history"])
+            plots["history"] = PLOT_FILES["history"]
+        if "order_scan" in kinds and cal.order_scan:
+            plot.plot_order_scan(cal, out / PLOT_FILES["order_scan"])
+            plots["order_scan"] = PLOT_FILES["order_scan"]
     except Exception as exc:
         return plots, f"plots failed: {one_line(exc)}"
     return plots, None

@@ -114,7 +114,7 @@ def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
 
 
 def draw_figures(cal, curves: Sequence, images: dict | None = None, *,
-                 fits: list | None = None) -> tuple[list, dict]:
+                 fits: list | None = None, given: dict | None = None) -> tuple[list, dict]:
     """The report's figures of a calibration, drawn (:func:`build_report` takes them as
     ``drawn=``, e.g. from another process: they are plain data).
 
@@ -129,6 +129,10 @@ def draw_figures(cal, curves: Sequence, images: dict | None = None, *,
     fits : list, optional
         ``cal.fitted_curves(curves)``, computed already (e.g. where the model's kernels
         are loaded); default: computed here.
+    given : dict, optional
+        Figures drawn already (e.g. by another process), by key: ``residuals``
+        (:func:`vhfit.report._figures.residual_figure` of the same calibration, curves
+        and fits), used instead of drawing it here.
 
     Returns
     -------
@@ -147,7 +151,8 @@ def draw_figures(cal, curves: Sequence, images: dict | None = None, *,
     main = _figures.fit_figures(cal, curves, fits, drawn) if curves else []
     other = {}
     if any(not is_moduli(c) for c in curves or []):
-        other["residuals"] = _figures.residual_figure(cal, curves, fits)
+        other["residuals"] = ((given or {}).get("residuals")
+                              or _figures.residual_figure(cal, curves, fits))
     if any(is_moduli(c) for c in curves or []):
         other["moduli"] = (_figures.from_file("moduli", "frequency sweeps and relaxation "
                                               "tests", "", images["moduli"])
