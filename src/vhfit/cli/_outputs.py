@@ -16,6 +16,7 @@ import io
 import multiprocessing
 import os
 import shutil
+import warnings
 from pathlib import Path
 
 from vhfit import plot, report
@@ -202,11 +203,12 @@ def _shared(cal: Calibration, curves, out: Path, demo: bool, raw, lines, fits
     fits = cal.fitted_curves(curves) if fits is None else fits
 
     def small():
-        plots, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw,
-                                  only=SMALL_PLOTS)
-        if note is not None or all(is_moduli(c) for c in curves):
-            return plots, note, None
-        return plots, note, residual_figure(cal, curves, fits)
+        with warnings.catch_warnings(record=True) as caught:  # raised again here
+            plots, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw,
+                                      only=SMALL_PLOTS)
+            residuals = (None if note is not None or all(is_moduli(c) for c in curves)
+                         else residual_figure(cal, curves, fits))
+        return plots, note, residuals, [(str(w.message), w.category) for w in caught]
 
     answer = forked(small)
     mine, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw, lines=lines,
@@ -214,6 +216,8 @@ def _shared(cal: Calibration, curves, out: Path, demo: bool, raw, lines, fits
     theirs = answer()
     if note is not None or theirs is None or theirs[1] is not None:
         return None
+    for message, category in theirs[3]:  # after this part's own: the order drawn alone
+        warnings.warn(message, category, stacklevel=2)
     plots = {k: f for k in PLOT_FILES for d in (mine, theirs[0]) if k in d for f in [d[k]]}
     given = {} if theirs[2] is None else {"residuals": theirs[2]}
     return plots, None, report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
