@@ -241,9 +241,11 @@ class Drawer:
 
     Forked before the fit, it loads matplotlib and draws a figure nobody sees (the first
     figure of a process pays for the fonts and the canvas) on the other CPU, then waits.
-    :func:`write_outputs` hands it the fit (:meth:`send`) and writes the cards while it
-    draws (:func:`draw_figures`); :meth:`result` is what it drew, or None if it was lost
-    (then they are drawn here). :meth:`close` ends it, used or not.
+    :func:`write_outputs` hands it the fit (:meth:`send`; :func:`send_early` as soon as
+    the first fit ends, when fits in other formulations follow) and writes the cards
+    while it draws (:func:`draw_figures`, on two CPUs: :func:`_shared`); :meth:`result`
+    is what it drew, or None if it was lost (then they are drawn here). :meth:`close`
+    ends it, used or not.
 
     Start one with :meth:`start`, which gives None where it does not pay (no figures
     asked, no matplotlib, one usable CPU) or a fork is not safe.
