@@ -21,17 +21,19 @@ import pytest
 pytest.importorskip("matplotlib")
 
 CHILD = r"""
-import json, multiprocessing, os, sys
+import json, multiprocessing, os, sys, time
 from vhfit.cli import _fit, _outputs, main
 
 mode, out, *files = sys.argv[1:]
 given = _outputs.draw_figures
 
 
-def draw(*job):  # which process draws (the drawer runs the name it finds here)
+def draw(*job, **kw):  # which process draws (the drawer runs the name it finds here)
     with open(out + ".pids", "a") as f:
         f.write(f"{os.getpid()}\n")
-    return given(*job)
+    drawn = given(*job, **kw)
+    open(out + ".drawn", "w").close()
+    return drawn
 
 
 _outputs.draw_figures = draw
@@ -44,6 +46,25 @@ elif mode == "fails":
     def refuse(*a, **k):
         raise ValueError("refused by the test")
     _fit.calibrate = refuse
+elif mode.startswith("later"):  # the fit of the second formulation fails, or is stopped
+    real, calls = _fit.calibrate, []
+
+    def later(*a, **k):
+        calls.append(1)
+        for _ in range(1200 if len(calls) > 1 and not mode.endswith("-here") else 0):
+            if os.path.exists(out + ".drawn"):  # the drawer drew the first fit's figures
+                break
+            time.sleep(0.1)
+        if len(calls) > 1 and mode == "later-fails":  # before a result: exit 1
+            raise KeyboardInterrupt
+        if len(calls) > 1:
+            def stop(progress):
+                raise KeyboardInterrupt
+            k["callback"] = stop
+        return real(*a, **k)
+    _fit.calibrate = later
+    if mode.endswith("-here"):
+        _outputs.Drawer.start = classmethod(lambda cls, args: None)
 code = main(["fit", *files, "--model", "neo_hooke", "--prony", "1", "--seed", "0",
              "--popsize", "8", "--maxiter", "4", "-q", "--out", out])
 print(json.dumps({"code": code, "pid": os.getpid(),
@@ -111,3 +132,33 @@ def test_the_figures_of_the_second_process_are_those_drawn_here(tmp_path):
 def test_a_failed_fit_leaves_no_drawer_behind(tmp_path):
     child, pids, _ = _run(tmp_path, "fails", _files(tmp_path))
     assert child["code"] == 2 and child["children"] == 0 and pids == []
+
+
+def test_figures_drawn_during_a_later_fit_that_is_interrupted_are_drawn_again_marked(tmp_path):
+    # the drawer starts on the first fit's figures while the second formulation's fit
+    # runs; that fit is interrupted, so every figure must carry the mark: drawn here, as
+    # without a drawer
+    files = _files(tmp_path)
+    runs = {mode: _run(tmp_path, mode, files)
+            for mode in ("later-interrupted", "later-interrupted-here")}
+    (child, pids, out), (child_h, pids_h, ref) = runs.values()
+    assert child["code"] == child_h["code"] == 1 and child["children"] == 0
+    # drawn there first (unmarked), then here again
+    assert pids == [pids[0], child["pid"]] and pids[0] != child["pid"]
+    assert pids_h == [child_h["pid"]]
+    assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in ref.iterdir())
+    pngs = sorted(p.name for p in ref.glob("*.png"))
+    assert "fit.png" in pngs
+    for name in pngs:
+        data = (out / name).read_bytes()
+        assert data == (ref / name).read_bytes(), name
+        assert b"INTERRUPTED" in data, name  # the PNG's Description
+
+
+def test_figures_drawn_during_a_later_fit_that_fails_are_not_left_behind(tmp_path):
+    # interrupted before its result: exit 1, the checkpoints kept for --resume, and no
+    # figure of the first fit (drawn meanwhile) beside them
+    child, _, out = _run(tmp_path, "later-fails", _files(tmp_path))
+    assert child["code"] == 1 and child["children"] == 0
+    left = sorted(p.name for p in out.iterdir())
+    assert left and all(n.startswith("checkpoint.json") for n in left), left

@@ -577,3 +577,63 @@ def test_forked_call_interrupt_reaches_the_child_at_its_next_relay():
     assert call.process.exitcode is not None, "the interrupt never reached the child"
     with pytest.raises(KeyboardInterrupt):
         call.result()
+
+
+# ------------------------------------------------ a bare forked copy (_pools.forked)
+@fork_only
+def test_forked_copy_answers_with_this_process_state():
+    from vhfit._pools import forked
+
+    state = {"x": np.arange(5.0)}  # in the copy's memory, not pickled on the way in
+    answer = forked(lambda: (os.getpid(), float(state["x"].sum())))
+    pid, total = answer()
+    assert pid != os.getpid() and total == 10.0
+
+
+@fork_only
+@pytest.mark.parametrize("how", ["raises", "unpicklable"])
+def test_forked_copy_without_an_answer_gives_none(how):
+    from vhfit._pools import forked
+
+    def fn():
+        if how == "raises":
+            raise ValueError("no figure")
+        return lambda: 1  # a lambda does not pickle
+
+    assert forked(fn)() is None
+
+
+@fork_only
+def test_forked_copy_ends_with_its_parent(tmp_path):
+    # the parent (a fresh interpreter) dies while its copy still works: the kernel ends
+    # the copy too (it would otherwise go on writing files for nobody)
+    pid_file = tmp_path / "copy.pid"
+    code = (
+        "import os, sys, time\n"
+        "from vhfit._pools import forked\n"
+        "def work():\n"
+        f"    open({str(pid_file)!r}, 'w').write(str(os.getpid()))\n"
+        "    time.sleep(120)\n"
+        "forked(work)\n"
+        "for _ in range(600):\n"
+        f"    if os.path.exists({str(pid_file)!r}) and open({str(pid_file)!r}).read():\n"
+        "        break\n"
+        "    time.sleep(0.05)\n"
+        "os._exit(0)\n")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=120)
+    pid = int(pid_file.read_text())
+
+    def running() -> bool:  # a zombie not yet reaped by its new parent has ended too
+        try:
+            stat = Path(f"/proc/{pid}/stat").read_text()
+        except OSError:
+            return False
+        return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+    for _ in range(200):
+        if not running():
+            break
+        time.sleep(0.05)
+    else:
+        os.kill(pid, signal.SIGKILL)
+        pytest.fail("the copy outlived its parent")

@@ -44,6 +44,7 @@ __all__ = [
     "plot_moduli_fit",
     "plot_stress_time",
     "model_line",
+    "model_lines",
     "has_holds_or_unloading",
     "plot_history",
     "plot_order_scan",
@@ -339,6 +340,41 @@ def model_line(cal, curve) -> dict[str, np.ndarray]:
     return out
 
 
+def model_lines(cal, curves: Sequence) -> list[dict[str, np.ndarray] | None]:
+    """The model line (:func:`model_line`) of each stress–strain curve among ``curves``,
+    as :func:`plot_fit` draws them: None for an equilibrium test with a second prescribed
+    stretch (drawn as series of held stretch, not as one line).
+
+    They can be computed where the model is at hand and drawn elsewhere (``plot_fit``'s
+    ``lines=``): ``vhfit fit`` evaluates them beside its fit, whose compiled kernels are
+    loaded, and draws them in a process that has loaded matplotlib.
+
+    Parameters
+    ----------
+    cal : Calibration
+        Or any object with ``model`` and ``params``.
+    curves : sequence of Curve
+        Frequency sweeps and relaxation tests among them are skipped.
+
+    Returns
+    -------
+    list
+        One entry per stress–strain curve, in order.
+
+    Examples
+    --------
+    >>> import vhfit
+    >>> m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=0)
+    >>> c = vhfit.Curve(strain=[0.0, 0.1, 0.2], stress=[0.0, 0.1, 0.2], strain_rate=None)
+    >>> class Cal: model, params = m, {"C10": 0.5}
+    >>> [sorted(line) for line in model_lines(Cal, [c])]
+    [['model', 'strain', 'time']]
+    """
+    curves = [c for c in curves if not is_moduli(c)]
+    return [None if get_deformation(c.deformation).second_stretch and c.history.is_equilibrium
+            else model_line(cal, c) for c in curves]
+
+
 def _series(e1: np.ndarray, e2: np.ndarray) -> tuple[list[np.ndarray], int]:
     """Runs of consecutive samples of a two-stretch test in which one strain is held:
     (the runs, the direction whose strain varies within them: 1 or 2)."""
@@ -434,7 +470,8 @@ def _panels(curves, peaks, ratio: float) -> list[tuple[str, list[int]]]:
 
 
 def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
-             title: str | None = None, time_panels: bool = True):
+             title: str | None = None, time_panels: bool = True,
+             lines: Sequence | None = None):
     """Data against the calibrated model, one colour per curve, panels by magnitude.
 
     Each test is drawn as its deformation record describes it: the axes name its strain
@@ -462,19 +499,20 @@ def plot_fit(cal, curves: Sequence, path=None, *, ratio: float = 10.0,
     time_panels : bool
         Add stress against time for the histories with holds or unloading (at most
         ``MAX_TIME_PANELS``, the others named in the last panel's title).
+    lines : sequence, optional
+        The model lines of these curves (:func:`model_lines` of the same calibration and
+        curves), computed already; default: computed here.
 
     Returns
     -------
     matplotlib.figure.Figure
     """
+    lines = model_lines(cal, curves) if lines is None else list(lines)
     curves = [c for c in curves if not is_moduli(c)]
     if not curves:
         raise ValueError("no stress-strain curves to plot: draw frequency sweeps and "
                          "relaxation tests with plot_moduli_fit")
     data = [_data_points(c) for c in curves]
-    second = [get_deformation(c.deformation).second_stretch and c.history.is_equilibrium
-              for c in curves]
-    lines = [None if s else model_line(cal, c) for c, s in zip(curves, second)]
     peaks = [max(np.max(np.abs(d["stress"])),
                  0.0 if ln is None else np.max(np.abs(ln["model"])))
              for d, ln in zip(data, lines)]

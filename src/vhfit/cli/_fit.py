@@ -51,7 +51,7 @@ from vhfit.cli._common import (
     prepare_out,
 )
 from vhfit.cli._inputs import read_curves, sha256
-from vhfit.cli._outputs import Drawer, write_outputs
+from vhfit.cli._outputs import Drawer, send_early, write_outputs
 from vhfit.cli._plugins import load_plugins, resolve_model_name, tau_strategies
 from vhfit.cli._settings import check_shift, cli_bounds, fit_settings
 from vhfit.comparison import compare
@@ -395,6 +395,8 @@ def run_fit(curves, inputs, args, out: Path, *, label: str | None, command: list
             if given is not None and not fits:  # fitted by run_compare
                 fits[form] = given
                 continue
+            if fits:  # the figures are the first fit's: drawn while this one runs
+                send_early(drawer, fits, curves, args, out, demo=demo, at_ref=at_ref)
             if len(plan) > 1 and not args.quiet:
                 print(f"fit in the '{form}' formulation, for {', '.join(plan[form])}",
                       file=sys.stderr, flush=True)

@@ -14,11 +14,14 @@ import csv
 import dataclasses
 import io
 import multiprocessing
+import os
+import shutil
+import warnings
 from pathlib import Path
 
 from vhfit import plot, report
 from vhfit._io import atomic_write
-from vhfit._pools import ChildLost, ForkedCall, fork_is_safe, usable_cpus
+from vhfit._pools import ChildLost, ForkedCall, fork_is_safe, forked, usable_cpus
 from vhfit.calibration import (
     Calibration,
 )
@@ -33,10 +36,13 @@ from vhfit.cli._common import (
 from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation
+from vhfit.report._figures import residual_figure
 
-__all__ = ["write_outputs", "Drawer", "draw_figures"]
+__all__ = ["write_outputs", "Drawer", "draw_figures", "figure_job", "send_early"]
 
 RESULTS = "results.json"
+#: Where the drawer puts the figures it draws before the outputs are written.
+STAGING = ".figures.partial"
 
 
 # ================================================================== outputs
@@ -56,10 +62,18 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     verdict = [cal.verdict(interrupted=interrupted)]
     head = [f"data: {label}"] if label else []
     note = unfinished(cal, interrupted)  # the cards' first line, on every figure too
-    job = (cal, curves, out, args.no_plot, demo, raw, note and note.split(";")[0])
-    drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
+    mark = note and note.split(";")[0]
+    job = None if drawer is None else drawer.sent  # sent after the first fit (send_early)
+    if job is not None and not (job[0] is cal and job[1] is curves and job[6] == mark):
+        drawer.close()  # drawn for another state of the run (a later fit interrupted)
+        drawer = job = None
+    drawing = job is not None
+    if job is None:
+        job = figure_job(cal, curves, out, args, demo=demo, raw=raw, mark=mark,
+                         lines=drawer is not None)
+        drawing = drawer is not None and drawer.send(job)  # drawn there while the cards are
+    fitted = job[-1]
 
-    fitted = cal.fitted_curves(curves)
     atomic_write(out / "fitted_curves.csv", _fitted_csv(cal, curves, fitted, label, interrupted))
     written["fitted_curves.csv"] = "data and model stress per curve"
     moduli = [(c, f) for c, f in zip(curves, fitted) if _moduli.is_moduli_fit(f)]
@@ -119,18 +133,107 @@ def write_outputs(fits: dict, plan: dict, curves, inputs, args, out: Path, *, la
     return written
 
 
+def send_early(drawer: Drawer | None, fits: dict, curves, args, out: Path, *, demo: bool,
+               at_ref=None) -> None:
+    """Hand the first fit's figures to the drawer now, while the fits of the other
+    formulations run (they draw the first fit only), into a folder of their own
+    (:meth:`Drawer.send` ``staged``): a run that fails before its outputs leaves no
+    figure behind. :func:`write_outputs` takes them if they are still the run's (no
+    later fit was interrupted: its mark is on every figure), else draws them anew."""
+    if drawer is None or drawer.sent is not None:
+        return
+    cal = next(iter(fits.values()))
+    note = unfinished(cal, False)
+    drawer.send(figure_job(cal, at_ref or curves, out, args, demo=demo,
+                           raw=curves, mark=note and note.split(";")[0], lines=True),
+                staged=True)
+
+
+def figure_job(cal: Calibration, curves, out: Path, args, *, demo: bool, raw, mark,
+               lines: bool) -> tuple:
+    """The arguments of :func:`draw_figures` for the fit ``cal`` of ``curves`` (at the
+    reference temperature; ``raw`` as measured), with the fitted curves (the last item,
+    also the CSV's) and, if ``lines``, the fit plot's model lines, computed here."""
+    return (cal, curves, out, args.no_plot, demo, raw, mark,
+            _lines(cal, curves, args.no_plot) if lines else None, cal.fitted_curves(curves))
+
+
 # ================================================================== figures
 def draw_figures(cal: Calibration, curves, out: Path, skip: bool, demo: bool, raw,
-                 mark: str | None) -> tuple[dict[str, str], str | None, tuple | None]:
+                 mark: str | None, lines: list | None = None, fits: list | None = None,
+                 shared: bool = False) -> tuple[dict[str, str], str | None, tuple | None]:
     """The plots into ``out`` ({kind: file}, a note on those not drawn) and the report's
     figures (:func:`vhfit.report.draw_figures`; None without figures), every one marked
-    with ``mark`` (an unfinished search's line, or None)."""
+    with ``mark`` (an unfinished search's line, or None).
+
+    ``lines`` (:func:`vhfit.plot.model_lines`) and ``fits`` (``cal.fitted_curves``) of
+    ``curves``: the model's values, computed already (None: computed here). The drawer
+    gets them from the process of the fit, whose compiled kernels are loaded: loading
+    them again there would cost it half a second before its first figure. ``shared``:
+    the small figures are drawn by a copy of this process meanwhile (:func:`_shared`).
+    """
     with plot.marked(mark) if mark else contextlib.nullcontext():
-        plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw)
+        if shared and not skip and plot.have_matplotlib():
+            drawn = _shared(cal, curves, out, demo, raw, lines, fits)
+            if drawn is not None:
+                return drawn
+        plots, plot_note = _draw_plots(cal, curves, out, skip=skip, demo=demo, raw=raw,
+                                       lines=lines)
         figures = None
         if not skip and plot.have_matplotlib():
-            figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()})
+            figures = report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
+                                          fits=fits)
     return plots, plot_note, figures
+
+
+#: The plots a copy of the drawer draws (:func:`_shared`), beside the report's residuals.
+SMALL_PLOTS = ("history", "order_scan")
+
+
+def _shared(cal: Calibration, curves, out: Path, demo: bool, raw, lines, fits
+            ) -> tuple[dict[str, str], None, tuple] | None:
+    """:func:`draw_figures` on two CPUs: a forked copy of this process (matplotlib
+    loaded) draws the small plots and the report's residuals while this one draws the
+    fit and moduli plots; then the report's figures are made with those residuals.
+
+    None if either part failed or the copy could not run: then everything is drawn
+    again, one figure after the other, and fails as it does alone.
+    """
+    curves = list(curves)
+    fits = cal.fitted_curves(curves) if fits is None else fits
+
+    def small():
+        with warnings.catch_warnings(record=True) as caught:  # raised again here
+            plots, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw,
+                                      only=SMALL_PLOTS)
+            residuals = (None if note is not None or all(is_moduli(c) for c in curves)
+                         else residual_figure(cal, curves, fits))
+        return plots, note, residuals, [(str(w.message), w.category) for w in caught]
+
+    answer = forked(small)
+    mine, note = _draw_plots(cal, curves, out, skip=False, demo=demo, raw=raw, lines=lines,
+                             only=tuple(k for k in PLOT_FILES if k not in SMALL_PLOTS))
+    theirs = answer()
+    if note is not None or theirs is None or theirs[1] is not None:
+        return None
+    for message, category in theirs[3]:  # after this part's own: the order drawn alone
+        warnings.warn(message, category, stacklevel=2)
+    plots = {k: f for k in PLOT_FILES for d in (mine, theirs[0]) if k in d for f in [d[k]]}
+    given = {} if theirs[2] is None else {"residuals": theirs[2]}
+    return plots, None, report.draw_figures(cal, curves, {k: out / f for k, f in plots.items()},
+                                            fits=fits, given=given)
+
+
+def _lines(cal: Calibration, curves, skip: bool) -> list | None:
+    """The model lines of ``fit.png`` (:func:`vhfit.plot.model_lines`), for the drawer;
+    None without that plot, or where they fail (the drawer then meets the failure and
+    says it, as when it draws alone)."""
+    if skip or all(is_moduli(c) for c in curves):
+        return None
+    try:
+        return plot.model_lines(cal, curves)
+    except Exception:  # noqa: BLE001 - reported by the plot that needs them
+        return None
 
 
 class Drawer:
@@ -138,9 +241,11 @@ class Drawer:
 
     Forked before the fit, it loads matplotlib and draws a figure nobody sees (the first
     figure of a process pays for the fonts and the canvas) on the other CPU, then waits.
-    :func:`write_outputs` hands it the fit (:meth:`send`) and writes the cards while it
-    draws (:func:`draw_figures`); :meth:`result` is what it drew, or None if it was lost
-    (then they are drawn here). :meth:`close` ends it, used or not.
+    :func:`write_outputs` hands it the fit (:meth:`send`; :func:`send_early` as soon as
+    the first fit ends, when fits in other formulations follow) and writes the cards
+    while it draws (:func:`draw_figures`, on two CPUs: :func:`_shared`); :meth:`result`
+    is what it drew, or None if it was lost (then they are drawn here). :meth:`close`
+    ends it, used or not.
 
     Start one with :meth:`start`, which gives None where it does not pay (no figures
     asked, no matplotlib, one usable CPU) or a fork is not safe.
@@ -150,6 +255,9 @@ class Drawer:
         jobs, self._send = multiprocessing.get_context("fork").Pipe(duplex=False)
         self._call = ForkedCall(_draw_when_asked, jobs, self._send)
         jobs.close()
+        #: the job sent (:func:`draw_figures`' arguments), or None
+        self.sent: tuple | None = None
+        self._staged: Path | None = None  # the results folder of a staged job
 
     @classmethod
     def start(cls, args) -> Drawer | None:
@@ -159,38 +267,55 @@ class Drawer:
             return None
         return cls()
 
-    def send(self, job: tuple) -> bool:
+    def send(self, job: tuple, staged: bool = False) -> bool:
         """Hand over :func:`draw_figures`' arguments; False if they cannot go (drawn here).
 
-        The calibration goes without its settings' callback (the command line's progress
+        ``staged``: the figures are drawn into a folder ``STAGING`` of the job's results
+        folder, and :meth:`result` moves the plots into it (:func:`send_early`). The
+        calibration goes without its settings' callback (the command line's progress
         closure, which does not pickle and draws nothing).
         """
-        cal, *rest = job
+        cal, curves, out, *rest = job
         if cal.settings is not None and cal.settings.callback is not None:
             cal = dataclasses.replace(cal, settings=dataclasses.replace(cal.settings,
                                                                         callback=None))
         try:
-            self._send.send((cal, *rest))
+            if staged:
+                self._staged = out
+                shutil.rmtree(out / STAGING, ignore_errors=True)  # a killed run's
+                (out / STAGING).mkdir()
+                out = out / STAGING
+            self._send.send((cal, curves, out, *rest))
         except Exception:  # noqa: BLE001 - e.g. not picklable: the figures are drawn here
             self.close()
             return False
+        self.sent = job
         return True
 
     def result(self) -> tuple | None:
-        """What :func:`draw_figures` returned there, or None if the process was lost."""
+        """What :func:`draw_figures` returned there (its plots in the results folder), or
+        None if the process was lost."""
         try:
-            return self._call.result()
-        except ChildLost:
+            drawn = self._call.result()
+            if drawn is not None and self._staged is not None:
+                for name in drawn[0].values():
+                    os.replace(self._staged / STAGING / name, self._staged / name)
+            return drawn
+        except (ChildLost, OSError):  # lost, or its plots not moved: drawn here
             return None
         finally:
             self.close()
 
     def close(self) -> None:
-        """End the process if it still runs (its figures not wanted, or already read)."""
+        """End the process if it still runs (its figures not wanted, or already read),
+        and remove what it staged."""
         if not self._send.closed:
             self._send.close()  # a drawer still waiting reads the end of its jobs
         if self._call.process.is_alive():
             self._call.cancel()
+        if self._staged is not None:
+            shutil.rmtree(self._staged / STAGING, ignore_errors=True)
+            self._staged = None
 
 
 def _draw_when_asked(jobs, send, callback) -> tuple | None:
@@ -215,34 +340,43 @@ def _draw_when_asked(jobs, send, callback) -> tuple | None:
         job = jobs.recv()
     except EOFError:  # the fit ended without outputs
         return None
-    return draw_figures(*job)
+    return draw_figures(*job, shared=True)
+
+
+#: The plots of ``vhfit fit``, kind -> file, in the order they are drawn.
+PLOT_FILES = {"fit": "fit.png", "moduli": "moduli.png", "history": "history.png",
+              "order_scan": "order_scan.png"}
 
 
 def _draw_plots(cal: Calibration, curves, out: Path, *, skip: bool, demo: bool,
-                raw=None) -> tuple[dict[str, str], str | None]:
+                raw=None, lines: list | None = None, only: tuple | None = None
+                ) -> tuple[dict[str, str], str | None]:
     """The plots that apply ({kind: file}) and a note on those not drawn (``raw``: the
-    tests as measured, whose temperatures colour the moduli plot; it shifts them)."""
+    tests as measured, whose temperatures colour the moduli plot; it shifts them;
+    ``lines``: the fit plot's model lines, computed already; ``only``: these kinds)."""
     if skip:
         return {}, "plots skipped (--no-plot)"
     if not plot.have_matplotlib():
         return {}, f"plots skipped: {plot.INSTALL_HINT}"
     plots: dict[str, str] = {}
+    kinds = set(PLOT_FILES if only is None else only)
     try:
-        if not all(is_moduli(c) for c in curves):
-            plot.plot_fit(cal, curves, out / "fit.png",
+        if "fit" in kinds and not all(is_moduli(c) for c in curves):
+            plot.plot_fit(cal, curves, out / PLOT_FILES["fit"],
                           title=None if not demo else
                           f"synthetic SEBS (paper Table 5): {cal.model.hyperelastic.name} + "
-                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %")
-            plots["fit"] = "fit.png"
-        if any(is_moduli(c) for c in curves):  # frequency sweeps, relaxation tests
-            plot.plot_moduli_fit(cal, raw or curves, out / "moduli.png")
-            plots["moduli"] = "moduli.png"
-        if cal.history and cal.history.get("nit"):
-            plot.plot_history(cal, out / "history.png")
-            plots["history"] = "history.png"
-        if cal.order_scan:
-            plot.plot_order_scan(cal, out / "order_scan.png")
-            plots["order_scan"] = "order_scan.png"
+                          f"{cal.n_prony} Prony terms, RMSAPE {cal.rmsape:.3g} %",
+                          lines=lines)
+            plots["fit"] = PLOT_FILES["fit"]
+        if "moduli" in kinds and any(is_moduli(c) for c in curves):  # sweeps, relaxation
+            plot.plot_moduli_fit(cal, raw or curves, out / PLOT_FILES["moduli"])
+            plots["moduli"] = PLOT_FILES["moduli"]
+        if "history" in kinds and cal.history and cal.history.get("nit"):
+            plot.plot_history(cal, out / PLOT_FILES["history"])
+            plots["history"] = PLOT_FILES["history"]
+        if "order_scan" in kinds and cal.order_scan:
+            plot.plot_order_scan(cal, out / PLOT_FILES["order_scan"])
+            plots["order_scan"] = PLOT_FILES["order_scan"]
     except Exception as exc:
         return plots, f"plots failed: {one_line(exc)}"
     return plots, None

@@ -113,7 +113,8 @@ def _python_cards(cal, curves) -> tuple[dict, dict, dict]:
     return cards, notes, check
 
 
-def draw_figures(cal, curves: Sequence, images: dict | None = None) -> tuple[list, dict]:
+def draw_figures(cal, curves: Sequence, images: dict | None = None, *,
+                 fits: list | None = None, given: dict | None = None) -> tuple[list, dict]:
     """The report's figures of a calibration, drawn (:func:`build_report` takes them as
     ``drawn=``, e.g. from another process: they are plain data).
 
@@ -125,6 +126,13 @@ def draw_figures(cal, curves: Sequence, images: dict | None = None) -> tuple[lis
     images : dict, optional
         The PNG files of :mod:`vhfit.plot`'s figures already drawn (``fit``, ``moduli``,
         ``order_scan``, ``history``), inlined instead of drawn again.
+    fits : list, optional
+        ``cal.fitted_curves(curves)``, computed already (e.g. where the model's kernels
+        are loaded); default: computed here.
+    given : dict, optional
+        Figures drawn already (e.g. by another process), by key: ``residuals``
+        (:func:`vhfit.report._figures.residual_figure` of the same calibration, curves
+        and fits), used instead of drawing it here.
 
     Returns
     -------
@@ -136,13 +144,15 @@ def draw_figures(cal, curves: Sequence, images: dict | None = None) -> tuple[lis
     >>> main, other = draw_figures(cal, curves)  # doctest: +SKIP
     """
     curves, images = list(curves), dict(images or {})
-    fits = cal.fitted_curves(curves) if curves else []
+    if fits is None:
+        fits = cal.fitted_curves(curves) if curves else []
     # plot_fit's labels are right only without sweeps among the curves: else redraw
     drawn = None if any(is_moduli(c) for c in curves) else images.get("fit")
     main = _figures.fit_figures(cal, curves, fits, drawn) if curves else []
     other = {}
     if any(not is_moduli(c) for c in curves or []):
-        other["residuals"] = _figures.residual_figure(cal, curves, fits)
+        other["residuals"] = ((given or {}).get("residuals")
+                              or _figures.residual_figure(cal, curves, fits))
     if any(is_moduli(c) for c in curves or []):
         other["moduli"] = (_figures.from_file("moduli", "frequency sweeps and relaxation "
                                               "tests", "", images["moduli"])
