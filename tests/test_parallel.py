@@ -554,9 +554,11 @@ def test_forked_call_relays_messages_stops_and_warnings():
     seen = []
     with pytest.warns(UserWarning, match="stopped at"):
         k = ForkedCall(count, forward=True).result(lambda d: seen.append(d["k"]) or d["k"] == 2)
-    # the stop asked at message 2 is read at a later relay call (the child does not
-    # wait for answers); every message before the result arrives, in order
-    assert k >= 3 and seen == list(range(k + 1))
+    # the stop asked at message 2 is read at that relay call or a later one (the child
+    # does not wait for answers: on a loaded machine the parent may answer before the
+    # child reads the flag after sending message 2); every message before the result
+    # arrives, in order
+    assert k >= 2 and seen == list(range(k + 1))
 
 
 @fork_only
