@@ -48,6 +48,7 @@ _BERR = tuple(b - bh for b, bh in zip(_A[4] + (_G,), _BHAT))  # y − ŷ = h Σ 
 _VMAX = 700.0       # |v| cap of the stage variable: u or 1 − u below e^-700 is 0 or 1
 _NEWTON = 60        # iterations per stage solve before the step is retried shorter
 _MAX_STEPS = 2_000_000
+_DEBUG = False
 
 
 # ------------------------------------------------------------------ kinematics
@@ -393,6 +394,7 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         if rows.size == 0:
             break
         steps += 1
+        if _DEBUG: print("step", steps, tc[rows][:3], h[rows][:3])
         if steps > _MAX_STEPS:
             raise RuntimeError("the network integrator took too many steps")
         t_end = time[rows, seg[rows] + 1]
