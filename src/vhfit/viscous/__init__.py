@@ -16,6 +16,7 @@ Kirchhoff stress τ'_k (docs/theory.md, "Parallel rheological networks").
 from __future__ import annotations
 
 from vhfit.viscous import flows
+from vhfit.viscous._integrate import network_creep, network_stress
 from vhfit.viscous._networks import Network, NetworkModel
 
-__all__ = ["flows", "Network", "NetworkModel"]
+__all__ = ["flows", "Network", "NetworkModel", "network_stress", "network_creep"]

@@ -28,14 +28,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vhfit import hyperelastic
 from vhfit._kirchhoff import constant_columns, principal_kirchhoff
 from vhfit.hyperelastic import Hyperelastic
 from vhfit.modes import get_deformation
+from vhfit.viscous import flows
 from vhfit.viscous.flows import Flow
 
-#: Default tolerances of the local error of ln λ_cr and ε̄ per step (absolute, relative):
-#: they keep the stresses within 1e-6 relative of a tight reference (docs/theory.md).
-ATOL, RTOL = 1e-11, 1e-9
+#: Default tolerances of the local error of ln λ_cr and ε̄ per step (absolute, in log
+#: strain; relative): the stresses stay within about 1e-8 of their peak (1e-7 pointwise)
+#: of a tight reference, 1e-6 with a margin (docs/theory.md).
+ATOL, RTOL = 1e-10, 1e-8
 
 # Hairer–Wanner SDIRK4: γ = 1/4, c = (1/4, 3/4, 11/20, 1/2, 1), b = last row of A.
 _G = 0.25
@@ -48,7 +51,6 @@ _BERR = tuple(b - bh for b, bh in zip(_A[4] + (_G,), _BHAT))  # y − ŷ = h Σ 
 _VMAX = 700.0       # |v| cap of the stage variable: u or 1 − u below e^-700 is 0 or 1
 _NEWTON = 60        # iterations per stage solve before the step is retried shorter
 _MAX_STEPS = 2_000_000
-_DEBUG = False
 
 
 # ------------------------------------------------------------------ kinematics
@@ -314,35 +316,35 @@ class _Creep:
     def logs(self, x):
         return log_stretches(self.P.deformation, np.exp(x))
 
-    def solve(self, P, target, x0, Z0, EB0, hg, V, rows=None):
-        """Newton on x (finite-difference slope through the networks' stage solves)."""
+    def solve(self, P, target, x0, slope0, Z0, EB0, hg, V):
+        """The secant method on x, from the slope dσ/dx of the last solve (``slope0``):
+        one stage solve of the networks per iteration. Returns x, the networks' solves,
+        the last slope and ok."""
         n = len(x0)
-        x = x0.copy()
+        x, slope = x0.copy(), slope0.copy()
         ok = np.ones(n, bool)
-        dx = 1e-7
-        for _ in range(40):
-            xs = np.concatenate([x, x + dx])
-            idx = np.concatenate([np.arange(n)] * 2)
-            sub = P.rows(idx)
-            res = _network_solves(sub, self.logs(xs), [z[idx] for z in Z0],
-                                  [e[idx] for e in EB0], hg[idx], [v[idx] for v in V])
-            sig = _loaded(sub, self.logs(xs), [r[2] for r in res])
-            goal = target[idx] * (np.exp(xs) if self.engineering else 1.0)
-            f = sig - goal
-            f0, slope = f[:n], (f[n:] - f[:n]) / dx
-            good = np.all([r[4][:n] & r[4][n:] for r in res], axis=0) & (slope > 0)
-            step = np.where(good, -f0 / np.where(good, slope, 1.0), 0.0)
-            step = np.clip(step, -0.25, 0.25)
-            x = x + step
+        xp = fp = None
+        for _ in range(50):
+            L = self.logs(x)
+            res = _network_solves(P, L, Z0, EB0, hg, V)
+            f = _loaded(P, L, [r[2] for r in res]) - target * (
+                np.exp(x) if self.engineering else 1.0)
+            good = np.all([r[4] for r in res], axis=0) & np.isfinite(f)
+            if xp is not None:
+                dx = x - xp
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    sec = (f - fp) / dx
+                slope = np.where((dx != 0) & (sec > 0) & np.isfinite(sec), sec, slope)
+            step = np.where(good, -f / slope, 0.0)
+            conv = np.abs(step) <= 1e-14 * np.maximum(1.0, np.abs(x))
             ok &= good
-            if np.all((np.abs(step) <= 1e-13 * np.maximum(1.0, np.abs(x))) | ~ok):
+            if np.all(conv | ~ok):
                 break
+            xp, fp = x, f
+            x = x + np.clip(step, -0.25, 0.25)
         else:
-            ok &= np.abs(step) <= 1e-10
-        res = _network_solves(P, self.logs(x), Z0, EB0, hg, V)
-        for r in res:
-            ok &= r[4]
-        return x, res, ok
+            ok &= np.abs(step) <= 1e-11
+        return x, res, slope, ok
 
 
 def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
@@ -366,8 +368,8 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         X = None
     else:
         # the instantaneous response: every network elastic from λ_cr = 1
-        X, _, ok = creep.solve(P, creep.target, _initial_guess(P, creep), Z, EB,
-                               np.zeros(n), V)
+        x0, S = _initial_guess(P, creep)
+        X, _, S, ok = creep.solve(P, creep.target, x0, S, Z, EB, np.zeros(n), V)
         if not np.all(ok):
             raise ValueError("the instantaneous response to the creep load was not found "
                              "(the law cannot carry this stress)")
@@ -394,7 +396,6 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         if rows.size == 0:
             break
         steps += 1
-        if _DEBUG: print("step", steps, tc[rows][:3], h[rows][:3])
         if steps > _MAX_STEPS:
             raise RuntimeError("the network integrator took too many steps")
         t_end = time[rows, seg[rows] + 1]
@@ -407,6 +408,7 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         hg = _G * hr
         Vr = [v[rows] for v in V]
         Xs = None if X is None else X[rows].copy()
+        Ss = None if X is None else S[rows].copy()
         for i in range(5):
             Z0 = [Z[k][rows] + hr[:, None] * sum((a * kz[k][j] for j, a in enumerate(_A[i])),
                                                  np.zeros((rows.size, d))) for k in range(K)]
@@ -416,7 +418,8 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
                 res = _network_solves(sub, drive(rows, seg[rows], tc[rows] + _C[i] * hr),
                                       Z0, E0, hg, Vr)
             else:
-                Xs, res, okx = creep.solve(sub, creep.target[rows], Xs, Z0, E0, hg, Vr)
+                Xs, res, Ss, okx = creep.solve(sub, creep.target[rows], Xs, Ss, Z0, E0, hg,
+                                               Vr)
                 ok &= okx
             for k, (_, dz, _, v, okk) in enumerate(res):
                 with np.errstate(invalid="ignore", divide="ignore"):
@@ -450,7 +453,7 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
             EB[k][a] = newE[k][acc]
             V[k][a] = Vr[k][acc]
         if X is not None:
-            X[a] = Xs[acc]
+            X[a], S[a] = Xs[acc], Ss[acc]
         tc[a] = np.where(last[acc], t_end[acc], tc[a] + hr[acc])
         if np.any(h[rows] < 1e-14 * span[rows]):
             raise RuntimeError("the network integrator could not converge (step size "
@@ -459,13 +462,14 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
 
 
 def _initial_guess(P: _Problem, creep: _Creep):
-    """x = ln λ1 of the linearised instantaneous response (a start for Newton)."""
+    """x = ln λ1 of the linearised instantaneous response and its slope dσ/dx (a start
+    for the secant method)."""
     n = len(creep.target)
     dx = 1e-6
     L = creep.logs(np.full(n, dx))
     taus = [_tau(P.law, P.lcols, net.ratio[:, 0], L) for net in P.nets]
     slope = _loaded(P, L, taus) / dx
-    return np.clip(creep.target / slope, -0.5, 0.5)
+    return np.clip(creep.target / slope, -0.5, 0.5), slope
 
 
 # ------------------------------------------------------------------ the public entry points
@@ -497,11 +501,53 @@ def network_stress(law: Hyperelastic, law_params, flows_: list[Flow], ratios, co
                    atol: float = ATOL) -> np.ndarray:
     """σ11 along stretch histories for batches of constants (strain control).
 
-    Leading axes of ``law_params`` (..., n_law), ``ratios`` (..., K), each of
-    ``constants`` (..., n_k), ``time`` and ``stretch`` (..., m) broadcast together.
-    The stretch is linear in time between data points; the networks start at λ_cr = 1
-    at time[..., 0] (a stretch there other than 1 is applied at once).
+    Parameters
+    ----------
+    law : Hyperelastic
+    law_params : array_like, shape (..., n_law)
+        The law's instantaneous constants.
+    flows_ : list of Flow
+        The K networks' flows.
+    ratios : array_like, shape (..., K)
+        s_k.
+    constants : list of array_like, shape (..., n_k)
+        Each network's flow constants.
+    time, stretch, stretch2 : array_like, shape (..., m)
+        Non-decreasing times and λ1 (λ2 for ``"biaxial"``); the stretch is linear in
+        time between them, and the networks start at λ_cr = 1 at ``time[..., 0]`` (a
+        stretch there other than 1 is applied at once).
+    deformation, measure : str
+        As :meth:`vhfit.viscous.NetworkModel.stress`.
+    rtol, atol : float
+        The local error tolerance of ln λ_cr and ε̄ per step.
+
+    Returns
+    -------
+    ndarray, shape (..., m)
+        The leading axes of all inputs broadcast together.
     """
+    P, Lout, Zout, lead, m = _strain_history(law, law_params, flows_, ratios, constants,
+                                             time, stretch, stretch2, deformation, rtol,
+                                             atol)
+    sig = _stress_at(P, Lout, Zout)
+    if measure == "engineering":
+        sig = sig / np.exp(Lout[..., 0])
+    return sig.reshape(lead + (m,))
+
+
+def stretch_history(law: Hyperelastic, law_params, flows_: list[Flow], ratios, constants,
+                    time, stretch, stretch2=None, *, deformation: str = "uniaxial",
+                    rtol: float = RTOL, atol: float = ATOL):
+    """The principal total stretches (n, m, 3) and each network's creep stretches
+    λ_cr (K, n, m, 3) at the data times of :func:`network_stress` (leading axes
+    flattened to n)."""
+    P, Lout, Zout, _, _ = _strain_history(law, law_params, flows_, ratios, constants, time,
+                                          stretch, stretch2, deformation, rtol, atol)
+    return np.exp(Lout), np.exp(Zout @ P.frame.basis.T)
+
+
+def _strain_history(law, law_params, flows_, ratios, constants, time, stretch, stretch2,
+                    deformation, rtol, atol):
     t = np.asarray(time, dtype=np.float64)
     x1 = np.asarray(stretch, dtype=np.float64)
     x2 = None if stretch2 is None else np.asarray(stretch2, dtype=np.float64)
@@ -528,10 +574,7 @@ def network_stress(law: Hyperelastic, law_params, flows_: list[Flow], ratios, co
         return log_stretches(P.deformation, a, b)
 
     Lout, Zout = _run(P, T, drive, None, rtol, atol)
-    sig = _stress_at(P, Lout, Zout)
-    if measure == "engineering":
-        sig = sig / np.exp(Lout[..., 0])
-    return sig.reshape(lead + (m,))
+    return P, Lout, Zout, lead, m
 
 
 def _stress_at(P: _Problem, Lout, Zout):
@@ -572,9 +615,6 @@ def network_creep(law: Hyperelastic, law_params, flows_: list[Flow], ratios, con
 
 
 def _model_args(model):
-    from vhfit import hyperelastic
-    from vhfit.viscous import flows
-
     law = hyperelastic.get(model.law)
     fl = [flows.get(n.flow) for n in model.networks]
     return (law, np.array(model.law_params), fl, np.array([n.ratio for n in model.networks]),

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vhfit import hyperelastic
-from vhfit.viscous import flows
+from vhfit.viscous import _integrate, flows
 
 __all__ = ["Network", "NetworkModel"]
 
@@ -137,8 +137,6 @@ class NetworkModel:
         -------
         ndarray, shape (m,)
         """
-        from vhfit.viscous import _integrate
-
         return _integrate.model_stress(self, time, stretch, deformation=deformation,
                                        stretch2=stretch2, measure=measure)
 
@@ -165,7 +163,5 @@ class NetworkModel:
         -------
         ndarray, shape (m,)
         """
-        from vhfit.viscous import _integrate
-
         return _integrate.model_creep(self, stress, time, deformation=deformation,
                                       measure=measure)
