@@ -103,7 +103,9 @@ class OneCoordinate:
         return y
 
     def strain(self, t, lam):
-        L1 = lambda tt: np.log(np.interp(tt, t, lam))
+        def L1(tt):
+            return np.log(np.interp(tt, t, lam))
+
         y = np.zeros(2 * len(self.nets))
         out, first = [self.total(L1(t[0]), y)], True
         for a, b in zip(t[:-1], t[1:]):
@@ -166,7 +168,9 @@ class PlanarMooneyRivlin:
         return out
 
     def strain(self, t, lam):
-        L1 = lambda tt: np.log(np.interp(tt, t, lam))
+        def L1(tt):
+            return np.log(np.interp(tt, t, lam))
+
         y = np.zeros(3 * len(self.nets))
         out = [self.total(L1(t[0]), y)]
         for a, b in zip(t[:-1], t[1:]):
@@ -227,11 +231,14 @@ def test_engineering_stress_is_true_stress_over_the_stretch():
                                m.stress(t, lam) / lam, rtol=1e-15)
 
 
-@pytest.mark.parametrize("mode, measure, stress", [("uniaxial", "true", 0.6),
-                                                   ("equibiaxial", "engineering", 0.4)])
-def test_creep_matches_radau(mode, measure, stress):
-    nets = [("strain", 0.5, (1e-2, 1.0, -0.5)), ("hyperb", 0.3, (1e-2, 1.5, 2.0))]
-    times = np.array([0.0, 1.0, 10.0, 30.0])
+@pytest.mark.parametrize("mode, measure, stress, nets", [
+    ("uniaxial", "true", 0.6, [("strain", 0.5, (1e-2, 1.0, -0.5)),
+                               ("hyperb", 0.3, (1e-2, 1.5, 2.0))]),
+    ("equibiaxial", "engineering", 0.4, [("bergstrom_boyce", 0.5, (0.05, 2.0, -1.0, 0.01)),
+                                          ("hyperb", 0.3, (1e-2, 1.5, 2.0))])])
+def test_creep_matches_radau(mode, measure, stress, nets):
+    """A Cauchy or a nominal stress held from t = 0; STRAIN's singular start included."""
+    times = np.array([0.0, 0.5, 2.0, 5.0])
     got = model_of("arruda_boyce", (0.5, 5.0), nets).creep(stress, times, deformation=mode,
                                                            measure=measure)
     ref = OneCoordinate("arruda_boyce", (0.5, 5.0), nets, mode).creep(
@@ -333,7 +340,7 @@ def test_stretches_are_incompressible_and_stresses_between_the_limits(bb, s, pea
     assert np.all(sig <= full * (1 + 1e-12)) and np.all(sig >= (1 - s) * full * (1 - 1e-12))
 
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=6, deadline=None)
 @given(logA=st.floats(-3.0, 1.0), stress=st.floats(0.05, 0.5))
 def test_creep_starts_at_the_instantaneous_response_and_creeps_towards_equilibrium(logA, stress):
     """At t = 0 the stretch is the full law's at the load; it then grows, and never past
@@ -341,7 +348,7 @@ def test_creep_starts_at_the_instantaneous_response_and_creeps_towards_equilibri
     law = hyperelastic.get("neo_hooke")
     s = 0.5
     lam = network_creep(law, [0.3], [flows.get("hyperb")], [s], [[10.0**logA, 2.0, 1.0]],
-                        stress, np.array([0.0, 1.0, 5.0, 20.0]))
+                        stress, np.array([0.0, 0.5, 2.0, 5.0]))
     inst = brentq(lambda x: float(long_term_stress(law, np.array([0.3]), "uniaxial",
                                                    np.array([x]))[0]) - stress, 1.0, 5.0,
                   xtol=1e-15)

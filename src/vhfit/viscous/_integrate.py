@@ -50,6 +50,7 @@ _BERR = tuple(b - bh for b, bh in zip(_A[4] + (_G,), _BHAT))  # y − ŷ = h Σ 
 
 _VMAX = 700.0       # |v| cap of the stage variable: u or 1 − u below e^-700 is 0 or 1
 _NEWTON = 60        # iterations per stage solve before the step is retried shorter
+_FLOOR = 1e-15      # elastic log strain below which the law's stress is rounding
 _MAX_STEPS = 2_000_000
 
 
@@ -163,12 +164,17 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
     with u from the stage's start), slows the solve. In one coordinate H1 is monotone and
     its sign brackets the root (bisection when Newton leaves the bracket).
 
-    Returns w (n, d), τ (n, 3) at w, v (n,) for the next warm start, and ok (n,).
+    Returns w (n, d), τ (n, 3) at w, v (n,) for the next warm start, ok (n,) and the
+    factor dw/dws (n,) that filters the step's error estimate.
     """
     n, d = ws.shape
     M = frame.metric
     norm = np.sqrt(np.einsum("ni,ij,nj->n", ws, M, ws))
     live = (norm > 1e-300) & (hg > 0.0)
+    if np.any(live):
+        # a trial stress that rounds to zero (the stretch back at rest to rounding): no flow
+        tr = _tau(law, lcols, net.ratio[:, 0], ws @ frame.basis.T)
+        live &= np.ptp(tr, axis=-1) > 0.0
     v = np.clip(np.where(np.isfinite(v0), v0, 0.0), -_VMAX, _VMAX)
     s = np.zeros(n)
     if d == 2:
@@ -179,6 +185,7 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
             t = t * (norm / tn)[:, None]
         t = np.where(live[:, None], t, 0.0)
     lo, hi = np.full(n, -np.inf), np.full(n, np.inf)
+    slope = np.full(n, np.nan)  # dH1/dv at the last iterate: the error filter
     done = ~live
     ok = np.ones(n, bool)
     dv, ds = 1e-6, 1e-7
@@ -197,12 +204,18 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
         with np.errstate(divide="ignore", invalid="ignore"):
             cos = np.einsum("rjd,de,re->rj", direc, M, ws[rows]) / nr
             h1 = np.log(u * nr) - np.log(hg[rows][:, None] * rate * cos)
-            h1 = np.where(q > 0.0, h1, np.inf)  # no stress: the root has more relaxation
+            h1 = np.where(q > 0.0, h1, np.inf)  # no stress, no flow: the root relaxes less
             if d == 1:
                 return h1, None, w, tau
             sin = np.einsum("rjd,de,re->rj", direc, M, t[rows]) / nr
-            h2 = one_u * ss + u * sin / cos
+            h2 = np.where(q > 0.0, one_u * ss + u * sin / cos, 0.0)
         return h1, h2, w, tau
+
+    def floor(vr, new, rows):
+        """The elastic strain moves by less than the stress resolves (rounding of
+        exp(w) near 1): a stiff network relaxed to the rounding floor."""
+        uu = 1.0 / (1.0 + np.exp(-vr))
+        return norm[rows] * uu * (1.0 - uu) * np.abs(new - vr) <= _FLOOR
 
     for _ in range(_NEWTON):
         rows = np.nonzero(~done)[0]
@@ -213,6 +226,7 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
             pv = np.stack([vr, vr + dv], axis=1)
             h1, _, _, _ = residual(pv, None, rows)
             f, fv = h1[:, 0], (h1[:, 1] - h1[:, 0]) / dv
+            slope[rows] = fv
             bad = np.isnan(f)
             hi[rows] = np.where(f > 0, vr, hi[rows])
             lo[rows] = np.where(f < 0, vr, lo[rows])
@@ -225,7 +239,7 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
                            np.where(np.isfinite(h), h - 4.0, l + 4.0))
             new = np.where(outside, bis, new)
             new = np.clip(new, -_VMAX, _VMAX)
-            conv = (np.abs(new - vr) <= 1e-11) | (f == 0)
+            conv = (np.abs(new - vr) <= 1e-11) | (f == 0) | floor(vr, new, rows)
             # a root past the cap: u or 1 − u is below e^-700 (0 or 1 in double)
             conv |= ((f > 0) & (vr <= -_VMAX)) | ((f < 0) & (vr >= _VMAX))
             conv |= np.isfinite(l) & np.isfinite(h) & (h - l <= 1e-11)
@@ -237,16 +251,29 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
             a, b = (h1[:, 1] - h1[:, 0]) / dv, (h1[:, 2] - h1[:, 0]) / ds
             c, e = (h2[:, 1] - h2[:, 0]) / dv, (h2[:, 2] - h2[:, 0]) / ds
             f1, f2 = h1[:, 0], h2[:, 0]
-            bad = ~(np.isfinite(f1) & np.isfinite(f2))
+            slope[rows] = a
             with np.errstate(divide="ignore", invalid="ignore"):
                 det = a * e - b * c
                 stv = -(e * f1 - b * f2) / det
                 sts = -(a * f2 - c * f1) / det
-            bad |= ~(np.isfinite(stv) & np.isfinite(sts))
-            stv = np.clip(np.where(bad, 0.0, stv), -10.0, 10.0)
-            sts = np.clip(np.where(bad, 0.0, sts), -0.5, 0.5)
-            new = np.clip(vr + stv, -_VMAX, _VMAX)
-            conv = (np.abs(new - vr) <= 1e-11) & (np.abs(sts) <= 1e-12)
+            # H1's sign brackets v nearly as in one coordinate (s is a small turn): Newton
+            # within the bracket, else bisection; no stress at a point (rounding) is H1 > 0
+            hi[rows] = np.where(f1 > 0, vr, hi[rows])
+            lo[rows] = np.where(f1 < 0, vr, lo[rows])
+            rounded = np.isposinf(f1)
+            bad = np.isnan(f1) | (~rounded & ~np.isfinite(f2))
+            ok_step = np.isfinite(stv) & np.isfinite(sts) & ~rounded
+            stv = np.where(ok_step, np.clip(stv, -20.0, 20.0), 0.0)
+            sts = np.where(ok_step, np.clip(sts, -0.5, 0.5), 0.0)
+            new = vr + stv
+            l, h = lo[rows], hi[rows]
+            outside = ~ok_step | (new <= l) | (new >= h)
+            bis = np.where(np.isfinite(l) & np.isfinite(h), 0.5 * (l + h),
+                           np.where(np.isfinite(h), h - 4.0, l + 4.0))
+            new = np.clip(np.where(outside, bis, new), -_VMAX, _VMAX)
+            one_u = 1.0 / (1.0 + np.exp(vr))
+            conv = ((np.abs(new - vr) <= 1e-11) & (np.abs(sts) <= 1e-12)) | (
+                floor(vr, new, rows) & (one_u * np.abs(sts) * norm[rows] <= _FLOOR))
             conv |= ((f1 > 0) & (vr <= -_VMAX)) | ((f1 < 0) & (vr >= _VMAX))
             v[rows], s[rows] = new, sr + sts
         ok[rows[bad]] = False
@@ -259,7 +286,13 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
     le = w @ frame.basis.T
     tau = _tau(law, lcols, net.ratio[:, 0], le)
     ok &= np.all(np.isfinite(tau), axis=-1)
-    return w, tau, v, ok
+    # dw/dws = 1/(1 − γh ∂f/∂z) = (1 − u)/(dH1/dv): the factor (I − γhJ)^-1 by which an
+    # error of the trial reaches the solution (1: no flow; the secant 1 − u where the
+    # slope is rounding, a network relaxed to the floor)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        damp = np.where(~live, 1.0, np.where(np.isfinite(slope) & (slope > 0),
+                                             u_one / slope, u_one))
+    return w, tau, v, ok, np.clip(damp, 0.0, 1.0)
 
 
 # ------------------------------------------------------------------ the time loop
@@ -289,11 +322,12 @@ def _network_solves(P: _Problem, L, Z0, EB0, hg, V):
     for k, net in enumerate(P.nets):
         ws = zstar - Z0[k]
         if np.all(hg == 0.0):  # an instantaneous response: no network flows
-            w, v, ok = ws, V[k], np.ones(len(ws), bool)
+            w, v, ok, damp = ws, V[k], np.ones(len(ws), bool), np.ones(len(ws))
             tau = _tau(P.law, P.lcols, net.ratio[:, 0], ws @ P.frame.basis.T)
         else:
-            w, tau, v, ok = _stage(P.law, P.lcols, net, P.frame, zstar, ws, EB0[k], hg, V[k])
-        out.append((zstar - w, ws - w, tau, v, ok))
+            w, tau, v, ok, damp = _stage(P.law, P.lcols, net, P.frame, zstar, ws, EB0[k], hg,
+                                         V[k])
+        out.append((zstar - w, ws - w, tau, v, ok, damp))
     return out
 
 
@@ -408,6 +442,7 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         ok = np.ones(rows.size, bool)
         hg = _G * hr
         Vr = [v[rows] for v in V]
+        filt = [None] * K
         Xs = None if X is None else X[rows].copy()
         Ss = None if X is None else S[rows].copy()
         for i in range(5):
@@ -422,7 +457,8 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
                 Xs, res, Ss, okx = creep.solve(sub, creep.target[rows], Xs, Ss, Z0, E0, hg,
                                                Vr)
                 ok &= okx
-            for k, (_, dz, _, v, okk) in enumerate(res):
+            for k, (_, dz, _, v, okk, damp) in enumerate(res):
+                filt[k] = damp
                 with np.errstate(invalid="ignore", divide="ignore"):
                     kz[k][i] = dz / hg[:, None]
                     ke[k][i] = np.sqrt(np.maximum(np.einsum(
@@ -434,8 +470,11 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
         for k in range(K):
             z1 = Z[k][rows] + hr[:, None] * sum(b * kz[k][i] for i, b in enumerate(_A[4] + (_G,)))
             e1 = EB[k][rows] + hr * sum(b * ke[k][i] for i, b in enumerate(_A[4] + (_G,)))
-            ez = hr[:, None] * sum(b * kz[k][i] for i, b in enumerate(_BERR))
-            ee = hr * sum(b * ke[k][i] for i, b in enumerate(_BERR))
+            # the embedded estimate filtered by (I − γhJ)^-1 of the last stage (Hairer &
+            # Wanner IV.8): a stiff network relaxed onto its total strain has an exact
+            # stiffly accurate solution, but an unfiltered estimate of order h²
+            ez = filt[k][:, None] * hr[:, None] * sum(b * kz[k][i] for i, b in enumerate(_BERR))
+            ee = filt[k] * hr * sum(b * ke[k][i] for i, b in enumerate(_BERR))
             sz = atol + rtol * np.maximum(np.abs(z1), np.abs(Z[k][rows]))
             se = atol + rtol * np.maximum(e1, EB[k][rows])
             with np.errstate(invalid="ignore"):
@@ -455,6 +494,9 @@ def _run(P: _Problem, time, drive, creep: _Creep | None, rtol, atol):
             V[k][a] = Vr[k][acc]
         if X is not None:
             X[a], S[a] = Xs[acc], Ss[acc]
+        if np.any((tc[a] + hr[acc] == tc[a]) & ~last[acc]):
+            raise RuntimeError("the network integrator could not converge (its step fell "
+                               "below the time's rounding)")
         tc[a] = np.where(last[acc], t_end[acc], tc[a] + hr[acc])
         # a singular start (STRAIN, m < 0: ε̄ ∝ t^(m+1)) is resolved by steps shrunk until
         # its first one is within atol, then growing fourfold: only a row that fails
