@@ -256,8 +256,8 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
                 det = a * e - b * c
                 stv = -(e * f1 - b * f2) / det
                 sts = -(a * f2 - c * f1) / det
-            # H1's sign brackets v nearly as in one coordinate (s is a small turn): Newton
-            # within the bracket, else bisection; no stress at a point (rounding) is H1 > 0
+            # H1's sign brackets v nearly as in one coordinate (s is a small turn); no stress
+            # at a point (rounding) is H1 > 0
             hi[rows] = np.where(f1 > 0, vr, hi[rows])
             lo[rows] = np.where(f1 < 0, vr, lo[rows])
             rounded = np.isposinf(f1)
@@ -267,10 +267,10 @@ def _stage(law, lcols, net: _Net, frame: Frame, zstar, ws, eb_s, hg, v0):
             sts = np.where(ok_step, np.clip(sts, -0.5, 0.5), 0.0)
             new = vr + stv
             l, h = lo[rows], hi[rows]
-            outside = ~ok_step | (new <= l) | (new >= h)
+            # (the root in v moves with s: the bracket only guides a step Newton cannot take)
             bis = np.where(np.isfinite(l) & np.isfinite(h), 0.5 * (l + h),
                            np.where(np.isfinite(h), h - 4.0, l + 4.0))
-            new = np.clip(np.where(outside, bis, new), -_VMAX, _VMAX)
+            new = np.clip(np.where(ok_step, new, bis), -_VMAX, _VMAX)
             one_u = 1.0 / (1.0 + np.exp(vr))
             conv = ((np.abs(new - vr) <= 1e-11) & (np.abs(sts) <= 1e-12)) | (
                 floor(vr, new, rows) & (one_u * np.abs(sts) * norm[rows] <= _FLOOR))
