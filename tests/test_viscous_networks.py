@@ -270,7 +270,12 @@ def test_the_solvers_own_creep_results(second, times, e11):
 # ------------------------------------------------------------------ (c) limits
 def test_slow_and_fast_flows_give_the_instantaneous_and_equilibrium_laws():
     """A = 1e-30 (nothing flows): the full law W; A = 1e30 (relaxed at once, a rate over 60
-    decades and m = 4): (1 − Σ s) W; both in one batch, in uniaxial and planar tests."""
+    decades and m = 4): (1 − Σ s) W; both in one batch, in uniaxial and planar tests.
+
+    At A = 1e30 the Bergström–Boyce network still lags by the stress that drives it at
+    the test's rate: q̃ ≤ (ε̇ (λ_cr − 1 + E)/A)^(1/m) with ε̇ ≤ 0.06 1/s and
+    λ_cr − 1 + E ≤ 2 here, about 3e-8 MPa; σ11 ≤ 1.2 q̃ in these tests. HYPERB (n = 1)
+    lags by ε̇/(A B), nothing."""
     law = hyperelastic.get("mooney_rivlin")
     p = np.array([0.3, 0.05])
     fl = [flows.get("bergstrom_boyce"), flows.get("hyperb")]
@@ -283,7 +288,8 @@ def test_slow_and_fast_flows_give_the_instantaneous_and_equilibrium_laws():
         sig = network_stress(law, p, fl, ratios, [bb, hy], t, lam, deformation=mode)
         full = long_term_stress(law, p, mode, lam)
         np.testing.assert_allclose(sig[0], full, rtol=1e-12, atol=1e-14)
-        np.testing.assert_allclose(sig[1], (1 - ratios.sum()) * full, rtol=1e-9, atol=1e-12)
+        lag = 1.2 * (0.06 * 2.0 / 1e30) ** (1 / 4.0)
+        np.testing.assert_allclose(sig[1], (1 - ratios.sum()) * full, rtol=1e-9, atol=lag)
 
 
 def test_a_linear_network_at_small_strain_is_a_maxwell_element():
@@ -360,8 +366,11 @@ def test_creep_starts_at_the_instantaneous_response_and_creeps_towards_equilibri
 
 
 def test_batches_match_one_by_one():
-    """Leading axes (parameter sets × curves) give each row's own result: the step sizes
-    are each row's own, so a batch does not change a result (bit for bit)."""
+    """Leading axes (parameter sets × curves) give each row's own result: each row takes
+    its own step sizes, so what it is batched with does not change its integration. Bit
+    identity is not promised: numpy's reductions may round the last bit differently for
+    another batch shape, and that can move a step-size decision; the results then agree
+    to the integrator's tolerance (1e-8 of the peak, far below PROMISE)."""
     law = hyperelastic.get("neo_hooke")
     fl = [flows.get("bergstrom_boyce")]
     t, lam = cycle()
@@ -372,4 +381,5 @@ def test_batches_match_one_by_one():
     for i in range(2):
         for j in range(2):
             one = network_stress(law, [0.3], fl, [0.4], [consts[i, 0]], t, curves[j])
-            np.testing.assert_array_equal(batch[i, j], one)
+            np.testing.assert_allclose(batch[i, j], one, rtol=0,
+                                       atol=1e-8 * np.abs(one).max())

@@ -15,10 +15,11 @@ an error estimate. Each stage is a backward-Euler step of length γh from a know
 solved by Newton's method per network in a variable in which it is nearly linear
 whatever the stiffness (:func:`_stage`). Steps never cross a data time (the stretch is
 linear in time between data points, so the right-hand side is smooth within a step); each
-curve and parameter set takes its own step sizes, so a result never depends on what else
-was evaluated with it. The local error of e and ε̄ is held to ``atol + rtol |y|``.
+curve and parameter set takes its own step sizes, so what else is evaluated with it does
+not change its integration (to the last bits of numpy's reductions). The local error
+of e and ε̄ is held to ``atol + rtol |y|``, the estimate filtered by (I − γhJ)^-1.
 
-Stress control (creep) is a DAE: at every stage the total stretch is found, by Newton's
+Stress control (creep) is a DAE: at every stage the total stretch is found, by the secant
 method around the networks' stage solves, so that the stress equals the target.
 """
 
