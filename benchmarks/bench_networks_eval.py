@@ -4,6 +4,7 @@ Run::
 
     python benchmarks/bench_networks_eval.py            # 3 repeats
     python benchmarks/bench_networks_eval.py --quick    # 1 repeat, 10 sets
+    python benchmarks/bench_networks_eval.py --repeats 1
 
 Case (the size of issue 36's target): 60 parameter sets × 4 curves × 500 points × 2
 Bergström–Boyce networks on Ogden-2, at the integrator's default tolerances. The curves
@@ -57,8 +58,10 @@ def population(n: int, seed: int = 0):
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--repeats", type=int, default=None)
     args = ap.parse_args()
     n, repeats = (10, 1) if args.quick else (60, 3)
+    repeats = args.repeats or repeats
     law = hyperelastic.get("ogden2")
     T, L = curves()
     lp, ratios, nets = population(n)

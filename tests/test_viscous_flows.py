@@ -29,7 +29,8 @@ def test_the_four_flows_are_built_in_with_their_data_line_order():
     ("Bergstrom_Boyce", "bergstrom_boyce"), ("STRAIN", "strain"), ("HYPERB", "hyperb"),
     ("POWER LAW", "power_law"), ("POWERLAW", "power_law"), ("power_law", "power_law")])
 def test_solver_spellings_are_accepted(spelling, name):
-    assert flows.get(spelling).name == name
+    f = flows.get(spelling)
+    assert isinstance(f, flows.Flow) and f.name == name and flows.get(f) is f
 
 
 def test_an_unknown_flow_is_refused_in_one_line():
