@@ -37,8 +37,8 @@ from vhfit.viscous import flows
 from vhfit.viscous.flows import Flow
 
 #: Default tolerances of the local error of ln λ_cr and ε̄ per step (absolute, in log
-#: strain; relative): the stresses stay within about 1e-8 of their peak (1e-7 pointwise)
-#: of a tight reference, 1e-6 with a margin (docs/theory.md).
+#: strain; relative): the stresses stay within 1e-9 of their peak (2e-8 pointwise) of a
+#: tight reference, 1e-6 with a margin (docs/theory.md).
 ATOL, RTOL = 1e-10, 1e-8
 
 # Hairer–Wanner SDIRK4: γ = 1/4, c = (1/4, 3/4, 11/20, 1/2, 1), b = last row of A.
