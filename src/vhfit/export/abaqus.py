@@ -470,25 +470,20 @@ def _read_hyperelastic(blocks: list, text: str) -> tuple[str, dict[str, float], 
 
 
 def _flow_of(law: str, network: int):
-    """The registered flow a ``LAW=`` word names (``LAW=USER``: the one flow registered
-    with ``abaqus='USER'``), or a one-line refusal."""
+    """The registered flow a ``LAW=`` word names (:func:`vhfit.viscous.flows.get` knows
+    Abaqus's spellings and each flow's own ``abaqus`` word), or a one-line refusal."""
     from vhfit.viscous import flows
 
-    where = f"*VISCOELASTIC, NONLINEAR, NETWORKID={network}"
     try:
         return flows.get(law)
-    except (KeyError, ValueError):
-        pass
-    named = [f for f in map(flows.get, flows.available())
-             if (f.abaqus or "").upper() == law]
-    if len(named) == 1:
-        return named[0]
-    if law == "USER":
-        raise ValueError(f"{where}: LAW=USER (a user subroutine) names no registered flow: "
-                         "register the flow with vhfit.viscous.flows.register(..., "
-                         "abaqus='USER') to read it") from None
-    raise ValueError(f"{where}: LAW={law} names no registered flow (known: "
-                     f"{', '.join(flows.available())})") from None
+    except ValueError:
+        where = f"*VISCOELASTIC, NONLINEAR, NETWORKID={network}: LAW={law}"
+        if law == "USER":
+            raise ValueError(f"{where} (a user subroutine) names no registered flow: register "
+                             "one with vhfit.viscous.flows.register(..., abaqus='USER') to "
+                             "read it") from None
+        raise ValueError(f"{where} names no registered flow (known: "
+                         f"{', '.join(flows.available())})") from None
 
 
 def _read_networks(kind: str, constants: dict[str, float], moduli: str, visco: list
