@@ -557,8 +557,8 @@ def _simulate_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")
     p.add_argument("--card", metavar="FILE",
-                   help="material from a solver card vhfit reads (e.g. an Abaqus material "
-                        "block, Prony or nonlinear networks)")
+                   help="material from a solver card vhfit reads (the format is read from "
+                        "the file; Prony terms or nonlinear networks)")
     p.add_argument("--creep", type=_float("--creep"), metavar="S",
                    help="creep test: the stress S (MPa, in --measure) applied at once at "
                         "t = 0, then held (with --time; network cards)")
