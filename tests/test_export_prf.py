@@ -260,3 +260,26 @@ def test_those_solvers_are_the_ones_the_issue_names():
     """LS-DYNA and Ansys write no network card; Abaqus does."""
     assert {r.name for r in NO_NETWORKS} >= {"lsdyna", "ansys"}
     assert next(r for r in records() if r.name == "abaqus").networks
+
+
+# ------------------------------------------------------------------- card check
+def test_the_card_check_scores_a_network_card_in_its_own_framework():
+    """A frozen flow (A → 0) scored against the instantaneous neo-Hooke law's closed form,
+    σ = 2 C10 (λ² − 1/λ) (true stress), on ramps at two rates: the card's error is ~0."""
+    import numpy as np
+
+    import vhfit
+    from vhfit.export.check import NETWORKS, check_card, network_stress
+
+    C10 = 0.5
+    m = NetworkModel("neo_hooke", (C10,), (Network("bergstrom_boyce", 0.4,
+                                                   (1e-30, 1.0, 0.0, 0.01)),))
+    eps = np.linspace(0.05, 0.6, 12)
+    lam = 1.0 + eps
+    curves = [vhfit.Curve(strain=eps, stress=2 * C10 * (lam**2 - 1 / lam), strain_rate=r,
+                          measure="true") for r in (0.01, 1.0)]
+    res = check_card(to_abaqus(m), curves, fit=(m, {}))
+    assert res.formulation == res.fit_formulation == NETWORKS
+    assert res.rmsape < 1e-7 and not res.exceeds
+    np.testing.assert_allclose(network_stress(m, curves[0].history, "true"),
+                               curves[0].target_stress, rtol=1e-9)

@@ -14,6 +14,7 @@ from vhfit.cli._plugins import resolve_model_name
 from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
 from vhfit.export import parse
+from vhfit.export.check import network_stress
 from vhfit.history import History
 from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec
 from vhfit.modes import get_deformation
@@ -75,7 +76,7 @@ def cmd_simulate(args, argv=()) -> int:
     w.writerow(["curve", "strain_rate", "time", "strain", "stress"])
     for label, r, h in loads:
         try:
-            s = (_network_stress(model, h, args.measure) if networks
+            s = (network_stress(model, h, args.measure) if networks
                  else model.stress(x, h, measure=args.measure))
         except ValueError as exc:
             raise UsageError(f"{label}: {one_line(exc)}") from None
@@ -104,17 +105,6 @@ def _card(path: str) -> tuple[object, dict[str, float], str]:
     except ValueError as exc:
         raise UsageError(f"--card {path}: {one_line(exc)}") from None
     return model, params, f"card {path}"
-
-
-def _network_stress(model, h: History, measure: str) -> np.ndarray:
-    """A network model's stress at a history's output times: integrated along the history's
-    breakpoints and output times together (the stretch is linear in t between breakpoints)."""
-    if h.is_equilibrium:
-        raise ValueError("an equilibrium history has no time: a network model needs one")
-    t = np.union1d(h.time, h.out_time)
-    stress = model.stress(t, np.interp(t, h.time, h.stretch), deformation=h.deformation,
-                          measure=measure)
-    return np.asarray(stress)[np.searchsorted(t, h.out_time)]
 
 
 def _creep(args, model, params: dict[str, float], source: str) -> int:
