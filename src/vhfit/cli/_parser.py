@@ -145,6 +145,16 @@ def _float(what: str) -> Callable[[str], float]:
     return conv
 
 
+def _times(text: str) -> tuple[float, ...]:
+    """``--time t1,t2,...``: output times in s, >= 0 and increasing."""
+    number = _float("--time")
+    times = tuple(number(t.strip()) for t in text.split(",") if t.strip())
+    if not times or times[0] < 0 or any(b <= a for a, b in zip(times, times[1:])):
+        raise argparse.ArgumentTypeError(
+            f"--time {text!r}: give increasing times >= 0 in s, e.g. --time 0,10,100")
+    return times
+
+
 def _stretch_range(text: str) -> tuple[float, float]:
     """``--stability-range LO:HI``: stretches with 0 < LO < 1 < HI."""
     lo, sep, hi = text.partition(":")
@@ -546,6 +556,14 @@ def _simulate_flags(p: argparse.ArgumentParser) -> None:
                    help="points per ramp, from rest (default 50)")
     p.add_argument("--history", action="append", metavar="FILE.csv",
                    help="a strain history with time (s) and strain columns (repeatable)")
+    p.add_argument("--card", metavar="FILE",
+                   help="material from a solver card vhfit reads (the format is read from "
+                        "the file; Prony terms or nonlinear networks)")
+    p.add_argument("--creep", type=_float("--creep"), metavar="S",
+                   help="creep test: the stress S (MPa, in --measure) applied at once at "
+                        "t = 0, then held (with --time; network cards)")
+    p.add_argument("--time", type=_times, metavar="T1,T2,...",
+                   help="output times of --creep in s, increasing from >= 0")
     p.add_argument("--deformation", type=_deformation, default="uniaxial", metavar="MODE",
                    help=_one_stretch_tests())
     p.add_argument("--measure", choices=("engineering", "true"), default="engineering",
@@ -610,7 +628,7 @@ _COMMANDS: dict[str, tuple[Callable[[argparse.ArgumentParser], None], str, str]]
              "-59.5, -820 1/s) and write every output into a fresh folder."),
     "simulate": (_simulate_flags, "stress-strain curves of a material",
                  "Stress of a material along constant-rate ramps or measured histories, "
-                 "as CSV."),
+                 "or its strain under a held stress (--creep), as CSV."),
     "export": (_export_flags, "solver card of a results file",
                "Write the material card of a results file for an FE solver."),
     "check": (_check_flags, "what each solver will compute from the cards, against the data",

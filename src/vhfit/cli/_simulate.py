@@ -13,29 +13,55 @@ from vhfit.cli._common import EXIT_OK, UsageError, emit, one_line
 from vhfit.cli._plugins import resolve_model_name
 from vhfit.cli._results import load_calibration
 from vhfit.data import DataError, read_history
+from vhfit.export import parse
+from vhfit.export.check import network_stress
 from vhfit.history import History
 from vhfit.model import ModelSpec, ViscoHyperelastic, model_from_spec
 from vhfit.modes import get_deformation
-from vhfit.viscous import ParamLayout
+from vhfit.viscous import NetworkModel, ParamLayout
 
 __all__ = ["cmd_simulate", "parse_params", "count_prony"]
 
 
 def cmd_simulate(args, argv=()) -> int:
-    """``vhfit simulate``: stress of a given material along given loadings, to CSV."""
-    if args.results is None and args.model is None:
-        raise UsageError("simulate needs a material: --results RESULTS.json, or --model NAME "
-                         "with --param NAME=VALUE for each constant")
-    model, params, source = _material(args)
-    _check_names(model, params)
-    try:
-        x = model.check(params)
-    except ValueError as exc:
-        raise UsageError(f"parameters: {one_line(exc)}") from None
+    """``vhfit simulate``: stress of a given material along given loadings, or its strain
+    under a held stress (``--creep``), to CSV."""
+    if args.card is not None:
+        if args.results is not None or args.model is not None or args.param:
+            raise UsageError(f"--card {args.card} gives the material: drop --results, "
+                             "--model and --param")
+        model, params, source = _card(args.card)
+    elif args.results is None and args.model is None:
+        raise UsageError("simulate needs a material: --card FILE, --results RESULTS.json, or "
+                         "--model NAME with --param NAME=VALUE for each constant")
+    else:
+        model, params, source = _material(args)
+    networks = isinstance(model, NetworkModel)
+    if args.time is not None and args.creep is None:
+        raise UsageError("--time gives the output times of a creep test: add --creep S (or "
+                         "drop --time and give --rate or --history)")
+    if args.creep is not None:
+        if not networks:
+            raise UsageError(f"--creep: the Prony model from {source} has no creep solver in "
+                             "vhfit (only network models do): give a network card (--card "
+                             "FILE with *VISCOELASTIC, NONLINEAR), or simulate the Prony model "
+                             "with --rate or --history")
+        return _creep(args, model, params, source)
+    if networks:
+        x = None
+        describe = model.describe()
+        shown = params
+    else:
+        _check_names(model, params)
+        try:
+            x = model.check(params)
+        except ValueError as exc:
+            raise UsageError(f"parameters: {one_line(exc)}") from None
+        describe = model.spec().describe(formulation=True)
+        shown = model.as_dict(x)
     loads = _loads(args)
     buf = io.StringIO()
-    buf.write(f"# vhfit simulate: {model.spec().describe(formulation=True)}, from {source}\n")
-    buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in model.as_dict(x).items()) + "\n")
+    _head(buf, describe, source, shown)
     dfm = args.deformation
     test = get_deformation(dfm)
     if test.uniaxial:
@@ -50,13 +76,62 @@ def cmd_simulate(args, argv=()) -> int:
     w.writerow(["curve", "strain_rate", "time", "strain", "stress"])
     for label, r, h in loads:
         try:
-            s = model.stress(x, h, measure=args.measure)
+            s = (network_stress(model, h, args.measure) if networks
+                 else model.stress(x, h, measure=args.measure))
         except ValueError as exc:
             raise UsageError(f"{label}: {one_line(exc)}") from None
         rate = f"{r:g}" if math.isfinite(r) else ""
         for t, e, v in zip(h.out_time, h.out_strain, s):  # (+ 0.0: no "-0" in the file)
             w.writerow([label, rate, f"{t + 0.0:.9g}", f"{e + 0.0:.9g}", f"{v + 0.0:.9g}"])
     emit(buf.getvalue(), args.out, what="simulated curves")
+    return EXIT_OK
+
+
+def _head(buf: io.StringIO, describe: str, source: str, params: dict[str, float]) -> None:
+    """The first comment lines of the CSV: the material, where it came from, its constants."""
+    buf.write(f"# vhfit simulate: {describe}, from {source}\n")
+    buf.write("# params: " + ", ".join(f"{k}={v:.9g}" for k, v in params.items()) + "\n")
+
+
+def _card(path: str) -> tuple[object, dict[str, float], str]:
+    """The model and constants of a solver card (its format read from the text): a Prony
+    model and its vhfit parameters, or a network model and its named constants."""
+    try:
+        text = Path(path).read_text()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UsageError(f"--card {path}: {one_line(exc)}") from None
+    try:
+        model, params = parse(text)
+    except ValueError as exc:
+        raise UsageError(f"--card {path}: {one_line(exc)}") from None
+    return model, params, f"card {path}"
+
+
+def _creep(args, model, params: dict[str, float], source: str) -> int:
+    """``--creep S``: the stretch of a network model under the stress S applied at once at
+    t = 0 (the instantaneous response) and held, at the ``--time`` output times."""
+    if args.time is None:
+        raise UsageError("--creep needs the output times: --time t1,t2,... (s, from 0)")
+    if args.rate or args.history:
+        raise UsageError("--creep is a test of its own: drop --rate and --history")
+    times = np.asarray(args.time, dtype=np.float64)
+    try:
+        lam = np.asarray(model.creep(args.creep, times, deformation=args.deformation,
+                                     measure=args.measure), dtype=np.float64)
+    except ValueError as exc:
+        raise UsageError(f"--creep {args.creep:g} --deformation {args.deformation}: "
+                         f"{one_line(exc)}") from None
+    buf = io.StringIO()
+    _head(buf, model.describe(), source, params)
+    buf.write(f"# creep: {args.measure} stress {args.creep:g} MPa in the loaded direction, "
+              f"applied at t = 0 (the instantaneous response) and held; deformation: "
+              f"{args.deformation}; stretch: λ1; strain: engineering λ1 − 1; time: s\n")
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["time", "stretch", "strain", "stress"])
+    for t, v in zip(times, lam):
+        w.writerow([f"{t + 0.0:.9g}", f"{v:.12g}", f"{v - 1.0 + 0.0:.12g}",
+                    f"{args.creep + 0.0:.9g}"])
+    emit(buf.getvalue(), args.out, what="creep curve")
     return EXIT_OK
 
 

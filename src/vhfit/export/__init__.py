@@ -33,7 +33,13 @@ import json
 import pkgutil
 from collections.abc import Mapping
 
-from vhfit.export._common import Material, TooManyTerms, generator, resolve
+from vhfit.export._common import (
+    Material,
+    TooManyTerms,
+    generator,
+    is_network_model,
+    resolve,
+)
 from vhfit.export._solvers import (
     LiveMapping,
     Solver,
@@ -186,9 +192,11 @@ def export(model, params=None, *, to: str | None = None, **options) -> str:
 
     Parameters
     ----------
-    model : ViscoHyperelastic or results-like
+    model : ViscoHyperelastic, NetworkModel or results-like
         The model with ``params``; or a calibration result (``.model``, ``.params``)
-        or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``.
+        or a mapping with ``"params"`` and ``"model"``/``"hyperelastic"``; or a network
+        model (:class:`vhfit.viscous.NetworkModel`, no ``params``), which only a solver
+        whose record holds networks writes (the others refuse it in one line).
     params : dict or array_like, optional
         The calibrated parameters (omit when ``model`` is results-like).
     to : str, optional
@@ -219,7 +227,10 @@ def export(model, params=None, *, to: str | None = None, **options) -> str:
     shift = options.pop("shift", None)
     key = _target(solvers()[0] if to is None else to)
     write = to_json if key == "json" else get_solver(key).write
-    text = write(*resolve(model, params), **options)
+    # a network model goes to the writer as it is: a record that holds networks writes it,
+    # any other refuses it in one line (resolve)
+    args = (model, None) if is_network_model(model) else resolve(model, params)
+    text = write(*args, **options)
     return text if shift is None else add_shift(text, shift, key, mat=options.get("mat", 1))
 
 

@@ -39,6 +39,9 @@ __all__ = [
     "check_compressibility",
     "no_density_note",
     "SAME_LAW",
+    "comment_block",
+    "is_network_model",
+    "no_network_card",
 ]
 
 #: The consistent unit system every card is written in (the model's own: MPa and s).
@@ -91,7 +94,26 @@ def check_compressibility(poisson: float | None = None, bulk_modulus: float | No
                          "1000 kg/m^3)")
 
 
-def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
+def is_network_model(model) -> bool:
+    """Whether ``model`` is a network (parallel rheological) model of :mod:`vhfit.viscous`."""
+    from vhfit.viscous import NetworkModel
+
+    return isinstance(model, NetworkModel)
+
+
+def no_network_card(solver) -> ValueError:
+    """The one-line refusal of a solver record whose cards hold no network model: what
+    is missing (the record's ``no_networks``) and the solvers whose cards do hold one."""
+    others = [r.label for r in records() if r.networks]
+    where = (f"write it for {' or '.join(others)}" if others
+             else "no solver card vhfit writes holds one")
+    why = f": {solver.no_networks}" if solver.no_networks else ""
+    return ValueError(f"{solver.label} export has no card for a network (parallel "
+                      f"rheological) model{why}; {where}, or fit a Prony model for "
+                      f"{solver.label}")
+
+
+def resolve(model, params=None, *, solver=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     """The (model, params) pair behind the exporters' flexible first arguments.
 
     Accepts ``(ViscoHyperelastic, dict | array)``; a results-like object with
@@ -101,8 +123,14 @@ def resolve(model, params=None) -> tuple[ViscoHyperelastic, dict[str, float]]:
     :class:`ViscoHyperelastic` or a model name) or ``"hyperelastic"`` (a model name),
     with ``"n_prony"`` optional (else counted from the ``G1, tau1, ...`` keys),
     ``"formulation"`` optional (default ``"hereditary"``) and ``"rtol"`` optional (the
-    model's accuracy).
+    model's accuracy). A network model (:mod:`vhfit.viscous`) is refused in one line:
+    ``solver`` (a :class:`~vhfit.export.Solver`) names the card that cannot hold it.
     """
+    if is_network_model(model):
+        if solver is None:
+            raise ValueError("a network (parallel rheological) model has no Prony "
+                             "parameters: write its card with a solver that holds networks")
+        raise no_network_card(solver)
     if params is None:
         if isinstance(model, ViscoHyperelastic):
             raise TypeError("give the parameters: to_X(model, params)")
@@ -500,6 +528,11 @@ def header(
         f"g_inf = 1 - sum(g_i) = {mat.g_inf:.9g}",
         f"Calibrated vhfit parameters (paper convention, G_i uniaxial): {mat.summary()}",
     ]
+    return comment_block(prefix, lines, width)
+
+
+def comment_block(prefix: str, lines: Sequence[str], width: int = 100) -> list[str]:
+    """``lines`` as comment lines of a card: ``prefix`` first, wrapped to ``width``."""
     out = []
     for line in lines:
         for piece in textwrap.wrap(line, width - len(prefix) - 1,

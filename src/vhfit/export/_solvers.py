@@ -67,6 +67,12 @@ class Solver:
         ``test_data(curves, law) -> str``: equilibrium curves as the solver's own
         test-data input for its law fitting (``vhfit fit`` writes it to
         ``NAME_test_data + suffix`` when the data hold such curves); None: none.
+    networks : bool
+        Its writer also takes a network model (:class:`vhfit.viscous.NetworkModel`, with
+        ``params`` None) and its reader reads such cards back.
+    no_networks : str
+        Why its cards hold no network model (when ``networks`` is False): said in the
+        one-line refusal.
     """
 
     name: str
@@ -84,6 +90,8 @@ class Solver:
     bulk_modulus: bool = False
     variants: Mapping = field(default_factory=dict)
     test_data: Callable[..., str] | None = None
+    networks: bool = False
+    no_networks: str = ""
 
     @property
     def card_file(self) -> str:

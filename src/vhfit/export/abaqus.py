@@ -21,16 +21,21 @@ from __future__ import annotations
 import re
 import warnings
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from vhfit import hyperelastic as _hyper
 from vhfit.export._common import (
     BULK_RATIO,
+    UNITS,
     Material,
     check_compressibility,
+    comment_block,
     free_number,
     generator,
     header,
+    is_network_model,
     model_hint,
     no_density_note,
     parse_number,
@@ -41,6 +46,9 @@ from vhfit.export._solvers import Solver
 from vhfit.export.shift import wlf_constants, wlf_number
 from vhfit.model import ViscoHyperelastic
 from vhfit.modes import get_deformation, registered_deformations
+
+if TYPE_CHECKING:  # the network physics is imported by the functions that use it
+    from vhfit.viscous import NetworkModel
 
 __all__ = ["to_abaqus", "from_abaqus", "to_abaqus_test_data", "abaqus_trs"]
 
@@ -153,6 +161,10 @@ def to_abaqus(
     *VISCOELASTIC, TIME=PRONY
     0.5, 0.0, 0.0001
     """
+    if is_network_model(model):
+        return _network_card(model, name=name, density=density, poisson=poisson,
+                             bulk_modulus=bulk_modulus, explicit=explicit, notes=notes,
+                             comments=comments)
     model, params = resolve(model, params)
     mat = Material.from_model(model, params)
     if mat.hyperelastic not in _CARDS:
@@ -161,16 +173,10 @@ def to_abaqus(
         raise ValueError(f"moduli = {moduli!r}; choose 'long_term' or 'instantaneous'")
     _check_name(name)
     check_compressibility(poisson, bulk_modulus, density)
-    kind, order, n_d = _CARDS[mat.hyperelastic]
     visco = mat.n_prony > 0
     inst = visco and moduli == "instantaneous"
     constants = mat.scaled(1.0 / mat.g_inf) if inst else mat.constants
-    K = mat.bulk_modulus(poisson, bulk_modulus)
-    if K is None and explicit:
-        K = mat.default_bulk_modulus()
-    d1 = 0.0 if K is None else 2.0 / K
-    values = [free_number(constants[k]) for k in order]
-    values += [free_number(d1)] + [free_number(0.0)] * (n_d - 1)
+    K = _bulk(mat, poisson, bulk_modulus, explicit)
 
     if not visco:
         which = "long-term = instantaneous (no Prony terms; MODULI not written)"
@@ -193,14 +199,101 @@ def to_abaqus(
     lines.append(f"*MATERIAL, NAME={name}")
     if density is not None:
         lines += ["*DENSITY", f"{free_number(density)},"]
-    kw = f"*HYPERELASTIC, {kind}"
-    if visco:
-        kw += f", MODULI={_MODULI[moduli]}"
-    lines.append(kw)
-    lines += _lines_of(values)
+    lines += _hyperelastic(mat.hyperelastic, constants, K, _MODULI[moduli] if visco else None)
     if visco:
         lines.append("*VISCOELASTIC, TIME=PRONY")
         lines += [f"{free_number(g)}, 0.0, {free_number(t)}" for g, t in zip(mat.g, mat.tau)]
+    return "\n".join(lines) + "\n"
+
+
+def _bulk(mat: Material, poisson, bulk_modulus, explicit: bool) -> float | None:
+    """The card's bulk modulus (None: incompressible, D1 = 0); the Explicit variant's
+    default when neither ν nor K is given."""
+    K = mat.bulk_modulus(poisson, bulk_modulus)
+    return mat.default_bulk_modulus() if K is None and explicit else K
+
+
+def _hyperelastic(law: str, constants: dict[str, float], K: float | None,
+                  moduli: str | None) -> list[str]:
+    """The ``*HYPERELASTIC`` keyword line (``MODULI=`` when given) and its data lines: the
+    constants in Abaqus's order, then D1 = 2/K (0: incompressible) and the other D's 0."""
+    kind, order, n_d = _CARDS[law]
+    d1 = 0.0 if K is None else 2.0 / K
+    values = [free_number(constants[k]) for k in order]
+    values += [free_number(d1)] + [free_number(0.0)] * (n_d - 1)
+    return [f"*HYPERELASTIC, {kind}" + (f", MODULI={moduli}" if moduli else ""),
+            *_lines_of(values)]
+
+
+#: The comment every network card carries: when Abaqus lets the networks flow.
+NO_CREEP_IN_STATIC = ("The networks (*VISCOELASTIC, NONLINEAR) creep only in *VISCO steps "
+                      "and dynamic steps, never in *STATIC: a *STATIC step gives the "
+                      "instantaneous (elastic) response")
+
+
+def _abaqus_law(flow) -> str:
+    """The LAW= word of a registered flow (its record's ``abaqus``), or a one-line refusal."""
+    if not flow.abaqus:
+        raise ValueError(f"{SOLVER} export: the flow {flow.name!r} has no Abaqus LAW (its "
+                         "record's abaqus is None): register it with abaqus='WORD', or "
+                         "use a built-in flow")
+    return flow.abaqus
+
+
+def _network_card(model, *, name: str, density: float | None, poisson: float | None,
+                  bulk_modulus: float | None, explicit: bool, notes: Sequence[str],
+                  comments: Sequence[str]) -> str:
+    """The ``*MATERIAL`` block of a network model (Abaqus's parallel rheological framework).
+
+    ``*HYPERELASTIC, <law>, MODULI=INSTANTANEOUS`` with the model's instantaneous
+    constants, then one ``*VISCOELASTIC, NONLINEAR, NETWORKID=k, SRATIO=s_k, LAW=...``
+    block per network, its data line in the flow record's order (``Flow.param_names``).
+    """
+    from vhfit.viscous import flows
+
+    if model.law not in _CARDS:
+        raise unsupported(SOLVER, model.law, list(_CARDS))
+    _check_name(name)
+    check_compressibility(poisson, bulk_modulus, density)
+    law_names = _hyper.get(model.law).param_names
+    constants = {k: float(v) for k, v in zip(law_names, model.law_params)}
+    # the instantaneous constants as a law without Prony terms: its moduli are the
+    # instantaneous ones, which fix a bulk modulus from a Poisson's ratio
+    mat = Material(model.law, constants)
+    K = _bulk(mat, poisson, bulk_modulus, explicit)
+    records = [(k, net, flows.get(net.flow)) for k, net in enumerate(model.networks, 1)]
+    laws = [_abaqus_law(flow) for _, _, flow in records]
+    target = "Abaqus/Explicit" if explicit else "Abaqus/Standard"
+    if density is None:
+        notes = [*notes, no_density_note(SOLVER, "*DENSITY")]
+    text = [
+        f"Generated by {generator()}: nonlinear visco-hyperelastic material (parallel "
+        f"rheological framework) for {target}",
+        *(f"WARNING: {n}" for n in notes),
+        f"vhfit model: {model.describe()}",
+        f"Units: {UNITS}",
+        *comments,
+        "Conventions: *HYPERELASTIC, MODULI=INSTANTANEOUS holds the instantaneous constants "
+        "(Abaqus forms = vhfit forms, copied unchanged); the equilibrium network carries "
+        "(1 - sum SRATIO_k) W(F), network k carries SRATIO_k W(F_e,k), F = F_e,k F_cr,k",
+        "Each network's creep strain rate is driven by the Mises equivalent of its deviatoric "
+        "Kirchhoff stress (MPa), time in s",
+        *(f"Network {k}: flow {flow.name} (LAW={word}), data line "
+          f"{', '.join(flow.param_names)} = {', '.join(f'{c:.9g}' for c in net.constants)}, "
+          f"SRATIO = {net.ratio:.9g}"
+          for (k, net, flow), word in zip(records, laws)),
+        _compressibility(mat, K, poisson, bulk_modulus, explicit),
+        NO_CREEP_IN_STATIC,
+    ]
+    lines = comment_block("**", text)
+    lines.append(f"*MATERIAL, NAME={name}")
+    if density is not None:
+        lines += ["*DENSITY", f"{free_number(density)},"]
+    lines += _hyperelastic(model.law, constants, K, _MODULI["instantaneous"])
+    for (k, net, _), word in zip(records, laws):
+        lines.append(f"*VISCOELASTIC, NONLINEAR, NETWORKID={k}, "
+                     f"SRATIO={free_number(net.ratio)}, LAW={word}")
+        lines += _lines_of([free_number(c) for c in net.constants])
     return "\n".join(lines) + "\n"
 
 
@@ -271,23 +364,33 @@ def _hyper_kind(params: dict[str, str]) -> tuple[str, int]:
     raise unsupported(SOLVER, f"POLYNOMIAL, N={n}", list(_CARDS))
 
 
-def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelastic, dict]:
+def from_abaqus(text: str, *, name: str | None = None
+                ) -> tuple[ViscoHyperelastic | NetworkModel, dict[str, float]]:
     """Read a card written by :func:`to_abaqus` (or by hand) back into vhfit.
+
+    A material with ``*VISCOELASTIC, TIME=PRONY`` (or none) reads as a Prony model; one
+    with ``*VISCOELASTIC, NONLINEAR`` networks (Abaqus's parallel rheological framework,
+    beside ``*HYPERELASTIC, ..., MODULI=INSTANTANEOUS``) as a network model
+    (:class:`vhfit.viscous.NetworkModel`): each block's ``LAW=`` names a registered flow
+    (:func:`vhfit.viscous.flows.get`, Abaqus's spellings accepted), its data line its
+    constants in the flow record's order. What cannot be read is refused in one line.
 
     Parameters
     ----------
     text : str
         Abaqus input text holding ``*MATERIAL``, ``*HYPERELASTIC`` (constants given
         directly, no temperature dependence) and optionally ``*VISCOELASTIC,
-        TIME=PRONY``.
+        TIME=PRONY`` or ``*VISCOELASTIC, NONLINEAR`` blocks.
     name : str, optional
         Which ``*MATERIAL`` to read (default: the first one).
 
     Returns
     -------
-    model : ViscoHyperelastic
+    model : ViscoHyperelastic or NetworkModel
     params : dict
-        vhfit parameters (long-term constants, uniaxial G_i, τ_i).
+        vhfit parameters (long-term constants, uniaxial G_i, τ_i); for a network model
+        its constants by name (the law's, then ``networkK_sratio`` and ``networkK_<name>``
+        of each flow constant), for display: the model holds them all.
 
     Examples
     --------
@@ -302,18 +405,44 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
     >>> m.param_names, p["G1"]
     (['C10', 'C01', 'G1', 'tau1'], 30.0)
     """
-    blocks = _blocks(text)
+    blocks = _material(_blocks(text), name)
+    kind, constants, moduli = _read_hyperelastic(blocks, text)
+    visco = [b for b in blocks if b[0] == "VISCOELASTIC"]
+    if any("NONLINEAR" in vp for _, vp, _ in visco):
+        return _read_networks(kind, constants, moduli, visco)
+    g, tau = [], []
+    if visco:
+        _, vp, vdata = visco[0]
+        if vp.get("TIME", "").upper() != "PRONY":
+            raise ValueError(f"*VISCOELASTIC {vp}: only TIME=PRONY or NONLINEAR can be read")
+        for row in vdata:
+            gi, ki, ti = (parse_number(row[j]) if j < len(row) else 0.0 for j in range(3))
+            if ki != 0.0:
+                warnings.warn(f"*VISCOELASTIC k_i = {ki:g} ignored: vhfit's model is "
+                              "incompressible (no bulk relaxation)", stacklevel=2)
+            g.append(gi)
+            tau.append(ti)
+    mat = Material.from_card(kind, constants, g, tau, solver=SOLVER,
+                             instantaneous=moduli == "INSTANTANEOUS" and bool(g))
+    return mat.to_params()
+
+
+def _material(blocks: list, name: str | None) -> list:
+    """The blocks of the ``*MATERIAL`` named ``name`` (the first one when None; all the
+    blocks when the text has no ``*MATERIAL``)."""
     starts = [i for i, b in enumerate(blocks) if b[0] == "MATERIAL"]
-    if starts:
-        chosen = None
-        for k, i in enumerate(starts):
-            if name is None or blocks[i][1].get("NAME", "").upper() == name.upper():
-                end = starts[k + 1] if k + 1 < len(starts) else len(blocks)
-                chosen = blocks[i + 1:end]
-                break
-        if chosen is None:
-            raise ValueError(f"no *MATERIAL, NAME={name} in the Abaqus text")
-        blocks = chosen
+    if not starts:
+        return blocks
+    for k, i in enumerate(starts):
+        if name is None or blocks[i][1].get("NAME", "").upper() == name.upper():
+            end = starts[k + 1] if k + 1 < len(starts) else len(blocks)
+            return blocks[i + 1:end]
+    raise ValueError(f"no *MATERIAL, NAME={name} in the Abaqus text")
+
+
+def _read_hyperelastic(blocks: list, text: str) -> tuple[str, dict[str, float], str]:
+    """The law, constants (as written) and ``MODULI`` (upper case; Abaqus's default LONG
+    TERM when not given) of the material's ``*HYPERELASTIC``."""
     hyper = [b for b in blocks if b[0] == "HYPERELASTIC"]
     if not hyper:
         raise ValueError("no *HYPERELASTIC keyword in the Abaqus text")
@@ -334,28 +463,95 @@ def from_abaqus(text: str, *, name: str | None = None) -> tuple[ViscoHyperelasti
         raise ValueError(f"*HYPERELASTIC {kind}: expected {len(order)} constants "
                          f"{order}, found {len(tokens)} values")
     constants = {k: parse_number(tok) for k, tok in zip(order, tokens)}
-    for k in _CARDS[kind][1]:
-        constants.setdefault(k, 0.0)
-
-    g, tau = [], []
-    visco = [b for b in blocks if b[0] == "VISCOELASTIC"]
-    if visco:
-        _, vp, vdata = visco[0]
-        if vp.get("TIME", "").upper() != "PRONY":
-            raise ValueError(f"*VISCOELASTIC {vp}: only TIME=PRONY can be read")
-        for row in vdata:
-            gi, ki, ti = (parse_number(row[j]) if j < len(row) else 0.0 for j in range(3))
-            if ki != 0.0:
-                warnings.warn(f"*VISCOELASTIC k_i = {ki:g} ignored: vhfit's model is "
-                              "incompressible (no bulk relaxation)", stacklevel=2)
-            g.append(gi)
-            tau.append(ti)
-    moduli = hp.get("MODULI", "LONG TERM").upper()
+    moduli = re.sub(r"\s+", " ", hp.get("MODULI", "LONG TERM").upper())
     if moduli not in ("LONG TERM", "INSTANTANEOUS"):
         raise ValueError(f"*HYPERELASTIC MODULI={moduli}: expected LONG TERM or INSTANTANEOUS")
-    mat = Material.from_card(kind, constants, g, tau, solver=SOLVER,
-                             instantaneous=moduli == "INSTANTANEOUS" and bool(g))
-    return mat.to_params()
+    return kind, constants, moduli
+
+
+def _flow_of(law: str, network: int):
+    """The registered flow a ``LAW=`` word names (:func:`vhfit.viscous.flows.get` knows
+    Abaqus's spellings and each flow's own ``abaqus`` word), or a one-line refusal."""
+    from vhfit.viscous import flows
+
+    try:
+        return flows.get(law)
+    except ValueError:
+        where = f"*VISCOELASTIC, NONLINEAR, NETWORKID={network}: LAW={law}"
+        if law == "USER":
+            raise ValueError(f"{where} (a user subroutine) names no registered flow: register "
+                             "one with vhfit.viscous.flows.register(..., abaqus='USER') to "
+                             "read it") from None
+        raise ValueError(f"{where} names no registered flow (known: "
+                         f"{', '.join(flows.available())})") from None
+
+
+def _read_networks(kind: str, constants: dict[str, float], moduli: str, visco: list
+                   ) -> tuple[NetworkModel, dict[str, float]]:
+    """A network model from ``*HYPERELASTIC, ..., MODULI=INSTANTANEOUS`` and the material's
+    ``*VISCOELASTIC, NONLINEAR`` blocks (see :func:`from_abaqus`)."""
+    from vhfit.viscous import Network, NetworkModel
+
+    if moduli != "INSTANTANEOUS":
+        raise ValueError(f"*HYPERELASTIC MODULI={moduli} with *VISCOELASTIC, NONLINEAR: the "
+                         "parallel rheological framework takes the instantaneous moduli: "
+                         "write MODULI=INSTANTANEOUS (LONG TERM is Abaqus's default)")
+    if any("NONLINEAR" not in vp for _, vp, _ in visco):
+        raise ValueError("*VISCOELASTIC, TIME=PRONY beside *VISCOELASTIC, NONLINEAR networks "
+                         "cannot be read: a material is a Prony model or a network model")
+    found: dict[int, Network] = {}
+    for _, vp, rows in visco:
+        where = "*VISCOELASTIC, NONLINEAR"
+        unread = sorted(set(vp) - {"NONLINEAR", "NETWORKID", "SRATIO", "LAW"})
+        if unread:
+            raise ValueError(f"{where}: {', '.join(unread)} cannot be read (temperature or "
+                             "field dependence): give one data line of constants")
+        missing = [p for p in ("NETWORKID", "SRATIO", "LAW") if not vp.get(p, "").strip()]
+        if missing:
+            raise ValueError(f"{where}: {'= and '.join(missing)}= missing (each network needs "
+                             "NETWORKID=k, SRATIO=s_k and its flow, e.g. LAW=STRAIN)")
+        try:
+            k = int(vp["NETWORKID"])
+            ratio = parse_number(vp["SRATIO"])
+        except ValueError:
+            raise ValueError(f"{where}: NETWORKID={vp['NETWORKID']}, SRATIO={vp['SRATIO']}: "
+                             "give a whole number and a number") from None
+        where = f"{where}, NETWORKID={k}"
+        if k in found:
+            raise ValueError(f"{where} is given twice: each network needs its own NETWORKID")
+        flow = _flow_of(re.sub(r"\s+", " ", vp["LAW"].strip().upper()), k)
+        n = len(flow.param_names)
+        if len(rows) > -(-(n + 1) // 8):  # the constants and a temperature: one record
+            raise ValueError(f"{where}: {len(rows)} data lines: temperature-dependent flow "
+                             "constants cannot be read (give one line "
+                             f"{', '.join(flow.param_names)})")
+        tokens = [t for row in rows for t in row][:n]
+        tokens += [""] * (n - len(tokens))  # a blank or missing field is 0, as in Abaqus
+        try:
+            values = tuple(float(v) for v in flow.check([parse_number(t) for t in tokens]))
+        except ValueError as exc:
+            raise ValueError(f"{where}, LAW={vp['LAW'].strip()}: {exc}") from None
+        found[k] = Network(flow=flow.name, ratio=ratio, constants=values)
+    law_params = tuple(constants.get(p, 0.0) for p in _hyper.get(kind).param_names)
+    try:
+        model = NetworkModel(law=kind, law_params=law_params,
+                             networks=tuple(found[k] for k in sorted(found)))
+    except ValueError as exc:
+        raise ValueError(f"{SOLVER} card: {exc}") from None
+    return model, _named_constants(model)
+
+
+def _named_constants(model: NetworkModel) -> dict[str, float]:
+    """A network model's constants by name: the law's, then each network's SRATIO and flow
+    constants (``networkK_sratio``, ``networkK_<name>``)."""
+    from vhfit.viscous import flows
+
+    named = dict(zip(_hyper.get(model.law).param_names, model.law_params))
+    for k, net in enumerate(model.networks, 1):
+        named[f"network{k}_sratio"] = net.ratio
+        named.update({f"network{k}_{p}": v
+                      for p, v in zip(flows.get(net.flow).param_names, net.constants)})
+    return named
 
 
 # --------------------------------------------------------------------- test data
@@ -498,4 +694,4 @@ RECORD = Solver(
     write=to_abaqus, read=from_abaqus, sniff=lambda body: "*HYPERELASTIC" in body,
     laws=tuple(_CARDS), comment="**", shift=_add_trs, density=True, bulk_modulus=True,
     variants={"explicit": ("Abaqus/Explicit", "D1 from the bulk modulus, never 0")},
-    test_data=to_abaqus_test_data)
+    test_data=to_abaqus_test_data, networks=True)

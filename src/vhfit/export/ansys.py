@@ -141,7 +141,7 @@ def to_ansys(
     TB,PRONY,1,,1,SHEAR
     TBDATA,1,0.5,0.0001
     """
-    model, params = resolve(model, params)
+    model, params = resolve(model, params, solver=RECORD)
     m = Material.from_model(model, params)
     if m.hyperelastic not in _CARDS:
         raise unsupported(SOLVER, m.hyperelastic, list(_CARDS))
@@ -353,4 +353,7 @@ RECORD = Solver(
     name="ansys", label=SOLVER, suffix=".mac", formulation="hereditary",
     write=to_ansys, read=from_ansys, sniff=lambda body: "TB," in body.replace(" ", ""),
     laws=tuple(_CARDS), comment="!", aliases=("apdl", "mapdl"), shift=_add_tb_shift,
-    density=True, bulk_modulus=True)
+    density=True, bulk_modulus=True,
+    no_networks=("its Bergstrom-Boyce model (TB,BB) has no publicly "
+                 "documented flow equation and TBDATA numbering that vhfit could verify a "
+                 "card against"))

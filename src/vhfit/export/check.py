@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vhfit.export import parse
+from vhfit.export._common import is_network_model
 from vhfit.export._solvers import card_body, records, solver_of
 from vhfit.formulations import SOLVER_FORMULATIONS
 from vhfit.model import ViscoHyperelastic, model_from_spec
@@ -57,6 +58,8 @@ __all__ = [
     "in_formulation",
     "card_solver",
     "card_stress",
+    "network_stress",
+    "NETWORKS",
     "check_card",
     "check_cards",
     "PASSES",
@@ -162,8 +165,13 @@ def _solver_key(solver: str) -> str:
     return solver_of(solver).name
 
 
+#: The card check's formulation word of a network model: its networks, integrated as the
+#: solver's parallel rheological framework defines them (:mod:`vhfit.viscous`).
+NETWORKS = "networks"
+
+
 def _formulation_of(model) -> str:
-    return str(model.formulation)
+    return NETWORKS if is_network_model(model) else str(model.formulation)
 
 
 def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelastic:
@@ -181,9 +189,56 @@ def in_formulation(model: ViscoHyperelastic, formulation: str) -> ViscoHyperelas
     return model_from_spec(model.spec().replace(formulation=formulation))
 
 
-def _stress(model: ViscoHyperelastic, params, curves: Sequence) -> np.ndarray:
-    """The stresses of ``model`` at every objective point of the curves."""
+def _stress(model, params, curves: Sequence) -> np.ndarray:
+    """The stresses of ``model`` at every objective point of the curves (a network model
+    holds its constants: ``params`` is not read)."""
+    if is_network_model(model):
+        return np.concatenate([network_stress(model, c.history, c.measure) for c in curves])
     return model.batch(list(curves))(model.as_array(params)[None, :])[0]
+
+
+def network_stress(model, history, measure: str = "true") -> np.ndarray:
+    """A network model's stress at a history's output times, in the loaded direction.
+
+    The model is integrated along the history's breakpoints and output times together (the
+    stretch is linear in time between breakpoints, as the history says).
+
+    Parameters
+    ----------
+    model : vhfit.viscous.NetworkModel
+    history : History
+        A strain-controlled history with time (not an equilibrium one), stresses asked in
+        its first loaded direction.
+    measure : {"true", "engineering"}
+
+    Returns
+    -------
+    ndarray
+        One stress per output time, in the order of ``history.out_time``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vhfit.history import History
+    >>> from vhfit.viscous import Network, NetworkModel
+    >>> frozen = NetworkModel("neo_hooke", (0.5,), (Network("strain", 0.5, (1e-30, 1, 0)),))
+    >>> h = History.constant_rate(np.array([0.0, 0.5]), 1.0)
+    >>> s = network_stress(frozen, h)           # A -> 0: the instantaneous law
+    >>> bool(np.allclose(s, 2 * 0.5 * (1.5**2 - 1 / 1.5) * np.array([0.0, 1.0])))
+    True
+    """
+    if history.is_equilibrium:
+        raise ValueError("an equilibrium (rate-free) curve has no time: a network model's "
+                         "stress needs a history with time")
+    if history.out_direction is not None and (np.asarray(history.out_direction) != 1).any():
+        raise ValueError("a network model's stress is computed in the first loaded "
+                         "direction only: drop the outputs of the second direction")
+    t = np.union1d(history.time, history.out_time)
+    extra = ({} if history.stretch2 is None
+             else {"stretch2": np.interp(t, history.time, history.stretch2)})
+    stress = model.stress(t, np.interp(t, history.time, history.stretch),
+                          deformation=history.deformation, measure=measure, **extra)
+    return np.asarray(stress, dtype=np.float64)[np.searchsorted(t, history.out_time)]
 
 
 def _scores(curves: Sequence, stress: np.ndarray) -> tuple[float, list[float]]:
@@ -279,17 +334,18 @@ def card_stress(text: str, curves: Sequence, *, solver: str | None = None
 
     Returns
     -------
-    model : ViscoHyperelastic
-        The card's law in the solver's formulation.
+    model : ViscoHyperelastic or NetworkModel
+        The card's law in the solver's formulation (a network card: its network model).
     params : dict
-        The card's constants in vhfit's convention.
+        The card's constants in vhfit's convention (a network card: by name).
     stress : ndarray
         The model stresses at every objective point of every curve (concatenated), in
         each curve's measure.
     """
     solver = solver or card_solver(text)
     model, params = parse(text, _solver_key(solver))
-    model = in_formulation(model, solver_formulation(solver))
+    if not is_network_model(model):  # a network card holds its solver's own framework
+        model = in_formulation(model, solver_formulation(solver))
     return model, params, _stress(model, params, curves)
 
 

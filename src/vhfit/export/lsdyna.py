@@ -269,7 +269,7 @@ def to_lsdyna(
           10.0     1.0e4
     *END
     """
-    model, params = resolve(model, params)
+    model, params = resolve(model, params, solver=RECORD)
     mat = Material.from_model(model, params)
     _check_card(mat, mid, name)
     check_compressibility(poisson, bulk_modulus, density)
@@ -512,4 +512,7 @@ RECORD = Solver(
     name="lsdyna", label=SOLVER, suffix=".k", formulation="lsdyna",
     write=to_lsdyna, read=from_lsdyna, sniff=lambda body: "*MAT_" in body,
     laws=SUPPORTED, comment="$", aliases=("ls-dyna", "dyna"), shift=_add_shift_note,
-    density=True, bulk_modulus=True)
+    density=True, bulk_modulus=True,
+    no_networks=("its Bergstrom-Boyce material (*MAT_BERGSTROM_BOYCE_RUBBER) "
+                 "has no publicly documented flow equation and field numbering that vhfit "
+                 "could verify a card against"))
