@@ -282,3 +282,20 @@ def test_every_legend_is_beside_its_axes_and_inside_the_figure(fitted):
             assert whole.x0 - 1 <= box.x0 and box.x1 <= whole.x1 + 1 and \
                 whole.y0 - 1 <= box.y0 and box.y1 <= whole.y1 + 1, (box, whole)
     assert n_legends >= 3  # both fit panels' and the history's at least
+
+
+def test_model_lines_give_the_laws_stress_on_each_stress_strain_curve():
+    """Computed where the model is (the fit's process) and drawn elsewhere: the line of a
+    neo-Hooke equilibrium curve is σ = 2 C10 (λ² − 1/λ) (true stress, written here)."""
+    from vhfit.plot import model_lines
+
+    m = vhfit.ViscoHyperelastic("neo_hooke", n_prony=0)
+
+    class Cal:
+        model, params = m, {"C10": 0.5}
+
+    c = vhfit.Curve(strain=[0.0, 0.1, 0.3], stress=[0.0, 0.1, 0.3], measure="true")
+    (line,) = model_lines(Cal, [c])
+    lam = 1.0 + np.asarray(line["strain"])
+    np.testing.assert_allclose(line["model"], 2 * 0.5 * (lam**2 - 1 / lam), rtol=1e-9,
+                               atol=1e-12)

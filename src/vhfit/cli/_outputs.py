@@ -36,7 +36,7 @@ from vhfit.cli._common import (
 from vhfit.cli._report import write_fit_report
 from vhfit.data import is_moduli
 from vhfit.modes import get_deformation
-from vhfit.report._figures import residual_figure
+from vhfit.report import residual_figure
 
 __all__ = ["write_outputs", "Drawer", "draw_figures", "figure_job", "send_early"]
 

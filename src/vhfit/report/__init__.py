@@ -28,6 +28,7 @@ from vhfit._io import atomic_write
 from vhfit.calibration import interrupted_in, set_html_report
 from vhfit.data import is_moduli
 from vhfit.report import _figures, _html
+from vhfit.report._figures import residual_figure  # noqa: F401 - the drawer's copy draws it
 
 __all__ = ["build_report", "write_report", "draw_figures", "verdict", "repr_html", "versions"]
 
