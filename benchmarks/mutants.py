@@ -2795,4 +2795,10 @@ MUTANTS: list[Mutant] = [
       "the constants solved again on the stability check's grid (no Prony terms) are not "
       "floored by the contained fits",
       ("tests/test_nesting_guarantee.py",)),
+    M("nesting_no_finite_member_refused", "vhfit/calibration/_workflow.py",
+      "    if not np.isfinite(err) and nested and not found.stop.interrupted:\n",
+      "    if False:\n",
+      "a search that ends with no finite member refuses the fit although a contained law's "
+      "fit is a finite point of its space",
+      ("tests/test_nesting_guarantee.py",)),
 ]

@@ -265,6 +265,30 @@ def test_the_fit_again_on_the_check_grid_is_floored_by_the_contained_fit(n_prony
     assert kept in ("ogden", None)
 
 
+def test_a_search_with_no_finite_member_keeps_the_contained_fit(monkeypatch):
+    # the search of the bigger law ends with no finite individual (made so here: its
+    # result is replaced by NaN), while the contained law's fit is a finite point of its
+    # space: the fit is that point, not a refusal
+    import dataclasses
+
+    from vhfit.calibration import _workflow
+
+    real = _workflow.run_search
+
+    def lost(space, settings, **kw):
+        found = real(space, settings, **kw)
+        if settings.hyperelastic != "yeoh":
+            return found
+        return dataclasses.replace(found, z=np.full_like(found.z, np.nan), polished=None)
+
+    monkeypatch.setattr(_workflow, "run_search", lost)
+    curves = _nh_curves()
+    small = _fit(curves, "neo_hooke", n_prony=1)
+    cal = _fit(curves, "yeoh", n_prony=1)
+    assert np.isfinite(cal.rmsape) and cal.rmsape <= small.rmsape * (1 + TOL)
+    assert cal.options["nested_kept"] == "neo_hooke"
+
+
 def test_the_contained_fit_is_a_member_of_the_first_population():
     # the all-parameter search compares the calibration's own problem: its first
     # generation's best is at most the seed's error, the contained law's fit

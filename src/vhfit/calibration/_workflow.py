@@ -627,6 +627,12 @@ def _search_polish(prob: Problem, curves, settings: CalibrationSettings, n_prony
         ep = float(prob.errors(xp[None, :])[0])
         if np.isfinite(ep):
             x, err = xp, ep
+    if not np.isfinite(err) and nested and not found.stop.interrupted:
+        # no individual was finite, but a contained law's fit is a point of this space
+        xn, en, kept = _nesting.accept_if_lower(prob, space, list(nested), x, err,
+                                                settings.polish)
+        if np.isfinite(en):
+            return found, xn, en, found.nfev, kept
     if not np.isfinite(err):  # no individual was finite: nothing that looks like a result
         if found.stop.interrupted:
             raise KeyboardInterrupt  # the search may yet find one: resume the checkpoint
