@@ -24,9 +24,17 @@ from __future__ import annotations
 import contextlib
 import os
 
+import numba
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, settings
+
+# numba reads its thread count again at every compile (NUMBA_NUM_THREADS, else the CPUs
+# of the process's affinity) and raises once its thread pool has started if that count
+# changed: a full run on this 2-core machine failed so in nine tests whose kernels
+# compiled late ("currently have 1, trying to set 2"). The count read at start-up is
+# kept for the whole run (the same value; subprocesses inherit it)
+os.environ.setdefault("NUMBA_NUM_THREADS", str(numba.config.NUMBA_NUM_THREADS))
 
 settings.register_profile(
     "ci",
