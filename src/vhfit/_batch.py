@@ -24,6 +24,14 @@ __all__ = ["Batch"]
 _MEASURES = ("true", "engineering")
 
 
+def check_measure(measure) -> str:
+    """``measure`` if it is a stress measure a model can give ("true": Cauchy,
+    "engineering": nominal), else a one-line ValueError."""
+    if measure not in _MEASURES:
+        raise ValueError(f"measure = {measure!r}; choose 'true' or 'engineering'")
+    return measure
+
+
 def _history_of(item) -> History | LinearLoad:
     if isinstance(item, (History, LinearLoad)):
         return item
@@ -77,8 +85,7 @@ class Batch:
             if len(measures) != len(items):
                 raise ValueError("give one measure per history")
         for m in measures:
-            if m not in _MEASURES:
-                raise ValueError(f"measure = {m!r}; choose 'true' or 'engineering'")
+            check_measure(m)
         self.histories = hs
         self.measures = measures
         sizes = [h.out_time.size for h in hs]

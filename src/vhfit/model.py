@@ -27,7 +27,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from vhfit import hyperelastic as _hyper
-from vhfit._batch import Batch
+from vhfit._batch import Batch, check_measure
 from vhfit.formulations import get_formulation
 from vhfit.history import History
 from vhfit.modes import check_deformation, check_direction, get_deformation, refusal_for
@@ -750,8 +750,7 @@ class ViscoHyperelastic:
         why = refusal_for(self.hyperelastic, test.name)
         if why:
             raise ValueError(why)
-        if measure not in ("true", "engineering"):
-            raise ValueError(f"measure = {measure!r}; choose 'true' or 'engineering'")
+        check_measure(measure)
         try:
             s = float(stress)
         except (TypeError, ValueError):

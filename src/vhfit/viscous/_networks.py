@@ -12,10 +12,6 @@ from vhfit.viscous import _integrate, flows
 
 __all__ = ["Network", "NetworkModel"]
 
-DEFORMATIONS = ("uniaxial", "equibiaxial", "planar", "biaxial")
-MEASURES = ("true", "engineering")
-
-
 @dataclass(frozen=True)
 class Network:
     """One viscous network: a stiffness ratio times the model's law, and its flow.
