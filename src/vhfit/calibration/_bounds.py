@@ -273,18 +273,21 @@ def bound_hits(prob, x: np.ndarray) -> dict[str, str]:
     return out
 
 
-def widen_bounds(prob, hits: dict[str, str]) -> dict[str, tuple[float, float]]:
-    """The search bounds with each hit bound moved :data:`WIDEN` widths outward, inside
-    the law's physical limits (an open one approached to 1 % of the remaining gap) and,
-    for an exponent α, inside |α| ≤ :data:`MAX_EXPONENT_LOG` / max |ln λ| of the
-    stability range. Bounds the user gave are kept (not in the result's changes)."""
-    hm, out = prob.hm, dict(prob.bounds)
+def widen_bounds(prob, hits: dict[str, str], bounds: dict | None = None
+                 ) -> dict[str, tuple[float, float]]:
+    """The search bounds (``bounds``, default ``prob.bounds``) with each hit bound moved
+    :data:`WIDEN` widths outward, inside the law's physical limits (an open one approached
+    to 1 % of the remaining gap) and, for an exponent α, inside |α| ≤
+    :data:`MAX_EXPONENT_LOG` / max |ln λ| of the stability range. Bounds the user gave
+    are kept (not in the result's changes)."""
+    bounds = prob.bounds if bounds is None else bounds
+    hm, out = prob.hm, dict(bounds)
     ell = max(-math.log(prob.stability_range[0]), math.log(prob.stability_range[1]))
     for name, side in hits.items():
         if name in prob.user_bounds:
             continue
         k = hm.param_names.index(name)
-        lo, hi = (float(v) for v in prob.bounds[name])
+        lo, hi = (float(v) for v in bounds[name])
         plo, phi = (float(v) for v in hm.bounds[k])
         if name.startswith("alpha"):
             cap = MAX_EXPONENT_LOG / ell

@@ -285,18 +285,10 @@ def containing_box(prob, nested: list[Nested]) -> dict[str, tuple[float, float]]
                         hits[name] = "high"
             if not hits:
                 break
-            wide = widen_bounds(_Boxed(prob, bounds), hits)
+            wide = widen_bounds(prob, hits, bounds)
             for name in hits:
                 bounds[name] = out[name] = wide[name]
     return out
-
-
-class _Boxed:
-    """``prob`` seen with other bounds (for :func:`widen_bounds`)."""
-
-    def __init__(self, prob, bounds: dict):
-        self.hm, self.bounds = prob.hm, bounds
-        self.stability_range, self.user_bounds = prob.stability_range, prob.user_bounds
 
 
 def _in_box(space, x: np.ndarray) -> bool:
